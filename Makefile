@@ -1,0 +1,34 @@
+# Two commands on a fresh machine (Python 3.11, pip, make, apt): `make demo` and `make test`.
+# Each creates .venv/ when it is missing or stale, installs tmakit with its dependencies and the
+# BELLHOP executable into it, then runs.
+
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.tmakit-installed
+BELLHOP := $(VENV)/share/tmakit/bellhop/aubellhop/bin/bellhop.exe
+
+.PHONY: demo test bench setup clean
+
+setup: $(STAMP) $(BELLHOP)
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[test]'
+	@touch $(STAMP)
+
+$(BELLHOP): $(STAMP) tools/install_bellhop.py
+	$(BIN)/python -m tools.install_bellhop
+
+demo: setup
+	$(BIN)/tmakit demo --out out/demo
+
+test: setup
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
+
+bench: setup
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
+
+clean:
+	rm -rf $(VENV) out

@@ -1,0 +1,24 @@
+"""Errors raised by the acoustics package."""
+
+from __future__ import annotations
+
+from envdata.errors import InputError
+
+
+class GridFileError(InputError):
+    """A grid file that is missing, not netCDF, truncated, or lacks what the contract requires."""
+
+
+class BellhopError(RuntimeError):
+    """BELLHOP failed or could not be run.
+
+    ``str(error)`` is one line that quotes BELLHOP's own message; ``prt_text`` holds the print
+    file (or its tail), ``command`` the command line and ``returncode`` the exit status.
+    """
+
+    def __init__(self, message: str, *, prt_text: str = "", command: tuple[str, ...] = (),
+                 returncode: int | None = None):
+        super().__init__(message)
+        self.prt_text = prt_text
+        self.command = command
+        self.returncode = returncode

@@ -1,0 +1,251 @@
+"""Building the propagation grid of an area: TL(class, band, depth, range), K(r), Urick K(r).
+
+The BELLHOP route runs one job per (class source depth, run frequency). In incoherent mode with
+a fixed beam fan, frequency changes TL almost only through volume absorption, so by default one
+run at each band's centre serves the whole band: TL(f) = TL(f_c) + (alpha(f) - alpha(f_c)) r.
+Otherwise every quadrature frequency of every band is its own run.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from enum import StrEnum
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.absorption import absorption_db_per_km
+from acoustics.bellhop.envfile import RunSpec, env_text
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
+from acoustics.runs import Run, RunStats, execute_runs
+from acoustics.urick import k_urick_db, spherical_tl_db
+from envdata.area import Area, TlMode
+
+GRID_FORMAT_VERSION = 1
+TMAKIT_VERSION = "0.1.0"
+
+
+class Model(StrEnum):
+    BELLHOP = "bellhop"
+    URICK = "urick"
+
+
+@dataclass
+class BuildStats(RunStats):
+    """What a build did: runs planned and reused, BELLHOP time, total wall time."""
+
+    runs: list[Run] = field(default_factory=list)
+
+
+def run_frequencies_hz(area: Area, band) -> np.ndarray:
+    """Frequencies BELLHOP must run for ``band``: the centre (shortcut) or every quadrature point."""
+    prop = area.propagation
+    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
+        return np.array([band.center_hz])
+    return band_frequencies_hz(band, prop.freqs_per_band)
+
+
+def receiver_depths_m(area: Area) -> np.ndarray:
+    """Grid depths plus the observer depth (so that K(r) needs no depth interpolation)."""
+    return np.unique(np.append(area.depth_m(), area.observer.depth_m))
+
+
+def plan_runs(area: Area, source_depths_m=None, receiver_depths=None) -> list[Run]:
+    """The BELLHOP runs for ``area``: one per (source depth, run frequency)."""
+    prop = area.propagation
+    if source_depths_m is None:
+        source_depths_m = sorted({cls.depth_m for cls in area.classes})
+    if receiver_depths is None:
+        receiver_depths = receiver_depths_m(area)
+    ranges = tuple(float(r) for r in area.grid.range_m())
+    runs = []
+    for sd in source_depths_m:
+        for band in area.bands:
+            for f in run_frequencies_hz(area, band):
+                spec = RunSpec(title=f"tmakit {area.name} sd={sd:g} m f={f:.3f} Hz", freq_hz=float(f),
+                               source_depth_m=(float(sd),),
+                               receiver_depth_m=tuple(float(z) for z in receiver_depths),
+                               range_m=ranges, mode=prop.mode, beam_type=prop.beam_type,
+                               n_beams=prop.n_beams, angle_min_deg=prop.angle_min_deg,
+                               angle_max_deg=prop.angle_max_deg, absorption=prop.absorption)
+                runs.append(Run(env=env_text(area, spec), freq_hz=float(f), source_depth_m=float(sd)))
+    return runs
+
+
+def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]) -> np.ndarray:
+    """Band TL for ``cls`` from the run TL fields of one source depth, keyed by run frequency."""
+    prop = area.propagation
+    freqs = band_frequencies_hz(band, prop.freqs_per_band)
+    weights = band_weights(cls, freqs)
+    range_km = area.grid.range_m() / 1000.0
+    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
+        fc = band.center_hz
+        base = tl_by_freq[_fkey(fc)].astype(np.float64)
+        alpha_c = absorption_db_per_km(fc, prop.absorption)
+        per_freq = np.stack([base + (absorption_db_per_km(f, prop.absorption) - alpha_c) * range_km
+                             for f in freqs])
+    else:
+        per_freq = np.stack([tl_by_freq[_fkey(f)].astype(np.float64) for f in freqs])
+    return band_average_tl_db(per_freq, weights, prop.tl_max_db)
+
+
+def _fkey(freq_hz: float) -> float:
+    return round(float(freq_hz), 6)
+
+
+def source_hash(area: Area, model: Model, bellhop_sha256: str | None) -> str:
+    """Hash of everything that determines the grid's numbers."""
+    payload = {"area": area.to_dict(), "model": str(model), "format": GRID_FORMAT_VERSION,
+               "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256}
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
+    model = Model(model)
+    return source_hash(area, model, find_bellhop().sha256 if model is Model.BELLHOP else None)
+
+
+def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
+               scheduler: str | None = None, cache_dir: str | Path | None = None,
+               progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
+    """Compute the grid dataset of DESIGN.md for ``area``.
+
+    Parameters
+    ----------
+    area : Area
+        The sea area.
+    model : {"bellhop", "urick"}
+        BELLHOP beam tracing, or the Urick formula alone (TL = spherical spreading + absorption).
+    workers : int
+        BELLHOP processes run at once (ignored with ``scheduler``).
+    scheduler : str, optional
+        Address of a Dask distributed scheduler to run the BELLHOP jobs on.
+    cache_dir : path, optional
+        Folder for finished runs, so that an interrupted build resumes; it is removed by the
+        caller once the grid is safely written.
+    progress : bool
+        Show a progress bar on stderr.
+    stats : BuildStats, optional
+        Filled with run counts and timings.
+    """
+    model = Model(model)
+    stats = stats if stats is not None else BuildStats()
+    depth = area.depth_m()
+    rng = area.grid.range_m()
+    prop = area.propagation
+    exe = find_bellhop() if model is Model.BELLHOP else None
+    n_cls, n_band = len(area.classes), len(area.bands)
+    tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
+    k = np.empty((n_cls, n_band, rng.size))
+    k_urick = np.empty((n_cls, n_band, rng.size))
+    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
+
+    for ic, cls in enumerate(area.classes):
+        for ib, band in enumerate(area.bands):
+            k_urick[ic, ib] = k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
+
+    if model is Model.BELLHOP:
+        rz = receiver_depths_m(area)
+        on_grid = np.searchsorted(rz, depth)
+        obs_row = int(np.searchsorted(rz, area.observer.depth_m))
+        runs = plan_runs(area, receiver_depths=rz)
+        stats.runs = runs
+        fields = execute_runs(runs, tl_max_db=prop.tl_max_db, workers=workers, scheduler=scheduler,
+                              cache_dir=Path(cache_dir) if cache_dir is not None else None,
+                              progress=progress, exe=str(exe.path), stats=stats)
+        for ic, cls in enumerate(area.classes):
+            by_freq = {_fkey(run.freq_hz): fields[run.key] for run in runs
+                       if run.source_depth_m == cls.depth_m}
+            for ib, band in enumerate(area.bands):
+                band_tl = band_tl_from_runs(area, cls, band, by_freq)
+                tl[ic, ib] = band_tl[on_grid]
+                k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
+    else:
+        for ib, band in enumerate(area.bands):
+            tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]
+        k[:] = k_urick
+
+    return _dataset(area, model, depth, rng, tl, k, k_urick, beta,
+                    source_hash(area, model, exe.sha256 if exe else None),
+                    exe.describe() if exe else None)
+
+
+def _dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) -> xr.Dataset:
+    prop = area.propagation
+    bands = area.bands
+    coords = {
+        "class": ("class", np.array([c.name for c in area.classes], dtype=object),
+                  {"long_name": "target class hypothesis"}),
+        "band": ("band", np.array([b.name for b in bands], dtype=object), {"long_name": "frequency band"}),
+        "depth": ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
+                                   "axis": "Z", "long_name": "receiver depth"}),
+        "range": ("range", rng, {"units": "m", "long_name": "horizontal range from the source"}),
+        "band_low_hz": ("band", np.array([b.low_hz for b in bands]),
+                        {"units": "Hz", "long_name": "lower band edge"}),
+        "band_high_hz": ("band", np.array([b.high_hz for b in bands]),
+                         {"units": "Hz", "long_name": "upper band edge"}),
+        "band_center_hz": ("band", np.array([b.center_hz for b in bands]),
+                           {"units": "Hz", "long_name": "band centre (geometric mean of the edges)"}),
+        "source_depth_m": ("class", np.array([c.depth_m for c in area.classes]),
+                           {"units": "m", "long_name": "radiating depth of the class", "positive": "down"}),
+    }
+    dims4 = ("class", "band", "depth", "range")
+    dims3 = ("class", "band", "range")
+    data_vars = {
+        "tl_db": (dims4, tl, {"units": "dB", "long_name": "band transmission loss",
+                              "reference": "1 m from the source",
+                              "comment": "intensity average over the band weighted by the class spectrum; "
+                                         f"shadows capped at {prop.tl_max_db:g} dB"}),
+        "k_db": (dims3, k, {"units": "dB", "long_name": "transfer characteristic K(r) at the observer depth",
+                            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
+                            "model": str(model)}),
+        "k_urick_db": (dims3, k_urick, {"units": "dB",
+                                        "long_name": "transfer characteristic K(r), Urick approximate formula",
+                                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
+        "anomaly_db": (dims3, k - k_urick, {"units": "dB",
+                                            "long_name": "propagation anomaly 10 lg A implied by the model",
+                                            "reference": "K(r) minus the Urick K(r) with A = 1"}),
+        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
+                                             "long_name": "volume attenuation at the band centre"}),
+    }
+    attrs = {
+        "Conventions": "CF-1.8",
+        "title": f"tmakit propagation grid for area {area.name}",
+        "institution": "tmakit",
+        "source": f"tmakit {TMAKIT_VERSION}, model {model}",
+        "history": f"{_now()} created by tmakit grids build",
+        "references": "Grinenkov & Mashoshin (2024) eqs. 12-13; Porter, The BELLHOP manual (2011)",
+        "comment": "dB quantities carry units 'dB' with their reference in the 'reference' attribute",
+        "area": area.name,
+        "area_description": area.description,
+        "model": str(model),
+        "observer_depth_m": float(area.observer.depth_m),
+        "water_depth_m": float(area.water.depth_m),
+        "created": _now(),
+        "source_hash": digest,
+        "area_json": json.dumps(area.to_dict(), sort_keys=True),
+    }
+    if exe_info is not None:
+        attrs["bellhop_version"] = exe_info["version"]
+        attrs["bellhop_sha256"] = exe_info["sha256"]
+        attrs["bellhop_settings"] = json.dumps({
+            "mode": str(prop.mode), "beam_type": prop.beam_type, "n_beams": prop.n_beams,
+            "angle_min_deg": prop.angle_min_deg, "angle_max_deg": prop.angle_max_deg,
+            "absorption": str(prop.absorption), "freqs_per_band": prop.freqs_per_band,
+            "frequency_shortcut": prop.frequency_shortcut, "tl_max_db": prop.tl_max_db,
+            "ssp_interpolation": area.water.ssp.interpolation}, sort_keys=True)
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _now() -> str:
+    return datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
+
+
+def remove_cache(cache_dir: str | Path) -> None:
+    shutil.rmtree(cache_dir, ignore_errors=True)

@@ -1,0 +1,76 @@
+"""Target classes: radiating depth, speed and noise statistics (Grinenkov & Mashoshin Table 1)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import StrEnum
+
+from envdata.errors import AreaError
+
+# A spectrum falling as f^-2 falls by 20 lg 2 = 6.02 dB per octave (the spectrum behind eq. 13).
+F_MINUS_2_DB_PER_OCTAVE = -20.0 * math.log10(2.0)
+
+
+class SourceLevelModel(StrEnum):
+    P0 = "p0"      # noise_mean_db: spectral level at 1 kHz, 1 Hz band, 1 m
+    ROSS = "ross"  # SL(v) = 170 + 53 lg(v / 5.14 m/s) at the band centre (Iglesis & de Montella eq. 12)
+
+
+def ross_source_level_db(speed_mps):
+    """Ross source level, dB re 1 uPa^2/Hz at 1 m, at the band centre.
+
+    References
+    ----------
+    Iglesis & de Montella (2024), eq. 12: SL = 170 + 53 log10(v / 5.14 m/s).
+    """
+    import numpy as np
+
+    return 170.0 + 53.0 * np.log10(np.asarray(speed_mps, dtype=float) / 5.14)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class TargetClass:
+    """A class hypothesis: where it radiates from, how fast and how loud it is."""
+
+    name: str
+    depth_m: float
+    speed_mean_mps: float
+    speed_sd_mps: float
+    noise_mean_db: float | None = None
+    noise_sd_db: float = 0.0
+    k_error_sd_db: float = 2.0
+    source_slope_db_per_octave: float = F_MINUS_2_DB_PER_OCTAVE
+    source_level_model: SourceLevelModel = SourceLevelModel.P0
+
+    def __post_init__(self) -> None:
+        where = f"class {self.name!r}"
+        if not self.name or not self.name.strip():
+            raise AreaError("class name must not be empty")
+        for field_name, value, lo in (("depth_m", self.depth_m, 0.0),
+                                      ("speed_mean_mps", self.speed_mean_mps, 0.0)):
+            if not (math.isfinite(value) and value > lo):
+                raise AreaError(f"{where}: {field_name} must be > {lo:g}, got {value}")
+        for field_name, value in (("speed_sd_mps", self.speed_sd_mps),
+                                  ("noise_sd_db", self.noise_sd_db),
+                                  ("k_error_sd_db", self.k_error_sd_db)):
+            if not (math.isfinite(value) and value >= 0):
+                raise AreaError(f"{where}: {field_name} must be >= 0, got {value}")
+        if not (math.isfinite(self.source_slope_db_per_octave)
+                and -40.0 <= self.source_slope_db_per_octave <= 20.0):
+            raise AreaError(f"{where}: source_slope_db_per_octave must be in [-40, 20] dB/octave, "
+                            f"got {self.source_slope_db_per_octave}")
+        if self.source_level_model is SourceLevelModel.P0:
+            if self.noise_mean_db is None or not math.isfinite(self.noise_mean_db):
+                raise AreaError(f"{where}: noise_mean_db is required (finite, dB re 1 uPa) "
+                                f"with source_level_model = 'p0', got {self.noise_mean_db}")
+
+    @property
+    def spectral_exponent(self) -> float:
+        """Exponent a of the radiated power spectrum S(f) ~ f^a (a = -2 for -6.02 dB/octave)."""
+        return self.source_slope_db_per_octave / (10.0 * math.log10(2.0))
+
+    @property
+    def reference_frequency_hz(self) -> float | None:
+        """Frequency at which the class's level is given: 1 kHz for P0, the band centre for Ross."""
+        return 1000.0 if self.source_level_model is SourceLevelModel.P0 else None

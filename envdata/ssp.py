@@ -1,0 +1,107 @@
+"""Sound-speed profiles: tables, the canonical Munk profile, and temperature/salinity via TEOS-10."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from envdata.errors import AreaError
+
+# Canonical Munk profile (Munk 1974; Jensen, Kuperman, Porter & Schmidt, eq. 5.106).
+MUNK_AXIS_M = 1300.0
+MUNK_SCALE_M = 1300.0
+MUNK_EPSILON = 0.00737
+MUNK_AXIS_SPEED_MPS = 1500.0
+
+# Speeds outside this range do not occur in sea water; a profile there is a unit or typing error.
+MIN_SPEED_MPS = 1400.0
+MAX_SPEED_MPS = 1650.0
+
+
+def munk_speed_mps(depth_m):
+    """Canonical Munk sound speed c(z) = c1 (1 + eps (eta - 1 + exp(-eta))), eta = 2 (z - z1) / B."""
+    eta = 2.0 * (np.asarray(depth_m, dtype=float) - MUNK_AXIS_M) / MUNK_SCALE_M
+    return MUNK_AXIS_SPEED_MPS * (1.0 + MUNK_EPSILON * (eta - 1.0 + np.exp(-eta)))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SoundSpeedProfile:
+    """A tabulated profile from the surface to the bottom, interpolated linearly (BELLHOP 'C')."""
+
+    depth_m: tuple[float, ...]
+    speed_mps: tuple[float, ...]
+    kind: str = "table"  # "table", "munk" or "ts" (converted from temperature and salinity)
+    interpolation: str = "C"  # BELLHOP SSP option: C linear, S cubic spline, N n2-linear, P pchip
+
+    def __post_init__(self) -> None:
+        z = np.asarray(self.depth_m, dtype=float)
+        c = np.asarray(self.speed_mps, dtype=float)
+        if z.ndim != 1 or z.size < 2 or z.size != c.size:
+            raise AreaError(f"sound-speed profile: need at least 2 depths and as many speeds, "
+                            f"got {z.size} depths and {c.size} speeds")
+        if not (np.all(np.isfinite(z)) and np.all(np.isfinite(c))):
+            raise AreaError("sound-speed profile: depths and speeds must be finite (no NaN)")
+        if z[0] != 0.0:
+            raise AreaError(f"sound-speed profile: must start at the surface, 0 m, got {z[0]} m")
+        if np.any(np.diff(z) <= 0):
+            i = int(np.argmax(np.diff(z) <= 0))
+            raise AreaError(f"sound-speed profile: depths must increase strictly, "
+                            f"got {z[i]} m then {z[i + 1]} m")
+        bad = (c < MIN_SPEED_MPS) | (c > MAX_SPEED_MPS)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise AreaError(f"sound-speed profile: speed {c[i]} m/s at {z[i]} m is outside "
+                            f"[{MIN_SPEED_MPS:g}, {MAX_SPEED_MPS:g}] m/s")
+        if self.interpolation not in ("C", "S", "N", "P"):
+            raise AreaError(f"sound-speed profile: interpolation must be one of C, S, N, P, "
+                            f"got {self.interpolation!r}")
+
+    @property
+    def bottom_m(self) -> float:
+        return self.depth_m[-1]
+
+    def speed_at(self, depth_m):
+        """Sound speed at ``depth_m`` by linear interpolation, m/s."""
+        return np.interp(depth_m, self.depth_m, self.speed_mps)
+
+
+def munk_profile(water_depth_m: float, step_m: float = 25.0) -> SoundSpeedProfile:
+    """The canonical Munk profile sampled every ``step_m`` and cut at the water depth."""
+    n = max(2, int(math.ceil(water_depth_m / step_m)) + 1)
+    z = np.linspace(0.0, water_depth_m, n)
+    return SoundSpeedProfile(depth_m=tuple(float(v) for v in z),
+                             speed_mps=tuple(float(v) for v in np.round(munk_speed_mps(z), 3)),
+                             kind="munk")
+
+
+def ts_profile(depth_m, temperature_c, salinity_psu, *, latitude_deg: float,
+               longitude_deg: float) -> SoundSpeedProfile:
+    """Profile from in-situ temperature and practical salinity, converted with TEOS-10 (gsw).
+
+    Pressure from depth at the latitude (gsw.p_from_z), Absolute Salinity from Practical
+    Salinity, Conservative Temperature from in-situ temperature, then the TEOS-10 sound speed.
+    """
+    import gsw
+
+    z = np.asarray(depth_m, dtype=float)
+    t = np.asarray(temperature_c, dtype=float)
+    sp = np.asarray(salinity_psu, dtype=float)
+    if not (z.shape == t.shape == sp.shape):
+        raise AreaError(f"sound-speed profile: ssp_depth_m, temperature_c and salinity_psu must "
+                        f"have the same length, got {z.size}, {t.size}, {sp.size}")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(sp))):
+        raise AreaError("sound-speed profile: temperature_c and salinity_psu must be finite (no NaN)")
+    if np.any((t < -2.5) | (t > 40.0)):
+        raise AreaError(f"sound-speed profile: temperature_c must be in [-2.5, 40] degC, "
+                        f"got {t[(t < -2.5) | (t > 40.0)][0]}")
+    if np.any((sp < 0.0) | (sp > 42.0)):
+        raise AreaError(f"sound-speed profile: salinity_psu must be in [0, 42], "
+                        f"got {sp[(sp < 0.0) | (sp > 42.0)][0]}")
+    p_dbar = gsw.p_from_z(-z, latitude_deg)
+    sa = gsw.SA_from_SP(sp, p_dbar, longitude_deg, latitude_deg)
+    ct = gsw.CT_from_t(sa, t, p_dbar)
+    c = gsw.sound_speed(sa, ct, p_dbar)
+    return SoundSpeedProfile(depth_m=tuple(float(v) for v in z),
+                             speed_mps=tuple(float(v) for v in np.round(c, 3)), kind="ts")

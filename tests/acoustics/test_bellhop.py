@@ -1,0 +1,120 @@
+"""The real BELLHOP: analytic cases, the .shd reader, and failures reported with BELLHOP's words."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import envdata
+from acoustics.bellhop.envfile import RunSpec, env_text
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.bellhop.runner import run_env
+from acoustics.bellhop.shdfile import read_shd, tl_from_pressure
+from acoustics.errors import BellhopError
+
+pytestmark = pytest.mark.bellhop
+
+
+def isovelocity_area(depth_m: float = 5000.0) -> envdata.Area:
+    """Isovelocity water over an impedance-matched bottom: only the surface reflects."""
+    return envdata.parse_area({
+        "area": {"name": "iso"},
+        "water": {"depth_m": depth_m, "ssp_depth_m": [0.0, depth_m], "ssp_speed_mps": [1500.0, 1500.0]},
+        "bottom": {"speed_mps": 1500.0, "density_gcc": 1.0, "attenuation_db_per_wavelength": 0.0},
+        "noise": {"spectrum_level_1khz_db": 57.0}, "observer": {"depth_m": 100.0},
+        "sonar": {"beamwidth_deg": 5.0, "directivity_index_db": 20.0, "integration_time_s": 10.0,
+                  "detection_threshold": 5.0},
+        "bands": [{"name": "F", "low_hz": 200.0, "high_hz": 200.0}],
+        "classes": [{"name": "C", "depth_m": 100.0, "speed_mean_mps": 5.0, "speed_sd_mps": 1.0,
+                     "noise_mean_db": 100.0}],
+        "grid": {"range_max_m": 3000.0, "range_step_m": 100.0, "depth_step_m": 50.0},
+    }, "iso")
+
+
+def lloyd_mirror(mode: envdata.TlMode, beam_type: str):
+    area = isovelocity_area()
+    zs, zr = 100.0, np.array([50.0, 150.0, 300.0])
+    r = np.arange(500.0, 3001.0, 100.0)
+    spec = RunSpec(title="lloyd", freq_hz=200.0, source_depth_m=(zs,), receiver_depth_m=tuple(zr),
+                   range_m=tuple(r), mode=mode, beam_type=beam_type, n_beams=3000,
+                   angle_min_deg=-89.0, angle_max_deg=89.0, absorption=envdata.Absorption.NONE)
+    tl = tl_from_pressure(run_env(env_text(area, spec)).field.pressure[0], 200.0)
+    rr, zz = np.meshgrid(r, zr)
+    r1 = np.hypot(rr, zz - zs)  # direct path
+    r2 = np.hypot(rr, zz + zs)  # surface image, reflection coefficient -1
+    return tl, r1, r2
+
+
+def test_incoherent_tl_matches_lloyd_mirror_intensity_sum():
+    tl, r1, r2 = lloyd_mirror(envdata.TlMode.INCOHERENT, "G")
+    expected = -10 * np.log10(1 / r1 ** 2 + 1 / r2 ** 2)
+    # 0.5 dB: geometric beams over 3000 rays reproduce spherical spreading to a few tenths of a dB
+    assert_allclose(tl, expected, rtol=0, atol=0.5)
+
+
+def test_coherent_tl_matches_lloyd_mirror_away_from_nulls():
+    tl, r1, r2 = lloyd_mirror(envdata.TlMode.COHERENT, "B")
+    k = 2 * np.pi * 200.0 / 1500.0
+    p = np.exp(1j * k * r1) / r1 - np.exp(1j * k * r2) / r2
+    expected = -20 * np.log10(np.abs(p))
+    # compare where the two paths do not nearly cancel (within 10 dB of the direct-path level);
+    # 1.5 dB: Gaussian beams smear the interference pattern slightly
+    keep = expected < 20 * np.log10(r1) + 10
+    assert keep.sum() > 20
+    assert_allclose(tl[keep], expected[keep], rtol=0, atol=1.5)
+
+
+def test_shd_reader_returns_the_requested_grid(tmp_path):
+    area = isovelocity_area(1000.0)
+    spec = RunSpec(title="shape", freq_hz=100.0, source_depth_m=(20.0, 70.0), receiver_depth_m=(10.0, 55.0, 90.0),
+                   range_m=(100.0, 250.0, 400.0, 1000.0), n_beams=200)
+    run_env(env_text(area, spec), keep_dir=tmp_path)
+    field = read_shd(tmp_path / "tmakit.shd")
+    assert field.pressure.shape == (2, 3, 4)
+    assert_allclose(field.source_depth_m, [20.0, 70.0])
+    assert_allclose(field.receiver_depth_m, [10.0, 55.0, 90.0])
+    assert_allclose(field.range_m, [100.0, 250.0, 400.0, 1000.0], rtol=1e-6)
+    assert field.freq_hz == 100.0
+
+
+def test_truncated_shd_is_reported(tmp_path):
+    area = isovelocity_area(1000.0)
+    spec = RunSpec(title="t", freq_hz=100.0, source_depth_m=(20.0,), receiver_depth_m=(10.0, 55.0),
+                   range_m=(100.0, 250.0), n_beams=50)
+    run_env(env_text(area, spec), keep_dir=tmp_path)
+    raw = (tmp_path / "tmakit.shd").read_bytes()
+    (tmp_path / "cut.shd").write_bytes(raw[: len(raw) - 20])
+    with pytest.raises(BellhopError, match="shade file is truncated"):
+        read_shd(tmp_path / "cut.shd")
+
+
+def _leftover_dirs() -> set[str]:
+    return {p.name for p in Path(tempfile.gettempdir()).glob("tmakit-bellhop-*")}
+
+
+def test_bellhop_failure_quotes_bellhop_and_leaves_no_files():
+    area = isovelocity_area(1000.0)
+    spec = RunSpec(title="bad", freq_hz=100.0, source_depth_m=(20.0,), receiver_depth_m=(10.0,),
+                   range_m=(100.0,), n_beams=50)
+    bad_env = env_text(area, spec).replace("'IG'", "'XG'")  # no such run type
+    before = _leftover_dirs()
+    with pytest.raises(BellhopError, match=r"BELLHOP failed \(exit 1\): READIN: Unknown RunType selected") as info:
+        run_env(bad_env)
+    assert "*** FATAL ERROR ***" in info.value.prt_text
+    assert info.value.returncode != 0 and info.value.command[-1] == "tmakit"
+    assert _leftover_dirs() == before
+
+
+def test_missing_executable_is_a_clear_error():
+    with pytest.raises(BellhopError, match="BELLHOP executable /no/such/bellhop.exe not found"):
+        run_env("'x'\n", exe="/no/such/bellhop.exe")
+
+
+def test_installed_executable_is_found_and_identified():
+    exe = find_bellhop()
+    assert exe.path.is_file()
+    assert len(exe.sha256) == 64

@@ -1,0 +1,97 @@
+"""Grid building: the dataset of DESIGN.md, K(r) from BELLHOP, the shortcuts and their cost."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import xarray as xr
+from numpy.testing import assert_allclose
+
+import acoustics
+import envdata
+from acoustics.grid import plan_runs
+from acoustics.kcurve import spectral_term_db
+
+pytestmark = pytest.mark.bellhop
+
+
+def test_grid_has_the_contract_dimensions_and_coordinates(tiny_grid, tiny_area):
+    ds = tiny_grid
+    assert ds["tl_db"].dims == ("class", "band", "depth", "range")
+    assert ds["k_db"].dims == ds["k_urick_db"].dims == ds["anomaly_db"].dims == ("class", "band", "range")
+    assert list(ds["class"].values) == ["SUB", "SHIP"] and list(ds["band"].values) == ["FB1", "F500"]
+    assert_allclose(ds["range"].values, np.arange(100.0, 5001.0, 100.0))
+    assert_allclose(ds["depth"].values, np.arange(0.0, 1001.0, 50.0))
+    assert_allclose(ds["band_center_hz"].values, [np.sqrt(100 * 300), 500.0])
+    assert_allclose(ds["source_depth_m"].values, [150.0, 5.0])
+    assert ds.attrs["Conventions"] == "CF-1.8" and ds.attrs["model"] == "bellhop"
+    assert ds.attrs["observer_depth_m"] == 100.0
+    assert ds.attrs["source_hash"] == acoustics.expected_source_hash(tiny_area)
+    assert "aubellhop" in ds.attrs["bellhop_version"]
+    for name in ("tl_db", "k_db", "k_urick_db", "depth", "range", "band_low_hz"):
+        assert "units" in ds[name].attrs and "long_name" in ds[name].attrs or name in ("depth", "range")
+
+
+def test_k_is_spectral_term_minus_band_tl_at_the_observer_depth(tiny_grid, tiny_area):
+    for cls in tiny_area.classes:
+        for band in tiny_area.bands:
+            sel = {"class": cls.name, "band": band.name}
+            tl_obs = tiny_grid["tl_db"].sel(sel).sel(depth=100.0).values  # observer on the depth grid
+            assert_allclose(tiny_grid["k_db"].sel(sel).values, spectral_term_db(cls, band) - tl_obs,
+                            rtol=0, atol=1e-4)  # float32 storage of tl_db
+            assert_allclose(tiny_grid["anomaly_db"].sel(sel), tiny_grid["k_db"].sel(sel) - tiny_grid["k_urick_db"].sel(sel),
+                            rtol=0, atol=1e-9)
+
+
+def test_bellhop_tl_is_near_spherical_spreading_close_to_the_source(tiny_grid):
+    # at 100-300 m from a source at 150 m, receiver at 150 m, the direct path dominates:
+    # TL within 3 dB of 20 lg r (surface and bottom paths add a little, never much)
+    tl = tiny_grid["tl_db"].sel({"class": "SUB", "band": "FB1"}).sel(depth=150.0, range=[100.0, 200.0, 300.0])
+    spherical = 20 * np.log10([100.0, 200.0, 300.0])
+    assert np.all(np.abs(tl.values - spherical) < 3.0)
+
+
+def test_urick_model_is_spherical_spreading_plus_absorption(tiny_area):
+    ds = acoustics.build_grid(tiny_area, model="urick")
+    assert ds.attrs["model"] == "urick" and "bellhop_version" not in ds.attrs
+    assert_allclose(ds["k_db"], ds["k_urick_db"], rtol=0, atol=0)
+    beta = float(acoustics.thorp_db_per_km(np.sqrt(100 * 300)))
+    tl = ds["tl_db"].sel({"class": "SUB", "band": "FB1", "depth": 500.0, "range": 1000.0})
+    assert_allclose(float(tl), 60.0 + beta, rtol=0, atol=1e-4)
+
+
+def test_classes_at_the_same_depth_share_runs(tiny_area):
+    twin = dataclasses.replace(tiny_area.classes[1], name="SHIP2")
+    area = dataclasses.replace(tiny_area, classes=tiny_area.classes + (twin,))
+    runs = plan_runs(area)
+    # 2 distinct depths x (FB1 centre + F500) with the incoherent frequency shortcut
+    assert len({r.key for r in runs}) == 4
+
+
+def test_frequency_shortcut_costs_little_accuracy(tiny_area):
+    """One run per band vs a run per quadrature frequency (incoherent, fixed beam fan)."""
+    full = dataclasses.replace(tiny_area, propagation=dataclasses.replace(tiny_area.propagation,
+                                                                          frequency_shortcut=False))
+    assert len(plan_runs(full)) == 2 * (7 + 1) and len(plan_runs(tiny_area)) == 2 * 2
+    a = acoustics.build_grid(tiny_area, workers=2)
+    b = acoustics.build_grid(full, workers=2)
+    diff = np.abs(a["k_db"] - b["k_db"]).values
+    # incoherent beams with a fixed fan depend on frequency only through absorption (and the
+    # frequency-dependent beam step); 0.3 dB is well inside the 1.5-2 dB K error of the paper
+    assert np.median(diff) < 0.05 and np.percentile(diff, 99) < 0.3
+
+
+def test_rebuild_is_deterministic(tiny_grid, tiny_area):
+    again = acoustics.build_grid(tiny_area, workers=1)
+    xr.testing.assert_allclose(again.drop_attrs(), tiny_grid.drop_attrs(), rtol=0, atol=0)
+    assert again.attrs["source_hash"] == tiny_grid.attrs["source_hash"]
+
+
+def test_source_hash_changes_with_anything_that_changes_the_numbers(tiny_area):
+    base = acoustics.expected_source_hash(tiny_area)
+    moved = dataclasses.replace(tiny_area, observer=envdata.Observer(depth_m=101.0))
+    assert acoustics.expected_source_hash(moved) != base
+    assert acoustics.expected_source_hash(tiny_area, "urick") != base
+    assert acoustics.expected_source_hash(tiny_area) == base

@@ -1,0 +1,143 @@
+"""The tmakit command line: doctor, areas, grids build/show/plot, errors, reuse and resume."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import acoustics
+from tests.conftest import MALFORMED
+from tools.cli import main
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def tmakit(*args: str, env: dict | None = None, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tools.cli", *args], capture_output=True, text=True,
+                          cwd=REPO, env={**os.environ, **(env or {})}, **kw)
+
+
+def json_out(capsys, argv) -> dict:
+    assert main([*argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.bellhop
+def test_doctor_reports_the_binary_and_a_working_tiny_run(capsys):
+    data = json_out(capsys, ["doctor"])
+    assert data["bellhop"]["found_by"] in ("install", "BELLHOP_EXE", "PATH")
+    assert Path(data["bellhop"]["path"]).is_file()
+    assert data["self_test"]["ok"] is True
+    assert abs(data["self_test"]["tl_db_at_100m"] - 40.0) < 1.0  # spherical spreading at 100 m
+
+
+def test_doctor_without_bellhop_is_one_error_line():
+    proc = tmakit("doctor", env={"BELLHOP_EXE": "/no/such/bellhop.exe"})
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == "error: BELLHOP_EXE=/no/such/bellhop.exe: not an executable file"
+    assert "Traceback" not in proc.stderr
+
+
+def test_areas_list_and_show(capsys):
+    data = json_out(capsys, ["areas", "list"])
+    names = [a["name"] for a in data["areas"]]
+    assert "ocean-deep" in names and "munk-1000" in names
+    assert [a["name"] for a in data["areas"] if a["default"]] == ["ocean-deep"]
+    shown = json_out(capsys, ["areas", "show", "munk-1000"])
+    assert shown["water"]["depth_m"] == 1000.0 and shown["observer"]["depth_m"] == 300.0
+    assert main(["areas", "show", "ocean-deep"]) == 0
+    assert "NPS: depth 200 m" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", ["negative-depth.toml", "syntax-error.toml", "binary.toml"])
+def test_bad_area_is_one_error_line_and_writes_nothing(tmp_path, name):
+    out = tmp_path / "g.nc"
+    proc = tmakit("grids", "build", str(MALFORMED / "area" / name), "--out", str(out))
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {MALFORMED / 'area' / name}: ")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.bellhop
+def test_build_show_plot_and_reuse(capsys, tmp_path, tiny_area_path, tiny_grid):
+    out = tmp_path / "tiny.nc"
+    built = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out), "--workers", "2"])
+    assert built["up_to_date"] is False and built["runs"] == 4 and built["runs_reused"] == 0
+    xr.testing.assert_identical(acoustics.open_grid(out).drop_attrs(), tiny_grid.drop_attrs())
+    assert not any(p.name.startswith(".") for p in tmp_path.iterdir())  # cache removed
+
+    again = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out)])
+    assert again["up_to_date"] is True and again["runs"] == 0
+    forced = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out), "--force"])
+    assert forced["up_to_date"] is False and forced["runs"] == 4
+
+    shown = json_out(capsys, ["grids", "show", str(out)])
+    assert shown["classes"] == ["SUB", "SHIP"] and shown["dims"]["range"] == 50
+    assert main(["grids", "show", str(out)]) == 0
+    assert "K(r) dB at 1 km" in capsys.readouterr().out
+
+    png = tmp_path / "tiny.png"
+    assert main(["grids", "plot", str(out), "--out", str(png), "--class", "SHIP"]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+    capsys.readouterr()
+    assert main(["grids", "plot", str(out), "--out", str(tmp_path / "x.png"), "--class", "NOPE"]) == 2
+    assert "--class 'NOPE' is not a class of the grid" in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_urick_build_needs_no_bellhop(capsys, tmp_path, tiny_area_path):
+    out = tmp_path / "u.nc"
+    data = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out), "--model", "urick"])
+    assert data["runs"] == 0
+    ds = acoustics.open_grid(out)
+    np.testing.assert_array_equal(ds["k_db"].values, ds["k_urick_db"].values)
+
+
+def test_show_of_a_bad_grid_file_is_one_error_line(capsys):
+    path = MALFORMED / "grid" / "not-netcdf.nc"
+    assert main(["grids", "show", str(path)]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {path}: not a netCDF file"
+
+
+@pytest.mark.bellhop
+@pytest.mark.slow
+def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path):
+    area_text = tiny_area_path.read_text().replace("n_beams = 300", "n_beams = 4000\nfrequency_shortcut = false")
+    area_file = tmp_path / "slow.toml"
+    area_file.write_text(area_text)
+    out = tmp_path / "slow.nc"
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "grids", "build", str(area_file), "--out", str(out),
+                             "--workers", "1"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    cache = None
+    while time.time() < deadline:
+        caches = [p for p in tmp_path.iterdir() if p.name.startswith(".slow.nc.partial")]
+        if caches and len(list(caches[0].glob("*.npy"))) >= 3:
+            cache = caches[0]
+            break
+        time.sleep(0.02)
+    assert cache is not None, "the build never wrote a finished run"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines()[-1].startswith("error: interrupted")
+    assert not out.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+    done_before = len(list(cache.glob("*.npy")))
+    assert 3 <= done_before < 16
+
+    resumed = tmakit("grids", "build", str(area_file), "--out", str(out), "--workers", "2", "--json")
+    assert resumed.returncode == 0, resumed.stderr
+    info = json.loads(resumed.stdout)
+    assert info["runs"] == 16 and info["runs_reused"] == done_before
+    assert out.exists() and not cache.exists()

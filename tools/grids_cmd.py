@@ -1,0 +1,122 @@
+"""``tmakit grids build|show|plot``: propagation tables for an area."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+import acoustics
+import envdata
+from acoustics.grid import remove_cache
+from tools.report import Report, want_progress
+
+
+def register(sub, common) -> None:
+    p = sub.add_parser("grids", parents=[common], help="build, show and plot propagation grids")
+    gsub = p.add_subparsers(dest="grids_command", metavar="ACTION", required=True)
+
+    b = gsub.add_parser("build", parents=[common], help="build the grid file of an area")
+    b.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
+    b.add_argument("--out", type=Path, help="grid file to write (default: AREA-MODEL.nc)")
+    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop")
+    b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                   help="BELLHOP processes at once (default: the number of cores)")
+    b.add_argument("--scheduler", metavar="ADDR", help="run on this Dask distributed scheduler")
+    b.add_argument("--force", action="store_true", help="rebuild even if the file is up to date")
+    b.set_defaults(func=run_build)
+
+    s = gsub.add_parser("show", parents=[common], help="summarise a grid file")
+    s.add_argument("file", type=Path, metavar="FILE")
+    s.set_defaults(func=run_show)
+
+    pl = gsub.add_parser("plot", parents=[common], help="plot TL fields and K(r) curves")
+    pl.add_argument("file", type=Path, metavar="FILE")
+    pl.add_argument("--out", type=Path, required=True, metavar="PNG")
+    pl.add_argument("--class", dest="cls_name", help="class whose TL field to draw (default: the first)")
+    pl.set_defaults(func=run_plot)
+
+
+def build_file(area_name: str, out: Path | None, *, model: str = "bellhop", workers: int = 1,
+               scheduler: str | None = None, force: bool = False, progress: bool = False) -> dict:
+    """Build (or reuse) the grid file of an area; returns what was done."""
+    if workers < 1:
+        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
+    area = envdata.load_area(area_name)
+    out = out if out is not None else Path(f"{area.name}-{model}.nc")
+    digest = acoustics.expected_source_hash(area, model)
+    if out.exists() and not force:
+        try:
+            existing = acoustics.open_grid(out)
+        except acoustics.GridFileError:
+            existing = None  # unreadable: rebuilt below
+        if existing is not None and existing.attrs.get("source_hash") == digest:
+            return {"file": str(out), "area": area.name, "model": model, "up_to_date": True,
+                    "source_hash": digest, "runs": 0, "runs_reused": 0, "bellhop_seconds": 0.0,
+                    "wall_seconds": 0.0}
+    cache_dir = out.parent / f".{out.name}.partial-{digest[:12]}"
+    stats = acoustics.BuildStats()
+    start = time.perf_counter()
+    ds = acoustics.build_grid(area, model=model, workers=workers, scheduler=scheduler,
+                              cache_dir=cache_dir if model == "bellhop" else None,
+                              progress=progress, stats=stats)
+    acoustics.write_grid(ds, out)
+    remove_cache(cache_dir)
+    return {"file": str(out), "area": area.name, "model": model, "up_to_date": False,
+            "source_hash": digest, "runs": stats.runs_total, "runs_reused": stats.runs_reused,
+            "bellhop_seconds": round(stats.bellhop_seconds, 3),
+            "wall_seconds": round(time.perf_counter() - start, 3),
+            "dims": {k: int(v) for k, v in ds.sizes.items()}}
+
+
+def run_build(args) -> Report:
+    info = build_file(args.area, args.out, model=args.model, workers=args.workers,
+                      scheduler=args.scheduler, force=args.force, progress=want_progress(args))
+    if info["up_to_date"]:
+        summary = f"{info['file']}: up to date for area {info['area']} ({info['model']}); --force rebuilds"
+    else:
+        dims = ", ".join(f"{k} {v}" for k, v in info["dims"].items())
+        summary = (f"wrote {info['file']}: area {info['area']}, model {info['model']} ({dims})\n"
+                   f"  BELLHOP runs: {info['runs']} ({info['runs_reused']} reused), "
+                   f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['wall_seconds']:.1f} s wall")
+    return Report(summary, info)
+
+
+def run_show(args) -> Report:
+    ds = acoustics.open_grid(args.file)
+    ranges_km = [r for r in (1, 5, 10, 30, 60, 110) if r * 1000 <= float(ds["range"].max())]
+    lines = [f"{args.file}: area {ds.attrs['area']}, model {ds.attrs['model']}, "
+             f"observer at {ds.attrs['observer_depth_m']:g} m",
+             "  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()),
+             f"  range {float(ds['range'][0]):g}-{float(ds['range'][-1]):g} m, "
+             f"depth {float(ds['depth'][0]):g}-{float(ds['depth'][-1]):g} m",
+             f"  created {ds.attrs.get('created', '?')}, source_hash {ds.attrs['source_hash'][:16]}...",
+             f"  BELLHOP: {ds.attrs.get('bellhop_version', '-')}",
+             "  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km) + " (BELLHOP / Urick):"]
+    k_table = {}
+    for cls_name in ds["class"].values:
+        for band in ds["band"].values:
+            sel = {"class": cls_name, "band": band}
+            kb = ds["k_db"].sel(sel).interp(range=[r * 1000.0 for r in ranges_km]).values
+            ku = ds["k_urick_db"].sel(sel).interp(range=[r * 1000.0 for r in ranges_km]).values
+            k_table[f"{cls_name}/{band}"] = {"k_db": kb.round(2).tolist(), "k_urick_db": ku.round(2).tolist()}
+            lines.append(f"    {cls_name:>5} {band:>5}: " + "  ".join(f"{a:7.1f}/{b:6.1f}" for a, b in zip(kb, ku)))
+    data = {"file": str(args.file), "attrs": {k: (v.item() if isinstance(v, np.generic) else v)
+                                              for k, v in ds.attrs.items() if k != "area_json"},
+            "dims": {k: int(v) for k, v in ds.sizes.items()},
+            "classes": [str(c) for c in ds["class"].values], "bands": [str(b) for b in ds["band"].values],
+            "ranges_km": ranges_km, "k": k_table}
+    return Report("\n".join(lines), data)
+
+
+def run_plot(args) -> Report:
+    from acoustics.plot import plot_grid
+
+    ds = acoustics.open_grid(args.file)
+    if args.cls_name is not None and args.cls_name not in ds["class"].values:
+        raise envdata.InputError(f"{args.file}: --class {args.cls_name!r} is not a class of the grid "
+                                 f"({', '.join(map(str, ds['class'].values))})")
+    plot_grid(ds, args.out, cls_name=args.cls_name)
+    return Report(f"wrote {args.out}", {"file": str(args.out)})
