@@ -1,0 +1,1268 @@
+"""Stationary target location from passive-sonar bearings (Schmidt et al.).
+
+A stationary target at (x0, y0) seen from observer positions (X(n), Y(n)) at bearings alpha(n)
+satisfies one linear equation per bearing (eq. 4),
+
+    cos(alpha) x0 - sin(alpha) y0 = cos(alpha) X - sin(alpha) Y,
+
+so two bearings give a crossing fix (eqs. 6-8) and n bearings a least-squares fix. The
+conditioning number u of the matrix P (eq. 11) and its determinant (eq. 10) say how sensitive
+the fix is to bearing errors. The observer's course can be steered perpendicular to the current
+bearing (eq. 17) or by the modified algorithm (23) that keeps u from degrading. For a bearing
+error bound D_alpha the fix lies in a quadrilateral bounded by the extreme bearing lines; its
+diagonals follow eqs. 25-28.
+
+Conventions (DESIGN.md): x east, y north, metres; bearings and courses in degrees clockwise
+from north in [0, 360); times in seconds. The paper's formulas are scale-free, so its unit-free
+example (x0 = y0 = 10, VT = 3) reads as kilometres or metres alike.
+
+References
+----------
+A. Schmidt, J. Marszal, R. Salamon, A. Jedel, Z. Ostrowski, "Bearing errors in passive sonar
+stationary target location".
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import logging
+import math
+import os
+from dataclasses import dataclass, field
+from enum import StrEnum
+from pathlib import Path
+
+import numpy as np
+
+from tracker.errors import LocateError, MeasurementFileError
+
+log = logging.getLogger(__name__)
+
+#: Largest conditioning number u (eq. 11) accepted for a fix; u = 1000 means bearing lines
+#: about 0.11 deg apart. Above it the fix is reported as ill-conditioned instead of computed.
+DEFAULT_MAX_U = 1000.0
+
+#: Observer positions that agree when rounded to this step count as the same position, m.
+SAME_POSITION_M = 1e-3
+
+BEARING_COLUMNS = ("t_s", "obs_x_m", "obs_y_m", "bearing_deg")
+_UNITS = {"t_s": "s", "obs_x_m": "m", "obs_y_m": "m", "bearing_deg": "deg"}
+
+
+class Method(StrEnum):
+    """How a position is estimated from the bearings."""
+
+    CROSSING = "crossing"  # the last two bearings, eqs. 6-8
+    LSQ = "lsq"            # least squares over all n equations (4)
+    MEAN = "mean"          # mean of the fixes of consecutive pairs, eq. 29
+
+
+class CourseRule(StrEnum):
+    """How the observer's course is chosen for the next leg."""
+
+    EQ17 = "eq17"  # perpendicular to the current bearing
+    EQ23 = "eq23"  # perpendicular to the anticipated next bearing (modified algorithm)
+
+
+class Side(StrEnum):
+    """Which side of the observer the target is kept on while steering."""
+
+    PORT = "port"            # course = bearing + 90 deg; bearings decrease (the paper's eq. 23)
+    STARBOARD = "starboard"  # course = bearing - 90 deg; bearings increase
+
+    @property
+    def sign(self) -> float:
+        return 1.0 if self is Side.PORT else -1.0
+
+
+# --------------------------------------------------------------------------------------------
+# Bearings: the input
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Bearings:
+    """Bearings of one stationary target taken at known observer positions.
+
+    Attributes
+    ----------
+    t_s : ndarray
+        Time of each bearing, s (increasing).
+    obs_x_m, obs_y_m : ndarray
+        Observer position east and north, m.
+    bearing_deg : ndarray
+        Bearing to the target, degrees clockwise from north in [0, 360).
+    source : str
+        Where the bearings came from (a file name), used in error messages.
+    """
+
+    t_s: np.ndarray
+    obs_x_m: np.ndarray
+    obs_y_m: np.ndarray
+    bearing_deg: np.ndarray
+    source: str = "bearings"
+
+    def __post_init__(self) -> None:
+        arrays = {}
+        for name in BEARING_COLUMNS:
+            value = np.array(getattr(self, name), dtype=float, ndmin=1)
+            if value.ndim != 1:
+                raise LocateError(f"{self.source}: {name} must be one-dimensional, "
+                                  f"got shape {value.shape}")
+            value.setflags(write=False)
+            arrays[name] = value
+            object.__setattr__(self, name, value)
+        sizes = {len(a) for a in arrays.values()}
+        if len(sizes) != 1:
+            raise LocateError(f"{self.source}: t_s, obs_x_m, obs_y_m and bearing_deg differ in "
+                              f"length: {', '.join(str(len(a)) for a in arrays.values())}")
+        for name, value in arrays.items():
+            bad = np.flatnonzero(~np.isfinite(value))
+            if bad.size:
+                i = int(bad[0])
+                raise LocateError(f"{self.source}: column {name}, row {i + 1}: "
+                                  f"{value[i]} {_UNITS[name]} is not a finite number")
+        bad = np.flatnonzero((arrays["bearing_deg"] < 0.0) | (arrays["bearing_deg"] >= 360.0))
+        if bad.size:
+            i = int(bad[0])
+            raise LocateError(f"{self.source}: column bearing_deg, row {i + 1}: "
+                              f"{arrays['bearing_deg'][i]} deg is outside [0, 360) deg")
+        bad = np.flatnonzero(np.diff(arrays["t_s"]) <= 0.0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise LocateError(f"{self.source}: column t_s, row {i + 1}: {arrays['t_s'][i]} s is "
+                              f"not after the previous row's {arrays['t_s'][i - 1]} s")
+
+    def __len__(self) -> int:
+        return len(self.bearing_deg)
+
+    @classmethod
+    def from_arrays(cls, obs_x_m, obs_y_m, bearing_deg, *, t_s=None,
+                    source: str = "bearings") -> Bearings:
+        """Bearings from arrays; times default to 0, 1, 2, ... s."""
+        n = len(np.atleast_1d(bearing_deg))
+        t = np.arange(n, dtype=float) if t_s is None else t_s
+        return cls(t_s=t, obs_x_m=obs_x_m, obs_y_m=obs_y_m, bearing_deg=bearing_deg, source=source)
+
+    def to_frame(self):
+        """The bearings as a pandas DataFrame with the columns of the bearings CSV."""
+        import pandas as pd
+
+        return pd.DataFrame({name: getattr(self, name) for name in BEARING_COLUMNS})
+
+
+def read_bearings_csv(path: str | os.PathLike) -> Bearings:
+    """Read and validate a bearings CSV.
+
+    The file needs a header with the columns ``t_s, obs_x_m, obs_y_m, bearing_deg`` (any
+    order; extra columns such as those of the measurement CSV are ignored) and one row per
+    bearing, ordered by time.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file.
+
+    Returns
+    -------
+    Bearings
+        The validated bearings; ``source`` is the file name.
+
+    Raises
+    ------
+    MeasurementFileError
+        Unreadable, empty or binary file; missing column; a row with too few or too many
+        fields; a blank, non-numeric or non-finite value; a bearing outside [0, 360) deg; a
+        time not after the previous row's. The message names the file, the row (1-based data
+        row and the file's line number), the column and the value with its unit.
+    """
+    src = str(path)
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise MeasurementFileError(f"{src}: cannot read the bearings file: "
+                                   f"{exc.strerror or exc}") from None
+    if b"\x00" in raw:
+        raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise MeasurementFileError(f"{src}: not a text CSV file (not UTF-8 at byte "
+                                   f"{exc.start})") from None
+    if not text.strip():
+        raise MeasurementFileError(f"{src}: the file is empty; expected a header with columns "
+                                   f"{', '.join(BEARING_COLUMNS)}")
+    reader = csv.reader(io.StringIO(text, newline=""), skipinitialspace=True)
+    header: list[str] = []
+    for row in reader:
+        if any(cell.strip() for cell in row):
+            header = [cell.strip() for cell in row]
+            break
+    missing = [name for name in BEARING_COLUMNS if name not in header]
+    if missing:
+        raise MeasurementFileError(f"{src}: missing column {missing[0]!r} (the header has "
+                                   f"{', '.join(repr(h) for h in header)}); required: "
+                                   f"{', '.join(BEARING_COLUMNS)}")
+    index = {name: header.index(name) for name in BEARING_COLUMNS}
+    values: dict[str, list[float]] = {name: [] for name in BEARING_COLUMNS}
+    n_row = 0
+    for row in reader:
+        if not any(cell.strip() for cell in row):
+            continue  # blank line
+        n_row += 1
+        where = f"row {n_row} (line {reader.line_num})"
+        if len(row) != len(header):
+            raise MeasurementFileError(f"{src}: {where}: has {len(row)} fields, the header has "
+                                       f"{len(header)}")
+        for name, col in index.items():
+            cell = row[col].strip()
+            unit = _UNITS[name]
+            if not cell:
+                raise MeasurementFileError(f"{src}: {where}, column {name}: blank value; "
+                                           f"expected a number in {unit}")
+            try:
+                value = float(cell)
+            except ValueError:
+                raise MeasurementFileError(f"{src}: {where}, column {name}: {cell!r} is not a "
+                                           f"number ({unit})") from None
+            if not math.isfinite(value):
+                raise MeasurementFileError(f"{src}: {where}, column {name}: {cell} {unit} is "
+                                           f"not a finite number")
+            if name == "bearing_deg" and not 0.0 <= value < 360.0:
+                raise MeasurementFileError(f"{src}: {where}, column bearing_deg: {cell} deg is "
+                                           f"outside [0, 360) deg")
+            if name == "t_s" and values["t_s"] and value <= values["t_s"][-1]:
+                raise MeasurementFileError(f"{src}: {where}, column t_s: {cell} s is not after "
+                                           f"the previous row's {values['t_s'][-1]:g} s")
+            values[name].append(value)
+    if n_row == 0:
+        raise MeasurementFileError(f"{src}: no data rows after the header; expected one row "
+                                   f"per bearing")
+    return Bearings(**{name: np.array(v) for name, v in values.items()}, source=src)
+
+
+# --------------------------------------------------------------------------------------------
+# Geometry helpers
+
+
+def bearing_to_deg(from_x_m, from_y_m, to_x_m, to_y_m) -> np.ndarray:
+    """Bearing from one point to another, degrees clockwise from north in [0, 360) (eqs. 1-3)."""
+    deg = np.degrees(np.arctan2(np.subtract(to_x_m, from_x_m), np.subtract(to_y_m, from_y_m)))
+    return np.mod(deg, 360.0) % 360.0  # the second mod maps a rounded 360.0 to 0.0
+
+
+def wrap_deg(angle_deg) -> np.ndarray:
+    """Angle wrapped to [-180, 180) deg."""
+    return np.mod(np.asarray(angle_deg, dtype=float) + 180.0, 360.0) - 180.0
+
+
+def bearing_system(obs_x_m, obs_y_m, bearing_deg) -> tuple[np.ndarray, np.ndarray]:
+    """The linear system P x = b of eqs. 4-7, one row per bearing.
+
+    Parameters
+    ----------
+    obs_x_m, obs_y_m : array_like
+        Observer positions X(n), Y(n), m.
+    bearing_deg : array_like
+        Bearings alpha(n), deg.
+
+    Returns
+    -------
+    p : ndarray, shape (n, 2)
+        Rows (c_n, -s_n) with c_n = cos(alpha(n)), s_n = sin(alpha(n)) (eq. 5).
+    b : ndarray, shape (n,)
+        c_n X(n) - s_n Y(n), m (eq. 6).
+    """
+    a = np.radians(np.asarray(bearing_deg, dtype=float))
+    c, s = np.cos(a), np.sin(a)
+    p = np.column_stack([c, -s])
+    b = c * np.asarray(obs_x_m, dtype=float) - s * np.asarray(obs_y_m, dtype=float)
+    return p, b
+
+
+def conditioning_number(bearing_deg) -> float:
+    """Conditioning number u of P, the ratio of its largest to smallest singular value (eq. 11).
+
+    Parameters
+    ----------
+    bearing_deg : array_like
+        Two or more bearings, deg. P depends on the bearings only, not on the positions.
+
+    Returns
+    -------
+    u : float
+        s_max / s_min >= 1; ``inf`` for parallel bearing lines. For two bearings
+        u = cot(|alpha1 - alpha2| / 2) when they differ by at most 90 deg, so that 30 and
+        31 deg give u = 114.6 (the paper's example gives "about 115").
+    """
+    p, _ = bearing_system(np.zeros(np.size(bearing_deg)), np.zeros(np.size(bearing_deg)),
+                          bearing_deg)
+    sv = np.linalg.svd(p, compute_uv=False)
+    return float(sv[0] / sv[-1]) if sv[-1] > 8.0 * np.finfo(float).eps * sv[0] else math.inf
+
+
+def pair_conditioning(delta_deg) -> np.ndarray:
+    """u (eq. 11) of two bearings differing by ``delta_deg``, vectorised.
+
+    The rows of P are unit vectors at an angle delta, so its singular values are
+    sqrt(1 +- |cos delta|) and u = sqrt((1 + |cos delta|) / (1 - |cos delta|)).
+    """
+    c = np.abs(np.cos(np.radians(np.asarray(delta_deg, dtype=float))))
+    with np.errstate(divide="ignore"):
+        return np.sqrt((1.0 + c) / np.maximum(1.0 - c, 0.0))
+
+
+def crossing_point(x1_m, y1_m, a1_deg, x2_m, y2_m, a2_deg):
+    """Crossing of two bearing lines (eqs. 6-8), vectorised over any broadcastable inputs.
+
+    Returns
+    -------
+    x_m, y_m : ndarray
+        The crossing, m (``inf``/``nan`` for parallel lines).
+    r1_m, r2_m : ndarray
+        Signed distance from each observer along its bearing to the crossing, m; negative
+        when the lines cross behind that observer.
+    determinant : ndarray
+        |P| = sin(alpha1 - alpha2) (eq. 10).
+    """
+    a1, a2 = np.radians(a1_deg), np.radians(a2_deg)
+    dx = np.subtract(x2_m, x1_m)
+    dy = np.subtract(y2_m, y1_m)
+    det = np.sin(a1 - a2)  # eq. 10
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = (np.cos(a2) * dx - np.sin(a2) * dy) / det  # law of sines in the bearing triangle
+        r2 = (np.cos(a1) * dx - np.sin(a1) * dy) / det
+        x = np.add(x1_m, r1 * np.sin(a1))
+        y = np.add(y1_m, r1 * np.cos(a1))
+    return x, y, r1, r2, det
+
+
+# --------------------------------------------------------------------------------------------
+# Fixes
+
+
+def _empty() -> np.ndarray:
+    return np.empty(0)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LocateResult:
+    """A stationary target's estimated position and how well the bearings condition it.
+
+    Attributes
+    ----------
+    x_m, y_m : float
+        Estimated target position, m.
+    method : Method
+        The estimator used.
+    u : float
+        Conditioning number (eq. 11) of the system solved: P of the two bearings (crossing),
+        the n x 2 matrix P (lsq), the largest u of the pairs used (mean).
+    determinant : float
+        |P| = sin(alpha1 - alpha2) (eq. 10) for the crossing; sqrt(det(P^T P)) (the product of
+        the singular values, |P| for two bearings) for lsq; the pairs' determinant of smallest
+        magnitude for the mean.
+    n_bearings : int
+        Number of bearings given.
+    pair_rows : tuple of (int, int)
+        0-based rows of the bearing pairs whose crossings make the fix (crossing and mean);
+        empty for lsq.
+    pair_x_m, pair_y_m, pair_u, pair_determinant : ndarray
+        Crossing, u and |P| of each pair in ``pair_rows``.
+    pairs_skipped : int
+        Consecutive pairs left out of the mean (ill-conditioned or crossing behind an observer).
+    residual_deg : ndarray
+        Measured minus estimated bearing for each row, deg in [-180, 180).
+    """
+
+    x_m: float
+    y_m: float
+    method: Method
+    u: float
+    determinant: float
+    n_bearings: int
+    pair_rows: tuple[tuple[int, int], ...] = ()
+    pair_x_m: np.ndarray = field(default_factory=_empty)
+    pair_y_m: np.ndarray = field(default_factory=_empty)
+    pair_u: np.ndarray = field(default_factory=_empty)
+    pair_determinant: np.ndarray = field(default_factory=_empty)
+    pairs_skipped: int = 0
+    residual_deg: np.ndarray = field(default_factory=_empty)
+
+    @property
+    def residual_rms_deg(self) -> float:
+        """RMS bearing residual, deg."""
+        return float(np.sqrt(np.mean(self.residual_deg ** 2))) if self.residual_deg.size else 0.0
+
+
+def _check_positions(bearings: Bearings) -> None:
+    n = len(bearings)
+    if n < 2:
+        raise LocateError(f"{bearings.source}: need at least 2 bearings to locate a stationary "
+                          f"target, got {n}")
+    x, y = bearings.obs_x_m, bearings.obs_y_m
+    keys = np.column_stack([np.round(x / SAME_POSITION_M), np.round(y / SAME_POSITION_M)])
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    repeated = np.flatnonzero(first[inverse] != np.arange(n))
+    if repeated.size:
+        j = int(repeated[0])
+        i = int(first[inverse[j]])
+        raise LocateError(f"{bearings.source}: rows {i + 1} and {j + 1} have the same observer "
+                          f"position (obs_x_m, obs_y_m) = ({x[j]:g}, {y[j]:g}) m; bearings from "
+                          f"one position do not cross at the target")
+
+
+def _ill_conditioned(source: str, what: str, u: float, max_u: float, delta_deg: float | None):
+    diff = "" if delta_deg is None else f" (bearing difference {delta_deg:.3g} deg)"
+    return LocateError(f"{source}: {what} are parallel or nearly so{diff}: conditioning number "
+                       f"u = {u:.4g} exceeds the limit {max_u:g} (eq. 11); no fix")
+
+
+def _check_ahead(bearings: Bearings, x_m: float, y_m: float, what: str, *, rows: np.ndarray,
+                 min_behind: int) -> None:
+    """Reject a fix behind ``min_behind`` or more of the observers of ``rows`` (a ghost fix)."""
+    a = np.radians(bearings.bearing_deg[rows])
+    r = ((x_m - bearings.obs_x_m[rows]) * np.sin(a)
+         + (y_m - bearings.obs_y_m[rows]) * np.cos(a))  # range along each bearing
+    behind = np.flatnonzero(r <= 0.0)
+    if behind.size >= min_behind:
+        k = int(behind[np.argmin(r[behind])])
+        raise LocateError(
+            f"{bearings.source}: the {what} fix ({x_m:.1f}, {y_m:.1f}) m lies behind the observer "
+            f"of row {rows[k] + 1} ({r[k]:.4g} m along its bearing "
+            f"{bearings.bearing_deg[rows[k]]:g} deg): the bearing lines cross on the wrong side; "
+            f"no fix")
+
+
+def _residuals(bearings: Bearings, x_m: float, y_m: float) -> np.ndarray:
+    seen = bearing_to_deg(bearings.obs_x_m, bearings.obs_y_m, x_m, y_m)
+    return wrap_deg(bearings.bearing_deg - seen)
+
+
+def _pair_fixes(bearings: Bearings, rows_i: np.ndarray, rows_j: np.ndarray):
+    x, y, b = bearings.obs_x_m, bearings.obs_y_m, bearings.bearing_deg
+    fx, fy, r1, r2, det = crossing_point(x[rows_i], y[rows_i], b[rows_i],
+                                         x[rows_j], y[rows_j], b[rows_j])
+    u = pair_conditioning(b[rows_i] - b[rows_j])
+    return fx, fy, r1, r2, det, u
+
+
+def crossing_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateResult:
+    """Crossing of the last two bearing lines, x = P^-1 b (eqs. 6-8).
+
+    Parameters
+    ----------
+    bearings : Bearings
+        Two or more bearings; the last two are used (the current fix of algorithm (23)).
+    max_u : float
+        Largest conditioning number (eq. 11) accepted.
+
+    Returns
+    -------
+    LocateResult
+        With u (eq. 11) and |P| = sin(alpha1 - alpha2) (eq. 10).
+
+    Raises
+    ------
+    LocateError
+        Fewer than two bearings, the same observer position twice, bearing lines parallel or
+        nearly so (u > max_u), or lines that cross behind an observer.
+    """
+    _check_positions(bearings)
+    n = len(bearings)
+    i, j = n - 2, n - 1
+    fx, fy, _, _, det, u = _pair_fixes(bearings, np.array([i]), np.array([j]))
+    delta = float(wrap_deg(bearings.bearing_deg[i] - bearings.bearing_deg[j]))
+    if not u[0] <= max_u:
+        raise _ill_conditioned(bearings.source, f"the bearing lines of rows {i + 1} and {j + 1}",
+                               float(u[0]), max_u, delta)
+    x_m, y_m = float(fx[0]), float(fy[0])
+    _check_ahead(bearings, x_m, y_m, "crossing", rows=np.array([i, j]), min_behind=1)
+    return LocateResult(x_m=x_m, y_m=y_m, method=Method.CROSSING, u=float(u[0]),
+                        determinant=float(det[0]), n_bearings=n, pair_rows=((i, j),),
+                        pair_x_m=fx, pair_y_m=fy, pair_u=u, pair_determinant=det,
+                        residual_deg=_residuals(bearings, x_m, y_m))
+
+
+def lsq_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateResult:
+    """Least-squares solution of the n equations (4), P x = b with P of shape (n, 2).
+
+    Each row of P is a unit vector, so the fix minimises the sum of squared perpendicular
+    distances from the bearing lines. For two bearings it equals the crossing (eq. 8).
+
+    Parameters
+    ----------
+    bearings : Bearings
+        Two or more bearings.
+    max_u : float
+        Largest conditioning number (eq. 11) of the n x 2 matrix P accepted.
+
+    Returns
+    -------
+    LocateResult
+        ``u`` of the n x 2 matrix; ``determinant`` the product of its singular values.
+
+    Raises
+    ------
+    LocateError
+        Fewer than two bearings, the same observer position twice, all bearing lines
+        parallel or nearly so (u > max_u), or a fix behind at least half of the observers
+        (for two bearings: behind either), where the lines cross on the wrong side.
+    """
+    _check_positions(bearings)
+    p, b = bearing_system(bearings.obs_x_m, bearings.obs_y_m, bearings.bearing_deg)
+    # Solve about the mean observer position so that large coordinates lose no precision.
+    x_ref, y_ref = float(np.mean(bearings.obs_x_m)), float(np.mean(bearings.obs_y_m))
+    b_local = b - p @ np.array([x_ref, y_ref])
+    sv = np.linalg.svd(p, compute_uv=False)
+    # s_min at rounding level means exactly parallel lines: report u = inf, not 1e16
+    u = float(sv[0] / sv[-1]) if sv[-1] > 8.0 * np.finfo(float).eps * sv[0] else math.inf
+    if not u <= max_u:
+        spread = float(np.ptp(np.unwrap(np.radians(bearings.bearing_deg))))
+        raise _ill_conditioned(bearings.source, f"the {len(bearings)} bearing lines", u, max_u,
+                               math.degrees(spread))
+    sol, *_ = np.linalg.lstsq(p, b_local, rcond=None)
+    x_m, y_m = float(sol[0] + x_ref), float(sol[1] + y_ref)
+    n = len(bearings)
+    _check_ahead(bearings, x_m, y_m, "least-squares", rows=np.arange(n),
+                 min_behind=(n + 1) // 2)
+    return LocateResult(x_m=x_m, y_m=y_m, method=Method.LSQ, u=u,
+                        determinant=float(sv[0] * sv[1]), n_bearings=len(bearings),
+                        residual_deg=_residuals(bearings, x_m, y_m))
+
+
+def mean_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateResult:
+    """Mean of the crossing fixes of consecutive bearing pairs (eq. 29).
+
+    The pairs are (1, 2), (2, 3), ..., as in step 6 of algorithm (23). A pair whose u exceeds
+    ``max_u`` or whose lines cross behind an observer is left out (and counted in
+    ``pairs_skipped``, logged at INFO level).
+
+    Parameters
+    ----------
+    bearings : Bearings
+        Two or more bearings, in time order.
+    max_u : float
+        Largest conditioning number (eq. 11) of a pair accepted.
+
+    Returns
+    -------
+    LocateResult
+        ``u`` the largest and ``determinant`` the smallest-magnitude |P| of the pairs used.
+
+    Raises
+    ------
+    LocateError
+        Fewer than two bearings, the same observer position twice, or no usable pair.
+    """
+    _check_positions(bearings)
+    n = len(bearings)
+    rows_i, rows_j = np.arange(n - 1), np.arange(1, n)
+    fx, fy, r1, r2, det, u = _pair_fixes(bearings, rows_i, rows_j)
+    good_u = u <= max_u
+    ahead = (r1 > 0.0) & (r2 > 0.0)
+    keep = good_u & ahead
+    skipped = int(np.count_nonzero(~keep))
+    if not keep.any():
+        k = int(np.argmin(u))
+        if not good_u.any():
+            raise _ill_conditioned(bearings.source,
+                                   f"the bearing lines of every consecutive pair ({n - 1})",
+                                   float(u[k]), max_u,
+                                   float(wrap_deg(bearings.bearing_deg[k]
+                                                  - bearings.bearing_deg[k + 1])))
+        raise LocateError(f"{bearings.source}: every well-conditioned pair of consecutive "
+                          f"bearings crosses behind an observer (e.g. rows {k + 1} and {k + 2}); "
+                          f"no fix")
+    if skipped:
+        log.info("%s: %d of %d consecutive bearing pairs left out of the mean (u > %g or "
+                 "crossing behind an observer)", bearings.source, skipped, n - 1, max_u)
+    x_m, y_m = float(np.mean(fx[keep])), float(np.mean(fy[keep]))  # eq. 29
+    dk = det[keep]
+    return LocateResult(
+        x_m=x_m, y_m=y_m, method=Method.MEAN, u=float(np.max(u[keep])),
+        determinant=float(dk[np.argmin(np.abs(dk))]), n_bearings=n,
+        pair_rows=tuple((int(i), int(j)) for i, j in zip(rows_i[keep], rows_j[keep])),
+        pair_x_m=fx[keep], pair_y_m=fy[keep], pair_u=u[keep], pair_determinant=dk,
+        pairs_skipped=skipped, residual_deg=_residuals(bearings, x_m, y_m))
+
+
+def locate(bearings: Bearings, *, method: Method | str = Method.LSQ,
+           max_u: float = DEFAULT_MAX_U) -> LocateResult:
+    """Estimate a stationary target's position from bearings.
+
+    Parameters
+    ----------
+    bearings : Bearings
+        Two or more bearings at distinct observer positions.
+    method : Method or str
+        ``crossing`` (last two bearings, eqs. 6-8), ``lsq`` (all bearings) or ``mean``
+        (mean of consecutive pairwise fixes, eq. 29).
+    max_u : float
+        Largest conditioning number (eq. 11) accepted.
+
+    Returns
+    -------
+    LocateResult
+
+    Raises
+    ------
+    LocateError
+        See `crossing_fix`, `lsq_fix`, `mean_fix`.
+    """
+    try:
+        method = Method(method)
+    except ValueError:
+        raise LocateError(f"method: must be one of {', '.join(m.value for m in Method)}, "
+                          f"got {method!r}") from None
+    if not (math.isfinite(max_u) and max_u >= 1.0):
+        raise LocateError(f"max_u: the conditioning limit must be a finite number >= 1, "
+                          f"got {max_u}")
+    return {Method.CROSSING: crossing_fix, Method.LSQ: lsq_fix,
+            Method.MEAN: mean_fix}[method](bearings, max_u=max_u)
+
+
+# --------------------------------------------------------------------------------------------
+# Error region
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ErrorRegion:
+    """The quadrilateral that holds a two-bearing fix when each bearing error is within +-D_alpha.
+
+    Its sides lie on the extreme bearing lines alpha_n +- D_alpha and alpha_{n+1} +- D_alpha
+    (the paper's Fig. 7). Vertex k is the crossing of alpha_n + e1 and alpha_{n+1} + e2 with
+    (e1, e2) = (+D, +D), (+D, -D), (-D, -D), (-D, +D) for k = 1..4, so that 1-3 is the short
+    diagonal (both errors alike: the bearing difference is unchanged) and 2-4 the long one.
+
+    Attributes
+    ----------
+    vertices_m : ndarray, shape (4, 2)
+        Vertices 1-4, (x, y) in m, in order around the quadrilateral.
+    d13_m, d13_eq25_m : float
+        Short diagonal from the vertices, and by eq. 25, m.
+    d24_m, d24_eq26_m, d24_eq27_m : float
+        Long diagonal from the exact geometry (the vertices), and by eqs. 26 and 27, m.
+    ratio, ratio_eq28 : float
+        d24 / d13 from the vertices, and 2 / sin(alpha_n - alpha_{n+1}) (eq. 28).
+    area_m2 : float
+        Area of the quadrilateral (shoelace formula), m^2.
+    area_diagonals_m2 : float
+        d13 d24 / 2, the area were the diagonals perpendicular, m^2.
+    d_alpha_deg : float
+        Bearing error bound D_alpha, deg.
+    delta_deg : float
+        alpha_n - alpha_{n+1} (wrapped to [-180, 180)), deg.
+    baseline_m : float
+        Distance between the two observer positions (VT), m.
+    """
+
+    vertices_m: np.ndarray
+    d13_m: float
+    d13_eq25_m: float
+    d24_m: float
+    d24_eq26_m: float
+    d24_eq27_m: float
+    ratio: float
+    ratio_eq28: float
+    area_m2: float
+    area_diagonals_m2: float
+    d_alpha_deg: float
+    delta_deg: float
+    baseline_m: float
+
+    def contains(self, x_m, y_m, *, tol_m: float = 1e-9) -> np.ndarray:
+        """Whether points lie inside (or within ``tol_m`` of) the convex quadrilateral."""
+        return _inside_convex(self.vertices_m, x_m, y_m, tol_m)
+
+
+def _inside_convex(vertices: np.ndarray, x_m, y_m, tol_m: float) -> np.ndarray:
+    x = np.asarray(x_m, dtype=float)[..., None]
+    y = np.asarray(y_m, dtype=float)[..., None]
+    v0 = vertices
+    v1 = np.roll(vertices, -1, axis=0)
+    ex, ey = v1[:, 0] - v0[:, 0], v1[:, 1] - v0[:, 1]
+    length = np.hypot(ex, ey)
+    cross = (ex * (y - v0[:, 1]) - ey * (x - v0[:, 0])) / length  # signed distance to each side
+    orient = np.sign(_shoelace(vertices))
+    return np.all(orient * cross >= -tol_m, axis=-1)
+
+
+def _shoelace(vertices: np.ndarray) -> float:
+    x, y = vertices[:, 0], vertices[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _check_d_alpha(d_alpha_deg: float) -> None:
+    if not (math.isfinite(d_alpha_deg) and 0.0 < d_alpha_deg < 45.0):
+        raise LocateError(f"d_alpha_deg: the bearing error bound must be in (0, 45) deg, "
+                          f"got {d_alpha_deg} deg")
+
+
+def error_region(obs_x_m, obs_y_m, x_m: float, y_m: float, *,
+                 d_alpha_deg: float) -> ErrorRegion:
+    """Quadrilateral of possible two-bearing fixes for bearing errors within +-D_alpha.
+
+    Parameters
+    ----------
+    obs_x_m, obs_y_m : array_like, shape (2,)
+        The two observer positions n and n+1, m.
+    x_m, y_m : float
+        The target (or its estimate), m; the bearings alpha_n, alpha_{n+1} are those from the
+        two positions to it.
+    d_alpha_deg : float
+        Bound D_alpha of the bearing error, deg, in (0, 45).
+
+    Returns
+    -------
+    ErrorRegion
+        Vertices, diagonals (exact, eqs. 25-27), ratio (eq. 28) and area.
+
+    Raises
+    ------
+    LocateError
+        If the two bearings differ by no more than 2 D_alpha (or are that close to opposite):
+        the extreme bearing lines then do not close a quadrilateral.
+    """
+    _check_d_alpha(d_alpha_deg)
+    ox = np.asarray(obs_x_m, dtype=float)
+    oy = np.asarray(obs_y_m, dtype=float)
+    if ox.shape != (2,) or oy.shape != (2,):
+        raise LocateError(f"error region: need exactly two observer positions, got "
+                          f"{ox.size} and {oy.size}")
+    baseline = float(np.hypot(ox[1] - ox[0], oy[1] - oy[0]))
+    if baseline < SAME_POSITION_M:
+        raise LocateError(f"error region: the two observer positions coincide at "
+                          f"({ox[0]:g}, {oy[0]:g}) m")
+    a = bearing_to_deg(ox, oy, x_m, y_m)
+    delta = float(wrap_deg(a[0] - a[1]))
+    d = d_alpha_deg
+    errs = np.array([(d, d), (d, -d), (-d, -d), (-d, d)])  # vertices 1..4
+    vx, vy, r1, r2, _ = crossing_point(ox[0], oy[0], a[0] + errs[:, 0],
+                                       ox[1], oy[1], a[1] + errs[:, 1])
+    if not (np.all(np.isfinite(vx)) and np.all(r1 > 0.0) and np.all(r2 > 0.0)):
+        raise LocateError(f"error region: the bearings {a[0]:.4g} deg and {a[1]:.4g} deg differ "
+                          f"by {abs(delta):.4g} deg, which does not exceed 2 D_alpha = "
+                          f"{2 * d:g} deg (or come that close to opposite); the bearing lines "
+                          f"+-D_alpha do not close a quadrilateral")
+    vertices = np.column_stack([vx, vy])
+    d13 = float(np.hypot(*(vertices[0] - vertices[2])))
+    d24 = float(np.hypot(*(vertices[1] - vertices[3])))
+    sd = abs(math.sin(math.radians(delta)))
+    sin_d = math.sin(math.radians(d))
+    two_d = math.radians(2.0 * d)
+    abs_delta = math.radians(abs(delta))
+    return ErrorRegion(
+        vertices_m=vertices,
+        d13_m=d13,
+        d13_eq25_m=2.0 * sin_d * baseline / sd,                                    # eq. 25
+        d24_m=d24,
+        d24_eq26_m=4.0 * sin_d * baseline
+        / (math.sin(abs_delta - two_d) * math.sin(abs_delta + two_d)),            # eq. 26
+        d24_eq27_m=4.0 * sin_d * baseline / sd ** 2,                               # eq. 27
+        ratio=d24 / d13,
+        ratio_eq28=2.0 / sd,                                                       # eq. 28
+        area_m2=abs(_shoelace(vertices)),
+        area_diagonals_m2=0.5 * d13 * d24,
+        d_alpha_deg=float(d),
+        delta_deg=delta,
+        baseline_m=baseline,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ErrorPolygon:
+    """Where the target can be if every one of n bearings errs by at most +-D_alpha.
+
+    The intersection of the n wedges alpha_k +- D_alpha around the bearings seen from each
+    observer position at the estimate; for two bearings it is the `ErrorRegion` quadrilateral.
+
+    Attributes
+    ----------
+    vertices_m : ndarray, shape (m, 2)
+        Vertices in order, (x, y) in m.
+    area_m2 : float
+        Area, m^2.
+    diameter_m : float
+        Largest distance between two vertices, m.
+    d_alpha_deg : float
+        Bearing error bound, deg.
+    """
+
+    vertices_m: np.ndarray
+    area_m2: float
+    diameter_m: float
+    d_alpha_deg: float
+
+    def contains(self, x_m, y_m, *, tol_m: float = 1e-9) -> np.ndarray:
+        """Whether points lie inside (or within ``tol_m`` of) the convex polygon."""
+        return _inside_convex(self.vertices_m, x_m, y_m, tol_m)
+
+
+def _clip(poly: np.ndarray, px: float, py: float, nx: float, ny: float) -> np.ndarray:
+    """Keep the part of a convex polygon where (p - (px, py)) . (nx, ny) >= 0."""
+    if len(poly) == 0:
+        return poly
+    side = (poly[:, 0] - px) * nx + (poly[:, 1] - py) * ny
+    out = []
+    for k in range(len(poly)):
+        cur, nxt = poly[k], poly[(k + 1) % len(poly)]
+        sc, sn = side[k], side[(k + 1) % len(poly)]
+        if sc >= 0.0:
+            out.append(cur)
+        if (sc >= 0.0) != (sn >= 0.0):
+            t = sc / (sc - sn)
+            out.append(cur + t * (nxt - cur))
+    return np.array(out).reshape(-1, 2)
+
+
+def error_polygon(obs_x_m, obs_y_m, x_m: float, y_m: float, *,
+                  d_alpha_deg: float) -> ErrorPolygon:
+    """Intersection of the wedges alpha_k +- D_alpha of n bearings (generalises Fig. 7).
+
+    Parameters
+    ----------
+    obs_x_m, obs_y_m : array_like, shape (n,)
+        Observer positions, m.
+    x_m, y_m : float
+        The target or its estimate, m; the bearings are those seen at it.
+    d_alpha_deg : float
+        Bearing error bound, deg, in (0, 45).
+
+    Raises
+    ------
+    LocateError
+        If the wedges do not close a bounded region (all bearings within 2 D_alpha of each
+        other or of the opposite direction).
+    """
+    _check_d_alpha(d_alpha_deg)
+    ox = np.atleast_1d(np.asarray(obs_x_m, dtype=float))
+    oy = np.atleast_1d(np.asarray(obs_y_m, dtype=float))
+    a = np.radians(bearing_to_deg(ox, oy, x_m, y_m))
+    d = math.radians(d_alpha_deg)
+    reach = 10.0 * float(np.max(np.hypot(ox - x_m, oy - y_m)))
+    box_half = 1000.0 * reach + 1.0
+    poly = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float) * box_half
+    poly += np.array([x_m, y_m])
+    for px, py, ak in zip(ox, oy, a):
+        # Left of the line at ak + d and right of the line at ak - d (bearing clockwise from
+        # north: the direction (sin, cos) turned by -90 deg points to (-cos, sin)).
+        poly = _clip(poly, px, py, -math.cos(ak + d), math.sin(ak + d))
+        poly = _clip(poly, px, py, math.cos(ak - d), -math.sin(ak - d))
+    if len(poly) < 3 or np.max(np.hypot(poly[:, 0] - x_m, poly[:, 1] - y_m)) > 100.0 * reach:
+        raise LocateError(f"error region: the {len(ox)} bearing wedges +-{d_alpha_deg:g} deg do "
+                          f"not close a bounded region (the bearings differ by no more than "
+                          f"2 D_alpha)")
+    diff = poly[:, None, :] - poly[None, :, :]
+    return ErrorPolygon(vertices_m=poly, area_m2=abs(_shoelace(poly)),
+                        diameter_m=float(np.max(np.hypot(diff[..., 0], diff[..., 1]))),
+                        d_alpha_deg=float(d_alpha_deg))
+
+
+# --------------------------------------------------------------------------------------------
+# Course planning
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Route:
+    """An observer's route of K legs and the K + 1 bearings taken at its points.
+
+    Attributes
+    ----------
+    t_s : ndarray, shape (K+1,)
+        Time of each bearing, s.
+    obs_x_m, obs_y_m : ndarray, shape (K+1,)
+        Observer position at each bearing, m.
+    course_deg : ndarray, shape (K,)
+        Course of the leg from point k to point k + 1, deg.
+    bearing_deg : ndarray, shape (K+1,)
+        Bearing taken at each point, deg (the true bearing plus the bearing error, if any).
+    range_m : ndarray, shape (K+1,)
+        True range from each point to the target, m.
+    u, determinant : ndarray, shape (K,)
+        Conditioning number (eq. 11) and |P| (eq. 10) of the bearings k and k + 1.
+    fix_x_m, fix_y_m : ndarray, shape (K,)
+        Crossing fix of the bearings k and k + 1 (step 6 of algorithm (23)), m.
+    target_x_m, target_y_m : float
+        The target (guess) the route was planned for, m.
+    rule : CourseRule
+        Rule of the legs after the first.
+    first_leg_rule : CourseRule
+        Rule of the first leg.
+    side : Side
+    speed_mps, leg_s : float
+        Observer speed, m/s, and leg duration, s; the leg length is VT = speed_mps * leg_s.
+    min_range_m : float
+        Range below which algorithm (23) stops closing and circles the target.
+    """
+
+    t_s: np.ndarray
+    obs_x_m: np.ndarray
+    obs_y_m: np.ndarray
+    course_deg: np.ndarray
+    bearing_deg: np.ndarray
+    range_m: np.ndarray
+    u: np.ndarray
+    determinant: np.ndarray
+    fix_x_m: np.ndarray
+    fix_y_m: np.ndarray
+    target_x_m: float
+    target_y_m: float
+    rule: CourseRule
+    first_leg_rule: CourseRule
+    side: Side
+    speed_mps: float
+    leg_s: float
+    min_range_m: float
+
+    @property
+    def leg_m(self) -> float:
+        """Leg length VT, m."""
+        return self.speed_mps * self.leg_s
+
+    def bearings(self, source: str = "route") -> Bearings:
+        """The route's bearings as input for `locate`."""
+        return Bearings(t_s=self.t_s, obs_x_m=self.obs_x_m, obs_y_m=self.obs_y_m,
+                        bearing_deg=self.bearing_deg, source=source)
+
+    def to_frame(self):
+        """One row per bearing point: the bearings CSV columns plus the leg and pair values.
+
+        ``course_deg`` is the course of the leg leaving the point (blank on the last row);
+        ``u``, ``determinant`` belong to the pair (previous point, this point) (blank on the
+        first row).
+        """
+        import pandas as pd
+
+        pad_end = np.append(self.course_deg, np.nan)
+        pad_start = lambda v: np.insert(np.asarray(v, dtype=float), 0, np.nan)  # noqa: E731
+        return pd.DataFrame({
+            "t_s": self.t_s, "obs_x_m": self.obs_x_m, "obs_y_m": self.obs_y_m,
+            "bearing_deg": self.bearing_deg, "course_deg": pad_end,
+            "speed_mps": np.full(len(self.t_s), self.speed_mps), "range_m": self.range_m,
+            "u": pad_start(self.u), "determinant": pad_start(self.determinant),
+        })
+
+
+def _check_plan_inputs(target_x_m, target_y_m, start_x_m, start_y_m, speed_mps, leg_s, n_legs,
+                       min_range_m) -> None:
+    for name, value, unit in (("target_x_m", target_x_m, "m"), ("target_y_m", target_y_m, "m"),
+                              ("start_x_m", start_x_m, "m"), ("start_y_m", start_y_m, "m")):
+        if not math.isfinite(value):
+            raise LocateError(f"{name}: must be a finite number, got {value} {unit}")
+    for name, value, unit in (("speed_mps", speed_mps, "m/s"), ("leg_s", leg_s, "s")):
+        if not (math.isfinite(value) and value > 0.0):
+            raise LocateError(f"{name}: must be > 0 {unit}, got {value} {unit}")
+    if int(n_legs) != n_legs or not 1 <= n_legs <= 100_000:
+        raise LocateError(f"n_legs: must be an integer in [1, 100000], got {n_legs}")
+    if min_range_m is not None and not (math.isfinite(min_range_m) and min_range_m >= 0.0):
+        raise LocateError(f"min_range_m: must be >= 0 m, got {min_range_m} m")
+    if math.hypot(target_x_m - start_x_m, target_y_m - start_y_m) < SAME_POSITION_M:
+        raise LocateError(f"the start position ({start_x_m:g}, {start_y_m:g}) m coincides with "
+                          f"the target guess ({target_x_m:g}, {target_y_m:g}) m; no bearing")
+
+
+def course_offset_deg(range_m, leg_m: float, rule: CourseRule | str,
+                      min_range_m: float) -> np.ndarray:
+    """Angle theta by which the course turns from perpendicular-to-the-bearing, deg.
+
+    The course is beta = alpha +- (90 deg - theta) (+ to keep the target to port):
+
+    - eq. 17: theta = 0, perpendicular to the current bearing;
+    - eq. 23: theta = arcsin(VT / R), perpendicular to the anticipated next bearing
+      alpha_{n+1} = alpha_n -+ arcsin(VT / R_n) (steps 2-3), which brings the range to
+      sqrt(R^2 - VT^2) and keeps |P| (eq. 10) from falling;
+    - when that next range would fall below ``min_range_m``, the leg is a chord of the circle
+      of radius R about the target (theta = arcsin(VT / 2R)), which holds u constant; if even
+      that is impossible (VT > 2R) the leg is perpendicular to the bearing (theta = 0).
+    """
+    r = np.asarray(range_m, dtype=float)
+    if CourseRule(rule) is CourseRule.EQ17:
+        return np.zeros_like(r)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        closing = r ** 2 - leg_m ** 2 >= min_range_m ** 2
+        theta = np.where(closing, np.arcsin(np.clip(leg_m / r, 0.0, 1.0)),
+                         np.where(leg_m <= 2.0 * r,
+                                  np.arcsin(np.clip(leg_m / (2.0 * r), 0.0, 1.0)), 0.0))
+    return np.degrees(theta)
+
+
+def plan_route(*, target_x_m: float, target_y_m: float, speed_mps: float, leg_s: float,
+               n_legs: int, start_x_m: float = 0.0, start_y_m: float = 0.0,
+               rule: CourseRule | str = CourseRule.EQ23, side: Side | str = Side.PORT,
+               min_range_m: float | None = None, first_leg_rule: CourseRule | str | None = None,
+               d_alpha_deg: float = 0.0, rng: np.random.Generator | None = None,
+               max_u: float = DEFAULT_MAX_U) -> Route:
+    """Plan (or simulate) the observer's route for K legs by eq. 17 or algorithm (23).
+
+    At each point n the observer takes a bearing alpha_n and steers the next leg of length
+    VT = speed_mps * leg_s (eq. 13). With rule ``eq17`` the course is perpendicular to
+    alpha_n. With rule ``eq23`` it is perpendicular to the anticipated next bearing
+    alpha_{n+1} = alpha_n - arcsin(VT / R_n) (steps 1-5 of algorithm (23)); R_1 is the range
+    to the target guess ("R1 known"), later R_n is the range to the crossing fix of the two
+    latest bearings (step 6), which equals the guess when the bearings are exact.
+
+    Parameters
+    ----------
+    target_x_m, target_y_m : float
+        Target position (the guess the route is planned for), m.
+    speed_mps : float
+        Observer speed V, m/s.
+    leg_s : float
+        Time T between bearings, s.
+    n_legs : int
+        Number of legs K; the route has K + 1 bearing points.
+    start_x_m, start_y_m : float
+        First bearing point, m.
+    rule : CourseRule or str
+        ``eq23`` (default) or ``eq17``.
+    side : Side or str
+        ``port`` (course = bearing + 90 deg, the paper's choice) or ``starboard``.
+    first_leg_rule : CourseRule or str, optional
+        Rule for the first leg only; default ``rule``. The paper's text steers the first leg
+        by eq. 17 (the second bearing is not yet known) and the later ones by (23); with
+        ``rule="eq23"`` and R_1 known from the guess, the first leg too follows (23), which
+        is what gives the paper's Fig. 8 numbers.
+    min_range_m : float, optional
+        Algorithm (23) closes the range by sqrt(R^2 - VT^2) only while that stays at or above
+        this range, then circles the target. Default VT / sqrt(2), at which a chord of the
+        circle spans 90 deg of bearing (u = 1).
+    d_alpha_deg : float
+        Bound of a uniform bearing error U(-D_alpha, D_alpha) added to each bearing, deg;
+        0 (default) plans with exact bearings.
+    rng : numpy.random.Generator, optional
+        Required when ``d_alpha_deg > 0``.
+    max_u : float
+        A pair with u above this gives no fix; steering then keeps the previous range.
+
+    Returns
+    -------
+    Route
+    """
+    _check_plan_inputs(target_x_m, target_y_m, start_x_m, start_y_m, speed_mps, leg_s, n_legs,
+                       min_range_m)
+    try:
+        rule, side = CourseRule(rule), Side(side)
+        first_rule = rule if first_leg_rule is None else CourseRule(first_leg_rule)
+    except ValueError as exc:
+        raise LocateError(f"route: {exc}") from None
+    if d_alpha_deg:
+        _check_d_alpha(d_alpha_deg)
+        if rng is None:
+            raise LocateError("route: d_alpha_deg > 0 needs a random generator (rng)")
+    leg_m = speed_mps * leg_s
+    r_min = leg_m / math.sqrt(2.0) if min_range_m is None else float(min_range_m)
+    k = int(n_legs)
+    xs, ys = np.empty(k + 1), np.empty(k + 1)
+    bearing = np.empty(k + 1)
+    course = np.empty(k)
+    fix_x, fix_y = np.full(k, np.nan), np.full(k, np.nan)
+    xs[0], ys[0] = start_x_m, start_y_m
+
+    def take_bearing(n: int) -> None:
+        true = float(bearing_to_deg(xs[n], ys[n], target_x_m, target_y_m))
+        err = float(rng.uniform(-d_alpha_deg, d_alpha_deg)) if d_alpha_deg else 0.0
+        bearing[n] = (true + err) % 360.0
+
+    take_bearing(0)
+    est_x, est_y = float(target_x_m), float(target_y_m)  # R1 known: the target guess
+    for n in range(k):
+        if n >= 1:  # step 6 of (23) for the pair (n-1, n), then step 1 uses it
+            fx, fy, r1, r2, _ = crossing_point(xs[n - 1], ys[n - 1], bearing[n - 1],
+                                               xs[n], ys[n], bearing[n])
+            u_pair = float(pair_conditioning(bearing[n - 1] - bearing[n]))
+            if u_pair <= max_u and r1 > 0.0 and r2 > 0.0:
+                fix_x[n - 1], fix_y[n - 1] = float(fx), float(fy)
+                est_x, est_y = float(fx), float(fy)
+        r_est = math.hypot(est_x - xs[n], est_y - ys[n])
+        theta = float(course_offset_deg(r_est, leg_m, first_rule if n == 0 else rule, r_min))
+        course[n] = (bearing[n] + side.sign * (90.0 - theta)) % 360.0  # eqs. 17, 23 step 3
+        c = math.radians(course[n])
+        xs[n + 1] = xs[n] + leg_m * math.sin(c)  # eq. 13
+        ys[n + 1] = ys[n] + leg_m * math.cos(c)
+        take_bearing(n + 1)
+    fx, fy, r1, r2, det = crossing_point(xs[-2], ys[-2], bearing[-2], xs[-1], ys[-1], bearing[-1])
+    if float(pair_conditioning(bearing[-2] - bearing[-1])) <= max_u and r1 > 0.0 and r2 > 0.0:
+        fix_x[-1], fix_y[-1] = float(fx), float(fy)
+    delta = bearing[:-1] - bearing[1:]
+    return Route(
+        t_s=np.arange(k + 1) * float(leg_s), obs_x_m=xs, obs_y_m=ys, course_deg=course,
+        bearing_deg=bearing, range_m=np.hypot(target_x_m - xs, target_y_m - ys),
+        u=pair_conditioning(delta), determinant=np.sin(np.radians(delta)),
+        fix_x_m=fix_x, fix_y_m=fix_y, target_x_m=float(target_x_m),
+        target_y_m=float(target_y_m), rule=rule, first_leg_rule=first_rule, side=side,
+        speed_mps=float(speed_mps), leg_s=float(leg_s), min_range_m=r_min)
+
+
+def conditioning_vs_course(alpha1_deg: float, leg_over_range: float, course_deg) -> np.ndarray:
+    """u (eq. 11) of the first two bearings as a function of the first leg's course (Fig. 1).
+
+    The observer starts at the origin with the target at unit range on bearing ``alpha1_deg``
+    and runs a leg of length VT / R_1 = ``leg_over_range`` on each course beta_1 (eq. 13).
+
+    Parameters
+    ----------
+    alpha1_deg : float
+        First bearing, deg.
+    leg_over_range : float
+        VT / R_1, > 0.
+    course_deg : array_like
+        Courses beta_1, deg.
+
+    Returns
+    -------
+    u : ndarray
+        Conditioning number for each course (``inf`` where the leg runs along the bearing).
+    """
+    a1 = math.radians(alpha1_deg)
+    b = np.radians(np.asarray(course_deg, dtype=float))
+    x2, y2 = leg_over_range * np.sin(b), leg_over_range * np.cos(b)
+    a2 = bearing_to_deg(x2, y2, math.sin(a1), math.cos(a1))
+    return pair_conditioning(alpha1_deg - a2)
+
+
+# --------------------------------------------------------------------------------------------
+# Monte Carlo
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MonteCarlo:
+    """Fixes from bearings with uniform errors in [-D_alpha, D_alpha].
+
+    Attributes
+    ----------
+    x_m, y_m : ndarray
+        One fix per trial, m (trials with no fix are dropped).
+    obs2_x_m, obs2_y_m : ndarray
+        Second observer position of each trial (moves with the first bearing's error when the
+        first leg is steered on the measured bearing), m; empty for `monte_carlo_locate`.
+    n_trials : int
+        Trials run.
+    d_alpha_deg : float
+    """
+
+    x_m: np.ndarray
+    y_m: np.ndarray
+    obs2_x_m: np.ndarray
+    obs2_y_m: np.ndarray
+    n_trials: int
+    d_alpha_deg: float
+
+    @property
+    def mean_x_m(self) -> float:
+        """Mean fix, eq. 29, m."""
+        return float(np.mean(self.x_m))
+
+    @property
+    def mean_y_m(self) -> float:
+        """Mean fix, eq. 29, m."""
+        return float(np.mean(self.y_m))
+
+
+def monte_carlo_first_leg(*, target_x_m: float, target_y_m: float, leg_m: float,
+                          d_alpha_deg: float, n_trials: int, rng: np.random.Generator,
+                          start_x_m: float = 0.0, start_y_m: float = 0.0,
+                          rule: CourseRule | str = CourseRule.EQ23,
+                          side: Side | str = Side.PORT, min_range_m: float | None = None,
+                          steer_on_measured: bool = True) -> MonteCarlo:
+    """The paper's numerical experiment (Figs. 5, 6, 9): first-pair fixes with bearing errors.
+
+    Each trial takes the first bearing with a uniform error dalpha_1 in [-D_alpha, D_alpha],
+    runs one leg of length VT by ``rule`` (R_1 known), takes the second bearing with its own
+    error dalpha_2 and crosses the two lines (eq. 24).
+
+    Parameters
+    ----------
+    target_x_m, target_y_m : float
+        True target position, m.
+    leg_m : float
+        Leg length VT, m.
+    d_alpha_deg : float
+        Bearing error bound, deg.
+    n_trials : int
+        Number of trials (the paper: 1000).
+    rng : numpy.random.Generator
+    start_x_m, start_y_m : float
+        First bearing point, m.
+    rule, side, min_range_m
+        As in `plan_route` (for the first leg).
+    steer_on_measured : bool
+        True (default, as in the paper): the first leg's course follows the measured first
+        bearing, so the second point moves with the first error ("the second bearing is taken
+        at different points depending on the current bearing error"). False: the second point
+        is the planned one, and every fix then lies in the `ErrorRegion` quadrilateral.
+
+    Returns
+    -------
+    MonteCarlo
+    """
+    _check_d_alpha(d_alpha_deg)
+    if int(n_trials) != n_trials or n_trials < 1:
+        raise LocateError(f"n_trials: must be an integer >= 1, got {n_trials}")
+    rule, side = CourseRule(rule), Side(side)
+    alpha1 = float(bearing_to_deg(start_x_m, start_y_m, target_x_m, target_y_m))
+    r1 = math.hypot(target_x_m - start_x_m, target_y_m - start_y_m)
+    e1 = rng.uniform(-d_alpha_deg, d_alpha_deg, int(n_trials))
+    e2 = rng.uniform(-d_alpha_deg, d_alpha_deg, int(n_trials))
+    measured1 = alpha1 + e1
+    r_min = leg_m / math.sqrt(2.0) if min_range_m is None else float(min_range_m)
+    theta = float(course_offset_deg(r1, leg_m, rule, r_min))
+    steer = measured1 if steer_on_measured else np.full(int(n_trials), alpha1)
+    course = np.radians(steer + side.sign * (90.0 - theta))
+    x2 = start_x_m + leg_m * np.sin(course)
+    y2 = start_y_m + leg_m * np.cos(course)
+    measured2 = bearing_to_deg(x2, y2, target_x_m, target_y_m) + e2
+    fx, fy, ra, rb, _ = crossing_point(start_x_m, start_y_m, measured1, x2, y2, measured2)
+    ok = np.isfinite(fx) & (ra > 0.0) & (rb > 0.0)
+    return MonteCarlo(x_m=fx[ok], y_m=fy[ok], obs2_x_m=x2, obs2_y_m=y2, n_trials=int(n_trials),
+                      d_alpha_deg=float(d_alpha_deg))
+
+
+def monte_carlo_locate(bearings: Bearings, x_m: float, y_m: float, *, d_alpha_deg: float,
+                       n_trials: int, rng: np.random.Generator,
+                       method: Method | str = Method.LSQ,
+                       max_u: float = DEFAULT_MAX_U) -> MonteCarlo:
+    """Fixes from the bearings seen at (x_m, y_m) plus uniform errors in [-D_alpha, D_alpha].
+
+    The observer positions are those of ``bearings``; each trial perturbs every exact bearing
+    independently and applies ``method`` (vectorised over the trials). Trials whose fix is
+    ill-conditioned or crosses behind an observer are dropped.
+    """
+    _check_d_alpha(d_alpha_deg)
+    if int(n_trials) != n_trials or n_trials < 1:
+        raise LocateError(f"n_trials: must be an integer >= 1, got {n_trials}")
+    method = Method(method)
+    ox, oy = bearings.obs_x_m, bearings.obs_y_m
+    exact = bearing_to_deg(ox, oy, x_m, y_m)
+    a = exact[None, :] + rng.uniform(-d_alpha_deg, d_alpha_deg, (int(n_trials), len(ox)))
+    if method is Method.LSQ:
+        ar = np.radians(a)
+        c, s = np.cos(ar), np.sin(ar)
+        xr, yr = float(np.mean(ox)), float(np.mean(oy))
+        b = c * (ox - xr) - s * (oy - yr)
+        # normal equations of P x = b with rows (c, -s), per trial
+        pcc, pss, pcs = np.sum(c * c, 1), np.sum(s * s, 1), -np.sum(c * s, 1)
+        qc, qs = np.sum(c * b, 1), -np.sum(s * b, 1)
+        det = pcc * pss - pcs ** 2
+        tr = pcc + pss
+        disc = np.sqrt(np.maximum(tr ** 2 / 4.0 - det, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.sqrt((tr / 2.0 + disc) / (tr / 2.0 - disc))
+            fx = (pss * qc - pcs * qs) / det + xr
+            fy = (pcc * qs - pcs * qc) / det + yr
+        ok = u <= max_u
+    else:
+        if method is Method.CROSSING:
+            i, j = np.array([len(ox) - 2]), np.array([len(ox) - 1])
+        else:
+            i, j = np.arange(len(ox) - 1), np.arange(1, len(ox))
+        px, py, r1, r2, _ = crossing_point(ox[i], oy[i], a[:, i], ox[j], oy[j], a[:, j])
+        good = (pair_conditioning(a[:, i] - a[:, j]) <= max_u) & (r1 > 0.0) & (r2 > 0.0)
+        count = np.sum(good, 1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fx = np.sum(np.where(good, px, 0.0), 1) / count
+            fy = np.sum(np.where(good, py, 0.0), 1) / count
+        ok = count > 0
+    return MonteCarlo(x_m=fx[ok], y_m=fy[ok], obs2_x_m=np.empty(0), obs2_y_m=np.empty(0),
+                      n_trials=int(n_trials), d_alpha_deg=float(d_alpha_deg))
