@@ -20,18 +20,27 @@ COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, locate_cmd, demo_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--json", action="store_true", help="print the result as one JSON object")
-    common.add_argument("--progress", action="store_true",
-                        help="show progress bars even when stderr is not a terminal")
-    common.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
     parser = argparse.ArgumentParser(
-        prog="tmakit", parents=[common],
+        prog="tmakit", parents=[_common_options(argparse.SUPPRESS)],
         description="Propagation tables and passive-sonar target motion analysis.")
+    parser.set_defaults(json=False, progress=False, verbose=0)
+    # subcommands take the same options anywhere on the line; SUPPRESS keeps a subparser from
+    # resetting what an earlier position already set
+    common = _common_options(argparse.SUPPRESS)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMAND_MODULES:
         module.register(sub, common)
     return parser
+
+
+def _common_options(default) -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--json", action="store_true", default=default,
+                        help="print the result as one JSON object")
+    common.add_argument("--progress", action="store_true", default=default,
+                        help="show progress bars even when stderr is not a terminal")
+    common.add_argument("-v", "--verbose", action="count", default=default, help="more log output")
+    return common
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -141,3 +141,10 @@ def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path):
     info = json.loads(resumed.stdout)
     assert info["runs"] == 16 and info["runs_reused"] == done_before
     assert out.exists() and not cache.exists()
+
+
+@pytest.mark.parametrize("argv", [["--json", "areas", "list"], ["areas", "--json", "list"],
+                                  ["areas", "list", "--json"]])
+def test_json_option_works_at_any_position(capsys, argv):
+    assert main(argv) == 0
+    assert "areas" in json.loads(capsys.readouterr().out)
