@@ -2,11 +2,11 @@
 
 from acoustics.absorption import thorp_db_per_km
 from acoustics.errors import BellhopError, GridFileError
-from acoustics.grid import BuildStats, Model, build_grid, expected_source_hash, plan_runs
+from acoustics.grid import BuildStats, Model, build_grid, build_k, expected_source_hash, plan_runs
 from acoustics.io import check_grid, open_grid, write_grid
 from acoustics.kcurve import spectral_term_db
 from acoustics.urick import k_urick_db, spherical_tl_db
 
-__all__ = ["BellhopError", "BuildStats", "GridFileError", "Model", "build_grid", "check_grid",
+__all__ = ["BellhopError", "BuildStats", "build_k", "GridFileError", "Model", "build_grid", "check_grid",
            "expected_source_hash", "k_urick_db", "open_grid", "plan_runs", "spectral_term_db",
            "spherical_tl_db", "thorp_db_per_km", "write_grid"]

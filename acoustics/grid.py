@@ -176,6 +176,41 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
                     exe.describe() if exe else None)
 
 
+def build_k(area: Area, *, reciprocity: bool = True, workers: int = 1, scheduler: str | None = None,
+            progress: bool = False, stats: BuildStats | None = None) -> xr.DataArray:
+    """K(r) at the observer depth only, ``k_db(class, band, range)``, with far fewer receivers.
+
+    With ``reciprocity`` one set of runs with the source at the observer depth and receivers at
+    the class depths serves every class (TL from z_s to z_r equals TL from z_r to z_s);
+    otherwise one run per class depth with a single receiver at the observer depth.
+    """
+    stats = stats if stats is not None else BuildStats()
+    exe = find_bellhop()
+    class_depths = sorted({cls.depth_m for cls in area.classes})
+    if reciprocity:
+        runs = plan_runs(area, source_depths_m=[area.observer.depth_m], receiver_depths=class_depths)
+    else:
+        runs = plan_runs(area, receiver_depths=[area.observer.depth_m])
+    stats.runs = runs
+    fields = execute_runs(runs, tl_max_db=area.propagation.tl_max_db, workers=workers, scheduler=scheduler,
+                          progress=progress, exe=str(exe.path), stats=stats)
+    rng = area.grid.range_m()
+    k = np.empty((len(area.classes), len(area.bands), rng.size))
+    for ic, cls in enumerate(area.classes):
+        if reciprocity:
+            row = class_depths.index(cls.depth_m)
+            by_freq = {_fkey(run.freq_hz): fields[run.key][row:row + 1] for run in runs}
+        else:
+            by_freq = {_fkey(run.freq_hz): fields[run.key] for run in runs if run.source_depth_m == cls.depth_m}
+        for ib, band in enumerate(area.bands):
+            k[ic, ib] = spectral_term_db(cls, band) - band_tl_from_runs(area, cls, band, by_freq)[0]
+    return xr.DataArray(k, dims=("class", "band", "range"),
+                        coords={"class": [c.name for c in area.classes], "band": [b.name for b in area.bands],
+                                "range": rng}, name="k_db",
+                        attrs={"units": "dB", "long_name": "transfer characteristic K(r) at the observer depth",
+                               "method": "reciprocity" if reciprocity else "direct"})
+
+
 def _dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) -> xr.Dataset:
     prop = area.propagation
     bands = area.bands
