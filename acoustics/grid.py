@@ -23,7 +23,7 @@ from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
-from acoustics.runs import Run, RunStats, execute_runs
+from acoustics.runs import Run, RunStats, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
 
@@ -78,6 +78,30 @@ def plan_runs(area: Area, source_depths_m=None, receiver_depths=None) -> list[Ru
     return runs
 
 
+def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
+    """Run ``runs`` and call ``fill(ic, ib, band_tl)`` for each (class, band) as soon as its runs
+    are in, dropping each run's field once no pending (class, band) needs it."""
+    pending = {}
+    for ic, cls in enumerate(area.classes):
+        for ib, band in enumerate(area.bands):
+            freqs = {_fkey(f) for f in run_frequencies_hz(area, band)}
+            pending[(ic, ib)] = {run.key for run in runs
+                                 if run.source_depth_m == cls.depth_m and _fkey(run.freq_hz) in freqs}
+    fields: dict[str, np.ndarray] = {}
+    by_key = {run.key: run for run in runs}
+    for run, field in iter_runs(runs, **run_options):
+        fields[run.key] = field
+        for (ic, ib), keys in list(pending.items()):
+            if keys <= fields.keys():
+                by_freq = {_fkey(by_key[key].freq_hz): fields[key] for key in keys}
+                fill(ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
+                del pending[(ic, ib)]
+        needed = set().union(*pending.values()) if pending else set()
+        for key in list(fields):
+            if key not in needed:
+                del fields[key]
+
+
 def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]) -> np.ndarray:
     """Band TL for ``cls`` from the run TL fields of one source depth, keyed by run frequency."""
     prop = area.propagation
@@ -85,11 +109,14 @@ def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]
     weights = band_weights(cls, freqs)
     range_km = area.grid.range_m() / 1000.0
     if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
+        # TL(f_i) = TL(f_c) + (alpha_i - alpha_c) r, so the band intensity factors into the
+        # centre intensity times a function of range alone: sum_i w_i 10^(-(alpha_i - alpha_c) r / 10)
         fc = band.center_hz
         base = tl_by_freq[_fkey(fc)].astype(np.float64)
-        alpha_c = absorption_db_per_km(fc, prop.absorption)
-        per_freq = np.stack([base + (absorption_db_per_km(f, prop.absorption) - alpha_c) * range_km
-                             for f in freqs])
+        d_alpha = absorption_db_per_km(freqs, prop.absorption) - absorption_db_per_km(fc, prop.absorption)
+        gain = weights @ 10.0 ** (-np.outer(d_alpha, range_km) / 10.0)
+        band_tl = base - 10.0 * np.log10(gain)
+        return np.minimum(band_tl, prop.tl_max_db)
     else:
         per_freq = np.stack([tl_by_freq[_fkey(f)].astype(np.float64) for f in freqs])
     return band_average_tl_db(per_freq, weights, prop.tl_max_db)
@@ -156,16 +183,15 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
         obs_row = int(np.searchsorted(rz, area.observer.depth_m))
         runs = plan_runs(area, receiver_depths=rz)
         stats.runs = runs
-        fields = execute_runs(runs, tl_max_db=prop.tl_max_db, workers=workers, scheduler=scheduler,
-                              cache_dir=Path(cache_dir) if cache_dir is not None else None,
-                              progress=progress, exe=str(exe.path), stats=stats)
-        for ic, cls in enumerate(area.classes):
-            by_freq = {_fkey(run.freq_hz): fields[run.key] for run in runs
-                       if run.source_depth_m == cls.depth_m}
-            for ib, band in enumerate(area.bands):
-                band_tl = band_tl_from_runs(area, cls, band, by_freq)
-                tl[ic, ib] = band_tl[on_grid]
-                k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
+
+        def fill(ic: int, ib: int, band_tl: np.ndarray) -> None:
+            cls, band = area.classes[ic], area.bands[ib]
+            tl[ic, ib] = band_tl[on_grid]
+            k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
+
+        _assemble(area, runs, fill, tl_max_db=prop.tl_max_db, workers=workers, scheduler=scheduler,
+                  cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
+                  exe=str(exe.path), stats=stats)
     else:
         for ib, band in enumerate(area.bands):
             tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]

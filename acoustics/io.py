@@ -26,7 +26,7 @@ def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
         if name in ds.coords:
             encoding[name] = {"_FillValue": None}
         elif np.issubdtype(var.dtype, np.floating):
-            encoding[name] = {"zlib": True, "complevel": 4, "_FillValue": None}
+            encoding[name] = {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
     return path

@@ -12,7 +12,7 @@ import logging
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -54,65 +54,74 @@ def execute_run(env: str, tl_max_db: float, exe: str | None = None) -> tuple[np.
     return tl, result.seconds
 
 
-def execute_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
-                 scheduler: str | None = None, cache_dir: Path | None = None,
-                 progress: bool = False, exe: str | None = None,
-                 stats: RunStats | None = None) -> dict[str, np.ndarray]:
+def execute_runs(runs: Sequence[Run], **kwargs) -> dict[str, np.ndarray]:
     """Execute ``runs`` (deduplicated by key) and return {run.key: TL field}."""
+    return {run.key: tl for run, tl in iter_runs(runs, **kwargs)}
+
+
+def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
+              scheduler: str | None = None, cache_dir: Path | None = None,
+              progress: bool = False, exe: str | None = None,
+              stats: RunStats | None = None) -> Iterator[tuple[Run, np.ndarray]]:
+    """Yield (run, TL field) as runs finish: cached ones first, then as BELLHOP completes them.
+
+    BELLHOP always runs in worker threads (one per worker), so whatever the caller does with a
+    result overlaps the next BELLHOP run.
+    """
     stats = stats if stats is not None else RunStats()
     start = time.perf_counter()
     unique = {run.key: run for run in runs}
     stats.runs_total = len(unique)
-    results: dict[str, np.ndarray] = {}
+    todo = []
+    cached = []
+    for key, run in unique.items():
+        path = cache_dir / f"{key}.npy" if cache_dir is not None else None
+        if path is not None and path.exists():
+            try:
+                cached.append((run, np.load(path)))
+                continue
+            except (OSError, ValueError):
+                path.unlink()  # a damaged cache entry is simply recomputed
+        todo.append(run)
     if cache_dir is not None:
         cache_dir.mkdir(parents=True, exist_ok=True)
-        for key in unique:
-            path = cache_dir / f"{key}.npy"
-            if path.exists():
-                try:
-                    results[key] = np.load(path)
-                except (OSError, ValueError):
-                    path.unlink()  # a damaged cache entry is simply recomputed
-    stats.runs_reused = len(results)
-    todo = [run for key, run in unique.items() if key not in results]
+    stats.runs_reused = len(cached)
     if todo:
         log.info("running BELLHOP %d times (%d reused)", len(todo), stats.runs_reused)
-    bar = tqdm(total=len(unique), initial=len(results), desc="BELLHOP runs", unit="run",
+    bar = tqdm(total=len(unique), initial=len(cached), desc="BELLHOP runs", unit="run",
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
 
-    def keep(run: Run, tl: np.ndarray, seconds: float) -> None:
-        results[run.key] = tl
+    def keep(run: Run, tl: np.ndarray, seconds: float) -> tuple[Run, np.ndarray]:
         stats.bellhop_seconds += seconds
         if cache_dir is not None:
             tmp = cache_dir / f".{run.key}.{os.getpid()}.npy"
             np.save(tmp, tl)
             os.replace(tmp, cache_dir / f"{run.key}.npy")
         bar.update(1)
+        return run, tl
 
     try:
+        yield from cached
+        del cached
         if scheduler is not None:
-            _execute_dask(todo, tl_max_db, scheduler, exe, keep)
-        elif workers <= 1:
-            for run in todo:
-                keep(run, *execute_run(run.env, tl_max_db, exe))
-        else:
-            with ThreadPoolExecutor(max_workers=workers) as pool:
+            for run, tl, seconds in _execute_dask(todo, tl_max_db, scheduler, exe):
+                yield keep(run, tl, seconds)
+        elif todo:
+            with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
                 futures = {pool.submit(execute_run, run.env, tl_max_db, exe): run for run in todo}
                 try:
                     for future in as_completed(futures):
-                        keep(futures[future], *future.result())
-                except BaseException:
+                        yield keep(futures[future], *future.result())
+                finally:
                     for future in futures:
                         future.cancel()
-                    raise
     finally:
         bar.close()
         stats.wall_seconds = time.perf_counter() - start
-    return results
 
 
-def _execute_dask(todo: Sequence[Run], tl_max_db: float, scheduler: str, exe: str | None,
-                  keep: Callable[[Run, np.ndarray, float], None]) -> None:
+def _execute_dask(todo: Sequence[Run], tl_max_db: float, scheduler: str,
+                  exe: str | None) -> Iterator[tuple[Run, np.ndarray, float]]:
     from distributed import Client, as_completed as dask_as_completed
 
     try:
@@ -130,6 +139,6 @@ def _execute_dask(todo: Sequence[Run], tl_max_db: float, scheduler: str, exe: st
                 if isinstance(exc, BellhopError):
                     raise exc
                 raise BellhopError(f"BELLHOP run failed on the Dask cluster: {exc}")
-            keep(by_key[future.key], *future.result())
+            yield (by_key[future.key], *future.result())
     finally:
         client.close()

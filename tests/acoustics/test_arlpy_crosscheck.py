@@ -2,16 +2,29 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
 import envdata
 from acoustics.bellhop.envfile import RunSpec, env_text
+from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 
 pytestmark = pytest.mark.bellhop
+
+
+def _with_bellhop_on_path(fn):
+    """arlpy runs 'bellhop.exe' from PATH: put the executable tmakit uses first on PATH."""
+    old = os.environ.get("PATH", "")
+    os.environ["PATH"] = f"{find_bellhop().path.parent}{os.pathsep}{old}"
+    try:
+        return fn()
+    finally:
+        os.environ["PATH"] = old
 
 
 def test_tl_agrees_with_arlpy_on_the_munk_1000_environment():
@@ -27,7 +40,7 @@ def test_tl_agrees_with_arlpy_on_the_munk_1000_environment():
         bottom_absorption=area.bottom.attenuation_db_per_wavelength, tx_depth=5.0, rx_depth=rx_depth,
         rx_range=rx_range, frequency=50.0, nbeams=2000, min_angle=-80.0, max_angle=80.0,
         soundspeed_interp=pm.linear)  # tabulated profiles are linear (BELLHOP C), as in DESIGN.md
-    p_arlpy = pm.compute_transmission_loss(env, mode=pm.incoherent)
+    p_arlpy = _with_bellhop_on_path(lambda: pm.compute_transmission_loss(env, mode=pm.incoherent))
     assert p_arlpy is not None, "arlpy's BELLHOP run failed (arlpy prints the reason)"
     tl_arlpy = tl_from_pressure(np.asarray(p_arlpy, dtype=complex), 200.0)
 
