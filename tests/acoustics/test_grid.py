@@ -95,3 +95,28 @@ def test_source_hash_changes_with_anything_that_changes_the_numbers(tiny_area):
     assert acoustics.expected_source_hash(moved) != base
     assert acoustics.expected_source_hash(tiny_area, "urick") != base
     assert acoustics.expected_source_hash(tiny_area) == base
+
+
+def test_k_alone_direct_equals_the_grid_k(tiny_grid, tiny_area):
+    stats = acoustics.BuildStats()
+    k = acoustics.build_k(tiny_area, reciprocity=False, stats=stats)
+    assert stats.runs_total == 4 and k.attrs["method"] == "direct"
+    # one receiver depth instead of 21, same rays: the same K to float32 rounding of tl_db
+    assert_allclose(k.values, tiny_grid["k_db"].values, rtol=0, atol=1e-4)
+
+
+def test_k_by_reciprocity_holds_for_the_submerged_class(tiny_grid, tiny_area):
+    k = acoustics.build_k(tiny_area, reciprocity=True)
+    diff = np.abs(k.sel({"class": "SUB"}) - tiny_grid["k_db"].sel({"class": "SUB"})).values
+    # source 150 m / receiver 100 m swapped: beam tracing is reciprocal to a fraction of a dB
+    # away from caustics (ocean-deep, 200 m class: 0.1 dB median, 1.2 dB p95; see bench/run.py)
+    assert np.median(diff) < 0.3
+
+
+@pytest.mark.parametrize("mode", ["coherent", "semicoherent"])
+def test_coherent_modes_run_every_quadrature_frequency(tiny_area, mode):
+    area = dataclasses.replace(tiny_area, propagation=dataclasses.replace(
+        tiny_area.propagation, mode=envdata.TlMode(mode)))
+    runs = plan_runs(area)
+    assert len(runs) == 2 * (7 + 1)  # 2 depths x (7 frequencies of FB1 + the single F500)
+    assert all(f"'{mode[0].upper()}G'" in r.env for r in runs)
