@@ -83,8 +83,6 @@ def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
             except (OSError, ValueError):
                 path.unlink()  # a damaged cache entry is simply recomputed
         todo.append(run)
-    if cache_dir is not None:
-        cache_dir.mkdir(parents=True, exist_ok=True)
     stats.runs_reused = len(cached)
     if todo:
         log.info("running BELLHOP %d times (%d reused)", len(todo), stats.runs_reused)
@@ -94,6 +92,7 @@ def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
     def keep(run: Run, tl: np.ndarray, seconds: float) -> tuple[Run, np.ndarray]:
         stats.bellhop_seconds += seconds
         if cache_dir is not None:
+            cache_dir.mkdir(parents=True, exist_ok=True)  # only once a run has finished
             tmp = cache_dir / f".{run.key}.{os.getpid()}.npy"
             np.save(tmp, tl)
             os.replace(tmp, cache_dir / f"{run.key}.npy")

@@ -122,6 +122,24 @@ def main() -> None:
         med, p95, rms = k_difference(k, k_full)
         say(f"k_error_{name}_vs_full_median", med, "dB")
         say(f"k_error_{name}_vs_full_p95", p95, "dB")
+    # how many beams incoherent K(r) needs (one run per band; reference: BELLHOP's own count)
+    for n_beams in (250, 500, 1000, 1500, 3000):
+        fan = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=n_beams))
+        start = time.perf_counter()
+        k_fan = acoustics.build_k(fan, reciprocity=False, workers=ncores)
+        seconds = time.perf_counter() - start
+        med, p95, _ = k_difference(k_fan, k_full)
+        say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")
+        say(f"k_error_{n_beams}_beams_vs_full_p95", p95, f"dB ({seconds:.1f} s for K alone)")
+    # the whole TL field of one class and band against the full computation
+    nps, fb1 = area.classes[0], area.bands[0]
+    one = dict(classes=(nps,), bands=(fb1,))
+    tl_default = grid["tl_db"].sel({"class": nps.name, "band": fb1.name}).values
+    tl_full = acoustics.build_grid(dataclasses.replace(full, **one), workers=ncores)["tl_db"].values[0, 0]
+    audible = tl_full < 120.0  # leave out deep shadows, where no band would be detected
+    d = np.abs(tl_default - tl_full)[audible]
+    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
+    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
     for cls in area.classes:
         med, p95, _ = k_difference(k_recip.sel({"class": cls.name}), grid["k_db"].sel({"class": cls.name}))
         say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
