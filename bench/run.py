@@ -1,150 +1,28 @@
-"""Benchmarks of the propagation grids (issue: speed, memory, and what each shortcut costs).
+"""Run every benchmark in this folder (``bench_*.py``), one after the other, each in its own process.
 
-Run with ``make bench``. Prints one line per figure, ``name: value unit``; ratios are measured
-side by side in this one run. Takes about three minutes on 2 cores.
+Each prints one line per figure, ``name: value unit``. ``python bench/run.py grids`` runs only
+bench_grids.py.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import json
-import os
 import subprocess
 import sys
-import tempfile
-import time
 from pathlib import Path
 
-import numpy as np
-
-import acoustics
-import envdata
-from acoustics.bellhop.exe import find_bellhop
-from acoustics.grid import plan_runs, receiver_depths_m
-from acoustics.kcurve import band_frequencies_hz
-
-REPO = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve().parent
 
 
-def say(name: str, value, unit: str = "") -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
-
-
-def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
-    start = time.perf_counter()
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args, "--json"], cwd=REPO,
-                                stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(proc.pid, 0)
-        wall = time.perf_counter() - start
-        out.seek(0)
-        err.seek(0)
-        if status != 0:
-            raise SystemExit(f"bench: tmakit {' '.join(args)} failed: {err.read()}")
-        return wall, usage.ru_maxrss / 1024.0, json.loads(out.read())
-
-
-def raw_bellhop_seconds(envs: list[str], exe: Path) -> float:
-    """Sum of the wall times of bellhop.exe itself on the given environment files, one at a time."""
-    total = 0.0
-    for env in envs:
-        with tempfile.TemporaryDirectory() as tmp:
-            (Path(tmp) / "raw.env").write_text(env)
-            start = time.perf_counter()
-            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
-            total += time.perf_counter() - start
-    return total
-
-
-def k_difference(a, b) -> tuple[float, float, float]:
-    d = np.abs(np.asarray(a) - np.asarray(b)).ravel()
-    return float(np.median(d)), float(np.percentile(d, 95)), float(np.sqrt(np.mean(d ** 2)))
-
-
-def main() -> None:
-    exe = find_bellhop().path
-    area = envdata.load_area(envdata.DEFAULT_AREA)
-    ncores = os.cpu_count() or 1
-    say("cores", ncores)
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "g.nc"
-        # -- speed and memory of the default area ----------------------------------------------
-        wall1, rss1, info1 = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "1",
-                                              "--force"])
-        wall2, rss2, info2 = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "2",
-                                              "--force"])
-        runs = plan_runs(area)
-        raw = raw_bellhop_seconds([r.env for r in runs], exe)
-        say("ocean_deep_runs", len(runs), "BELLHOP runs")
-        say("ocean_deep_build_1_worker", wall1, "s")
-        say("ocean_deep_build_2_workers", wall2, "s")
-        say("ocean_deep_raw_bellhop_sum", raw, "s")
-        say("overhead_build_over_raw_bellhop", wall1 / raw, "ratio (target <= 1.10)")
-        say("parallel_speedup_2_vs_1_workers", wall1 / wall2, "x (target >= 1.7)")
-        say("ocean_deep_peak_rss", max(rss1, rss2), "MiB (target < 1024)")
-        grid = acoustics.open_grid(out)
-
-    # -- the naive loop: classes x bands x frequencies at BELLHOP's automatic beam count ----------
-    receivers = receiver_depths_m(area).size * area.grid.range_m().size
-    beams_default = area.propagation.n_beams
-    ns_per = raw / len(runs) / (beams_default * receivers) * 1e9
-    say("bellhop_cost_per_beam_receiver", ns_per, "ns")
-    c0 = area.water.ssp.speed_mps[0]
-
-    def auto_beams(f):  # BELLHOP's choice for NBeams = 0 (angleMod): 0.3 r_max f / c0, at least 300
-        return max(int(0.3 * area.grid.range_max_m * f / c0), 300)
-
-    naive_beams = sum(auto_beams(f) for _ in area.classes for b in area.bands
-                      for f in band_frequencies_hz(b, area.propagation.freqs_per_band))
-    naive_s = naive_beams * receivers * ns_per * 1e-9
-    # check the cost model on one real automatic-beam run (FB1 centre, the NPS depth)
-    auto_area = dataclasses.replace(area, propagation=dataclasses.replace(area.propagation, n_beams=0))
-    probe = [r for r in plan_runs(auto_area) if r.source_depth_m == 200.0][0]
-    probe_s = raw_bellhop_seconds([probe.env], exe)
-    predicted = auto_beams(probe.freq_hz) * receivers * ns_per * 1e-9
-    say("cost_model_check_auto_beam_run", probe_s / predicted, "measured/predicted")
-    say("naive_loop_estimate", naive_s, f"s ({len(area.classes) * len(area.bands) * area.propagation.freqs_per_band}"
-        " runs at automatic beam counts)")
-    say("speedup_over_naive_loop", naive_s / wall2, "x")
-
-    # -- what each shortcut costs in K(r) accuracy, against the full computation ---------------
-    prop = area.propagation
-    full = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0, frequency_shortcut=False))
-    beams_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, frequency_shortcut=False))
-    shortcut_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0))
-    k_full = acoustics.build_k(full, reciprocity=False, workers=ncores)
-    k_beams = acoustics.build_k(beams_only, reciprocity=False, workers=ncores)
-    k_short = acoustics.build_k(shortcut_only, reciprocity=False, workers=ncores)
-    k_recip = acoustics.build_k(area, reciprocity=True, workers=ncores)
-    for name, k in (("default_grid", grid["k_db"]), ("fixed_beam_fan", k_beams),
-                    ("frequency_shortcut", k_short)):
-        med, p95, rms = k_difference(k, k_full)
-        say(f"k_error_{name}_vs_full_median", med, "dB")
-        say(f"k_error_{name}_vs_full_p95", p95, "dB")
-    # how many beams incoherent K(r) needs (one run per band; reference: BELLHOP's own count)
-    for n_beams in (250, 500, 1000, 1500, 3000):
-        fan = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=n_beams))
-        start = time.perf_counter()
-        k_fan = acoustics.build_k(fan, reciprocity=False, workers=ncores)
-        seconds = time.perf_counter() - start
-        med, p95, _ = k_difference(k_fan, k_full)
-        say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")
-        say(f"k_error_{n_beams}_beams_vs_full_p95", p95, f"dB ({seconds:.1f} s for K alone)")
-    # the whole TL field of one class and band against the full computation
-    nps, fb1 = area.classes[0], area.bands[0]
-    one = dict(classes=(nps,), bands=(fb1,))
-    tl_default = grid["tl_db"].sel({"class": nps.name, "band": fb1.name}).values
-    tl_full = acoustics.build_grid(dataclasses.replace(full, **one), workers=ncores)["tl_db"].values[0, 0]
-    audible = tl_full < 120.0  # leave out deep shadows, where no band would be detected
-    d = np.abs(tl_default - tl_full)[audible]
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
-    for cls in area.classes:
-        med, p95, _ = k_difference(k_recip.sel({"class": cls.name}), grid["k_db"].sel({"class": cls.name}))
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_p95", p95, "dB")
+def main(argv: list[str]) -> int:
+    scripts = sorted(HERE.glob("bench_*.py"))
+    if argv:
+        scripts = [s for s in scripts if s.stem.removeprefix("bench_") in argv]
+    status = 0
+    for script in scripts:
+        print(f"# {script.stem}", flush=True)
+        status |= subprocess.run([sys.executable, str(script)], cwd=HERE.parent).returncode
+    return status
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main(sys.argv[1:]))
