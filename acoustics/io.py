@@ -18,8 +18,8 @@ REQUIRED_COORDS = ("class", "band", "depth", "range", "band_low_hz", "band_high_
 REQUIRED_ATTRS = ("Conventions", "area", "model", "observer_depth_m", "source_hash")
 
 
-def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` as netCDF4 to ``path`` via a temporary file (no half-written file, ever)."""
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever)."""
     path = Path(path)
     encoding = {}
     for name, var in ds.variables.items():
@@ -32,26 +32,36 @@ def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
     return path
 
 
-def open_grid(path: str | Path) -> xr.Dataset:
-    """Open a grid file, load it into memory and check it against the contract."""
+def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Dataset:
+    """Open a netCDF file and load it into memory; every way it can be unreadable raises ``error``."""
     path = Path(path)
     if not path.exists():
-        raise GridFileError(f"{path}: grid file not found")
+        raise error(f"{path}: {what} file not found")
     if path.is_dir():
-        raise GridFileError(f"{path}: is a directory, not a grid file")
+        raise error(f"{path}: is a directory, not a {what} file")
     with open(path, "rb") as fh:
         magic = fh.read(8)
     if not magic:
-        raise GridFileError(f"{path}: empty file, not a netCDF grid")
+        raise error(f"{path}: empty file, not a netCDF {what}")
     if not (magic.startswith(b"\x89HDF") or magic.startswith(b"CDF")):
-        raise GridFileError(f"{path}: not a netCDF file")
+        raise error(f"{path}: not a netCDF file")
     try:
         with xr.open_dataset(path, engine="netcdf4") as raw:
-            ds = raw.load()
+            return raw.load()
     except Exception as exc:  # netCDF4/HDF5 raise many types for damaged files
-        raise GridFileError(f"{path}: cannot read netCDF (truncated or damaged): "
-                            f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
-                            ) from None
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        raise error(f"{path}: cannot read netCDF (truncated or damaged): "
+                    f"{type(exc).__name__}: {first}") from None
+
+
+def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write a grid dataset as netCDF4 to ``path`` via a temporary file."""
+    return write_netcdf(ds, path)
+
+
+def open_grid(path: str | Path) -> xr.Dataset:
+    """Open a grid file, load it into memory and check it against the contract."""
+    ds = load_netcdf(path, GridFileError, "grid")
     check_grid(ds, str(path))
     return ds
 
