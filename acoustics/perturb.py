@@ -1,0 +1,448 @@
+"""Perturbation specs for environmental sensitivity studies, and applying them to an Area.
+
+A perturbation names what is uncertain and how much (a standard deviation). Each ensemble
+member draws its own standard-normal numbers from ``np.random.default_rng([seed, member])``
+and makes a perturbed ``Area`` with ``dataclasses.replace``; every draw is truncated at
++-4 sd (redrawn outside), so a spec is checked once, at its +-4 sd extremes, against the
+nominal area and a member never fails half-way through a study.
+
+Spec syntax (``--perturb``), ``KIND:KEY=VALUE,KEY=VALUE``, or a TOML file of ``[[perturb]]``
+tables with ``kind = "..."`` and the same keys:
+
+===================== ======================================= ===============================
+kind                  keys (default)                          what is drawn
+===================== ======================================= ===============================
+displace              sd_m                                    vertical displacement of the
+                                                              profile, mode 1: zeta(z) =
+                                                              d sin(pi z / D)
+mixed-layer           sd_m, mean_m (50)                       depth h of an isothermal surface
+                                                              mixed layer (c = c(h) - g (h-z))
+temperature           sd_c, scale_m (200)                     temperature change dT exp(-z/L),
+                                                              converted with TEOS-10
+salinity              sd_psu, scale_m (200)                   salinity change, TEOS-10
+eof                   sd_mps, modes (3), depth_m (1000)       EOF-style speed modes
+                                                              cos((n-1/2) pi z/H), sd/n each
+bottom-speed          sd_mps                                  bottom compressional speed
+bottom-density        sd_gcc                                  bottom density
+bottom-attenuation    sd_db_per_wavelength                    bottom attenuation
+water-depth           sd_m                                    water depth (profile cut or
+                                                              extended with its last gradient)
+source-depth          sd_frac                                 class depths x (1 + e)
+observer-depth        sd_m                                    observer depth
+===================== ======================================= ===============================
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass
+from enum import StrEnum
+from pathlib import Path
+
+import numpy as np
+
+from envdata.area import Area, Observer, Water, read_toml
+from envdata.errors import AreaError, InputError
+from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile
+
+TRUNCATE_SD = 4.0  # draws beyond +-4 sd are redrawn; specs are checked at these extremes
+ISOTHERMAL_GRADIENT_PER_S = 0.0163  # dc/dz of isothermal, isohaline sea water (pressure term), 1/s
+REFERENCE_SALINITY_PSU = 35.0  # salinity assumed when a profile's temperature is inferred from its speed
+
+
+class PerturbationError(InputError):
+    """A malformed or unphysical perturbation spec."""
+
+
+class Kind(StrEnum):
+    MIXED_LAYER = "mixed-layer"
+    DISPLACE = "displace"
+    TEMPERATURE = "temperature"
+    SALINITY = "salinity"
+    EOF = "eof"
+    WATER_DEPTH = "water-depth"
+    BOTTOM_SPEED = "bottom-speed"
+    BOTTOM_DENSITY = "bottom-density"
+    BOTTOM_ATTENUATION = "bottom-attenuation"
+    SOURCE_DEPTH = "source-depth"
+    OBSERVER_DEPTH = "observer-depth"
+
+
+# kind -> (sd key, {other key: default}); the enum order above is the order of application
+KEYS: dict[Kind, tuple[str, dict[str, float]]] = {
+    Kind.MIXED_LAYER: ("sd_m", {"mean_m": 50.0}),
+    Kind.DISPLACE: ("sd_m", {}),
+    Kind.TEMPERATURE: ("sd_c", {"scale_m": 200.0}),
+    Kind.SALINITY: ("sd_psu", {"scale_m": 200.0}),
+    Kind.EOF: ("sd_mps", {"modes": 3, "depth_m": 1000.0}),
+    Kind.WATER_DEPTH: ("sd_m", {}),
+    Kind.BOTTOM_SPEED: ("sd_mps", {}),
+    Kind.BOTTOM_DENSITY: ("sd_gcc", {}),
+    Kind.BOTTOM_ATTENUATION: ("sd_db_per_wavelength", {}),
+    Kind.SOURCE_DEPTH: ("sd_frac", {}),
+    Kind.OBSERVER_DEPTH: ("sd_m", {}),
+}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Perturbation:
+    """One uncertain quantity: its kind, standard deviation and shape options."""
+
+    kind: Kind
+    sd: float
+    options: tuple[tuple[str, float], ...] = ()
+    source: str = "--perturb"  # where the spec came from, for messages
+
+    def __post_init__(self) -> None:
+        sd_key, _ = KEYS[self.kind]
+        if not (math.isfinite(self.sd) and self.sd >= 0.0):
+            raise PerturbationError(f"{self.source}: perturbation {self.kind}: {sd_key} must be a finite "
+                                    f"number >= 0, got {self.sd}")
+        for key, value in self.options:
+            if not math.isfinite(value):
+                raise PerturbationError(f"{self.source}: perturbation {self.kind}: {key} must be finite, "
+                                        f"got {value}")
+        opts = dict(self.options)
+        if self.kind is Kind.EOF and not (opts["modes"] == int(opts["modes"]) and 1 <= opts["modes"] <= 10):
+            raise PerturbationError(f"{self.source}: perturbation eof: modes must be an integer in [1, 10], "
+                                    f"got {opts['modes']:g}")
+        for key in ("scale_m", "depth_m"):
+            if key in opts and not opts[key] > 0:
+                raise PerturbationError(f"{self.source}: perturbation {self.kind}: {key} must be > 0 m, "
+                                        f"got {opts[key]:g}")
+        if "mean_m" in opts and not opts["mean_m"] >= 0:
+            raise PerturbationError(f"{self.source}: perturbation {self.kind}: mean_m must be >= 0 m, "
+                                    f"got {opts['mean_m']:g}")
+
+    def option(self, key: str) -> float:
+        return dict(self.options)[key]
+
+    @property
+    def sd_key(self) -> str:
+        return KEYS[self.kind][0]
+
+    @property
+    def n_draws(self) -> int:
+        return int(self.option("modes")) if self.kind is Kind.EOF else 1
+
+    def param_names(self) -> list[str]:
+        """Names of the member coordinates this perturbation records."""
+        return {Kind.MIXED_LAYER: ["mixed_layer_depth_m"], Kind.DISPLACE: ["displace_dz_m"],
+                Kind.TEMPERATURE: ["temperature_dt_c"], Kind.SALINITY: ["salinity_ds_psu"],
+                Kind.EOF: [f"eof_a{n + 1}_mps" for n in range(self.n_draws)],
+                Kind.WATER_DEPTH: ["water_depth_m"], Kind.BOTTOM_SPEED: ["bottom_speed_mps"],
+                Kind.BOTTOM_DENSITY: ["bottom_density_gcc"],
+                Kind.BOTTOM_ATTENUATION: ["bottom_attenuation_db_per_wavelength"],
+                Kind.SOURCE_DEPTH: ["source_depth_factor"],
+                Kind.OBSERVER_DEPTH: ["observer_depth_m"]}[self.kind]
+
+    def describe(self) -> str:
+        opts = ",".join(f"{k}={v:g}" for k, v in self.options)
+        return f"{self.kind}:{self.sd_key}={self.sd:g}" + (f",{opts}" if opts else "")
+
+    def to_dict(self) -> dict:
+        return {"kind": str(self.kind), self.sd_key: self.sd, **dict(self.options)}
+
+
+# --------------------------------------------------------------------------- parsing
+
+
+def make_perturbation(kind: str, values: dict, source: str) -> Perturbation:
+    """Build a Perturbation from a kind name and its keys, checking names and types."""
+    if kind not in {k.value for k in Kind}:
+        raise PerturbationError(f"{source}: unknown perturbation kind {kind!r} (known: "
+                                f"{', '.join(k.value for k in Kind)})")
+    k = Kind(kind)
+    sd_key, defaults = KEYS[k]
+    unknown = sorted(set(values) - {sd_key, *defaults})
+    if unknown:
+        raise PerturbationError(f"{source}: perturbation {kind}: unknown key {unknown[0]!r} (keys: "
+                                f"{', '.join([sd_key, *defaults])})")
+    if sd_key not in values:
+        raise PerturbationError(f"{source}: perturbation {kind}: missing required key {sd_key!r}")
+    parsed = {}
+    for key, value in values.items():
+        if isinstance(value, str):
+            try:
+                value = float(value)
+            except ValueError:
+                raise PerturbationError(f"{source}: perturbation {kind}: {key} must be a number, "
+                                        f"got {value!r}") from None
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise PerturbationError(f"{source}: perturbation {kind}: {key} must be a number, got {value!r}")
+        parsed[key] = float(value)
+    options = tuple((key, parsed.get(key, default)) for key, default in defaults.items())
+    return Perturbation(kind=k, sd=parsed[sd_key], options=options, source=source)
+
+
+def parse_spec(text: str) -> list[Perturbation]:
+    """Parse one ``--perturb`` value: ``KIND:KEY=VALUE,...`` or the path of a TOML spec file."""
+    text = text.strip()
+    if text.endswith(".toml") or (Path(text).exists() and ":" not in text):
+        return load_perturbations(text)
+    source = f"--perturb {text}"
+    kind, sep, rest = text.partition(":")
+    if not sep or not rest.strip():
+        raise PerturbationError(f"{source}: expected KIND:KEY=VALUE[,KEY=VALUE...], e.g. displace:sd_m=10")
+    values = {}
+    for item in rest.split(","):
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise PerturbationError(f"{source}: expected KEY=VALUE, got {item!r}")
+        if key.strip() in values:
+            raise PerturbationError(f"{source}: key {key.strip()!r} given twice")
+        values[key.strip()] = value.strip()
+    return [make_perturbation(kind.strip(), values, source)]
+
+
+def load_perturbations(path: str | Path) -> list[Perturbation]:
+    """Read a TOML file of ``[[perturb]]`` tables (each ``kind = ...`` plus its keys)."""
+    try:
+        data, source = read_toml(path, what="perturbation file")
+    except AreaError as exc:
+        raise PerturbationError(str(exc)) from None
+    unknown = sorted(set(data) - {"perturb"})
+    if unknown:
+        raise PerturbationError(f"{source}: unknown top-level key {unknown[0]!r} (expected [[perturb]] tables)")
+    items = data.get("perturb")
+    if not isinstance(items, list) or not items or not all(isinstance(i, dict) for i in items):
+        raise PerturbationError(f"{source}: need at least one [[perturb]] table")
+    out = []
+    for i, item in enumerate(items):
+        where = f"{source}: [[perturb]] #{i + 1}"
+        item = dict(item)
+        kind = item.pop("kind", None)
+        if not isinstance(kind, str):
+            raise PerturbationError(f"{where}: missing or non-string 'kind', got {kind!r}")
+        out.append(make_perturbation(kind, item, where))
+    return out
+
+
+def default_perturbations(area: Area) -> list[Perturbation]:
+    """A profile measured well, an uncertain bottom and target depth (see docs/sensitivity.md)."""
+    specs = ["displace:sd_m=10", "temperature:sd_c=0.3,scale_m=300", "bottom-speed:sd_mps=30",
+             "bottom-density:sd_gcc=0.1", "bottom-attenuation:sd_db_per_wavelength=0.2",
+             f"water-depth:sd_m={0.01 * area.water.depth_m:g}", "source-depth:sd_frac=0.15",
+             "observer-depth:sd_m=2"]
+    out = [p for s in specs for p in parse_spec(s)]
+    return [dataclasses.replace(p, source="default perturbations") for p in out]
+
+
+def check_perturbations(area: Area, perturbations: list[Perturbation]) -> None:
+    """Raise PerturbationError unless every spec keeps ``area`` physical at its +-4 sd extremes."""
+    seen: dict[Kind, str] = {}
+    for p in perturbations:
+        if p.kind in seen:
+            raise PerturbationError(f"{p.source}: perturbation {p.kind} given twice "
+                                    f"(also in {seen[p.kind]})")
+        seen[p.kind] = p.source
+    for p in perturbations:
+        patterns = [np.ones(p.n_draws)]
+        if p.n_draws > 1:
+            patterns.append((-1.0) ** np.arange(p.n_draws))
+        for pattern in patterns:
+            for sign in (-1.0, 1.0):
+                xi = sign * TRUNCATE_SD * pattern
+                try:
+                    _apply_one(area, p, xi)
+                except PerturbationError:
+                    raise
+                except AreaError as exc:
+                    raise PerturbationError(f"{p.source}: perturbation {p.describe()}: at {sign * TRUNCATE_SD:+g} sd "
+                                            f"the area becomes invalid: {exc}") from None
+
+
+# --------------------------------------------------------------------------- applying
+
+
+def draw(perturbations: list[Perturbation], rng: np.random.Generator) -> list[np.ndarray]:
+    """Standard-normal numbers for each perturbation (in application order), truncated at +-4."""
+    out = []
+    for p in _ordered(perturbations):
+        xi = rng.standard_normal(p.n_draws)
+        while np.any(np.abs(xi) > TRUNCATE_SD):
+            bad = np.abs(xi) > TRUNCATE_SD
+            xi[bad] = rng.standard_normal(int(bad.sum()))
+        out.append(xi)
+    return out
+
+
+def perturb_area(area: Area, perturbations: list[Perturbation],
+                 rng: np.random.Generator) -> tuple[Area, dict[str, float]]:
+    """One ensemble member: the perturbed area and the drawn parameters (name -> value, units in name)."""
+    params: dict[str, float] = {}
+    for p, xi in zip(_ordered(perturbations), draw(perturbations, rng)):
+        area, values = _apply_one(area, p, xi)
+        params.update(values)
+    return area, params
+
+
+def member_area(area: Area, perturbations: list[Perturbation], seed: int,
+                member: int) -> tuple[Area, dict[str, float]]:
+    """Member ``member`` of the ensemble with seed ``seed`` (independent of who computes it)."""
+    return perturb_area(area, perturbations, np.random.default_rng([seed, member]))
+
+
+def _ordered(perturbations: list[Perturbation]) -> list[Perturbation]:
+    order = list(Kind)
+    return sorted(perturbations, key=lambda p: order.index(p.kind))
+
+
+def _apply_one(area: Area, p: Perturbation, xi: np.ndarray) -> tuple[Area, dict[str, float]]:
+    names = p.param_names()
+    d = p.sd * float(xi[0])
+    water, ssp = area.water, area.water.ssp
+    if p.kind is Kind.DISPLACE:
+        z, c = _dense(ssp)
+        depth = water.depth_m
+        if abs(d) * math.pi / depth >= 1.0:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: a displacement of {d:g} m "
+                                    f"in {depth:g} m of water makes the profile non-monotonic in depth "
+                                    f"(need |d| pi / depth < 1 at {TRUNCATE_SD:g} sd)")
+        c_new = np.interp(z - d * np.sin(math.pi * z / depth), z, c)
+        return _with_profile(area, p, z, c_new), {names[0]: d}
+    if p.kind is Kind.MIXED_LAYER:
+        h = max(0.0, p.option("mean_m") + d)
+        if h >= water.depth_m:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: mixed layer depth {h:g} m "
+                                    f"reaches the bottom at {water.depth_m:g} m")
+        z, c = _dense(ssp)
+        if h > 0:
+            z_new = np.union1d(z, [h])
+            c, z = np.interp(z_new, z, c), z_new
+            c_h = float(np.interp(h, z, c))
+            c = np.where(z <= h, c_h - ISOTHERMAL_GRADIENT_PER_S * (h - z), c)
+        return _with_profile(area, p, z, c), {names[0]: h}
+    if p.kind in (Kind.TEMPERATURE, Kind.SALINITY):
+        z, c = _dense(ssp)
+        shape = np.exp(-z / p.option("scale_m"))
+        dt = d * shape if p.kind is Kind.TEMPERATURE else 0.0 * shape
+        ds = d * shape if p.kind is Kind.SALINITY else 0.0 * shape
+        c_new = c + teos10_speed_change_mps(z, c, dt, ds, latitude_deg=area.latitude_deg,
+                                            longitude_deg=area.longitude_deg)
+        return _with_profile(area, p, z, c_new), {names[0]: d}
+    if p.kind is Kind.EOF:
+        z, c = _dense(ssp)
+        depth = p.option("depth_m")
+        n = np.arange(1, p.n_draws + 1)
+        amps = p.sd * np.asarray(xi, dtype=float) / n  # mode n has sd sd_mps / n
+        modes = np.where(z[None, :] <= depth,
+                         np.cos((n[:, None] - 0.5) * math.pi * np.minimum(z[None, :], depth) / depth), 0.0)
+        return _with_profile(area, p, z, c + amps @ modes), dict(zip(names, amps.tolist()))
+    if p.kind is Kind.WATER_DEPTH:
+        new_depth = water.depth_m + d
+        deepest = max([area.observer.depth_m] + [cls.depth_m for cls in area.classes])
+        if new_depth <= deepest:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: water depth {new_depth:g} m "
+                                    f"is not below the deepest class or observer at {deepest:g} m")
+        z, c = np.asarray(ssp.depth_m), np.asarray(ssp.speed_mps)
+        if new_depth < water.depth_m:
+            keep = z < new_depth
+            z_new = np.append(z[keep], new_depth)
+            c_new = np.append(c[keep], np.interp(new_depth, z, c))
+        else:
+            gradient = (c[-1] - c[-2]) / (z[-1] - z[-2])
+            z_new = np.append(z, new_depth) if new_depth > z[-1] else z
+            c_new = np.append(c, c[-1] + gradient * (new_depth - z[-1])) if new_depth > z[-1] else c
+        profile = _profile(p, ssp, z_new, c_new)
+        new_water = _wrap(p, Water, depth_m=new_depth, ssp=profile)
+        grid = area.grid
+        if grid.depth_step_m > new_depth:
+            grid = dataclasses.replace(grid, depth_step_m=new_depth)
+        return _wrap(p, dataclasses.replace, area, water=new_water, grid=grid), {names[0]: new_depth}
+    if p.kind in (Kind.BOTTOM_SPEED, Kind.BOTTOM_DENSITY, Kind.BOTTOM_ATTENUATION):
+        field_name = {Kind.BOTTOM_SPEED: "speed_mps", Kind.BOTTOM_DENSITY: "density_gcc",
+                      Kind.BOTTOM_ATTENUATION: "attenuation_db_per_wavelength"}[p.kind]
+        value = getattr(area.bottom, field_name) + d
+        if value <= 0 and p.kind is Kind.BOTTOM_SPEED:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes the bottom speed "
+                                    f"non-positive ({value:g} m/s at {xi[0]:+g} sd)")
+        if value < 0:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes the bottom "
+                                    f"{field_name} negative ({value:g} at {xi[0]:+g} sd)")
+        bottom = _wrap(p, dataclasses.replace, area.bottom, **{field_name: value})
+        return dataclasses.replace(area, bottom=bottom), {names[0]: value}
+    if p.kind is Kind.SOURCE_DEPTH:
+        factor = 1.0 + d
+        if factor <= 0:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes the class depths "
+                                    f"non-positive (factor {factor:g} at {xi[0]:+g} sd)")
+        classes = tuple(_wrap(p, dataclasses.replace, cls, depth_m=cls.depth_m * factor) for cls in area.classes)
+        return _wrap(p, dataclasses.replace, area, classes=classes), {names[0]: factor}
+    if p.kind is Kind.OBSERVER_DEPTH:
+        depth = area.observer.depth_m + d
+        return _wrap(p, dataclasses.replace, area, observer=Observer(depth_m=depth)), {names[0]: depth}
+    raise AssertionError(p.kind)  # pragma: no cover - every Kind is handled above
+
+
+def _wrap(p: Perturbation, fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except AreaError as exc:
+        raise PerturbationError(f"{p.source}: perturbation {p.describe()}: {exc}") from None
+
+
+def _dense(ssp: SoundSpeedProfile) -> tuple[np.ndarray, np.ndarray]:
+    """The profile on its own depths plus a regular grid fine enough for smooth perturbations."""
+    bottom = ssp.bottom_m
+    step = min(25.0, bottom / 100.0)
+    z = np.union1d(np.asarray(ssp.depth_m), np.arange(0.0, bottom, step))
+    return z, np.interp(z, ssp.depth_m, ssp.speed_mps)
+
+
+def _profile(p: Perturbation, ssp: SoundSpeedProfile, z, c) -> SoundSpeedProfile:
+    c = np.asarray(c, dtype=float)
+    if np.any(c <= 0):
+        i = int(np.argmax(c <= 0))
+        raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes a speed non-positive "
+                                f"({c[i]:.1f} m/s at {z[i]:g} m)")
+    bad = (c < MIN_SPEED_MPS) | (c > MAX_SPEED_MPS)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes the speed {c[i]:.1f} m/s "
+                                f"at {z[i]:g} m, outside [{MIN_SPEED_MPS:g}, {MAX_SPEED_MPS:g}] m/s")
+    return _wrap(p, SoundSpeedProfile, depth_m=tuple(float(v) for v in z),
+                 speed_mps=tuple(float(v) for v in np.round(c, 3)), kind=ssp.kind,
+                 interpolation=ssp.interpolation)
+
+
+def _with_profile(area: Area, p: Perturbation, z, c) -> Area:
+    water = _wrap(p, Water, depth_m=area.water.depth_m, ssp=_profile(p, area.water.ssp, z, c))
+    return dataclasses.replace(area, water=water)
+
+
+def teos10_speed_change_mps(depth_m, speed_mps, dt_c, ds_psu, *, latitude_deg: float,
+                            longitude_deg: float) -> np.ndarray:
+    """Change of sound speed for in-situ temperature and salinity changes, by TEOS-10 (gsw).
+
+    The profile's temperature is inferred from its speed at practical salinity 35 (Newton on
+    gsw.sound_speed), then the speed is recomputed with T + dT, S + dS.
+    """
+    import gsw
+
+    z = np.asarray(depth_m, dtype=float)
+    c = np.asarray(speed_mps, dtype=float)
+    p_dbar = gsw.p_from_z(-z, latitude_deg)
+    sp = np.full_like(z, REFERENCE_SALINITY_PSU)
+
+    def speed(t, s):
+        sa = gsw.SA_from_SP(s, p_dbar, longitude_deg, latitude_deg)
+        return gsw.sound_speed(sa, gsw.CT_from_t(sa, t, p_dbar), p_dbar)
+
+    t = np.full_like(z, 10.0)
+    for _ in range(8):
+        f0 = speed(t, sp) - c
+        slope = (speed(t + 0.01, sp) - speed(t - 0.01, sp)) / 0.02
+        t = np.clip(t - f0 / slope, -2.0, 40.0)
+    dt = np.broadcast_to(np.asarray(dt_c, dtype=float), z.shape)
+    ds = np.broadcast_to(np.asarray(ds_psu, dtype=float), z.shape)
+    t_new, s_new = t + dt, sp + ds
+    if np.any((t_new < -2.5) | (t_new > 40.0)):
+        i = int(np.argmax((t_new < -2.5) | (t_new > 40.0)))
+        raise AreaError(f"temperature {t_new[i]:.2f} degC at {z[i]:g} m is outside [-2.5, 40] degC")
+    if np.any((s_new < 0.0) | (s_new > 42.0)):
+        i = int(np.argmax((s_new < 0.0) | (s_new > 42.0)))
+        raise AreaError(f"salinity {s_new[i]:.2f} at {z[i]:g} m is outside [0, 42]")
+    return speed(t + dt, sp + ds) - speed(t, sp)

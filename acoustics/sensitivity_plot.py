@@ -1,0 +1,92 @@
+"""Plots of a sensitivity study: spread bands around the nominal K(r), maps of the TL sd."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from envdata.files import atomic_path
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
+    """One panel per (class, band): nominal K(r), the 5-95 % member band and +-1 sd of K(r).
+
+    Parameters
+    ----------
+    ds : Dataset
+        A study (``k_db(member, class, band, range)``, ``k_nominal_db``).
+    out : path
+        PNG to write (atomically).
+    """
+    plt = _pyplot()
+    classes = [str(c) for c in ds["class"].values]
+    bands = [str(b) for b in ds["band"].values]
+    range_km = ds["range"].values / 1000.0
+    fig, axes = plt.subplots(len(classes), len(bands), figsize=(4.2 * len(bands), 2.9 * len(classes)),
+                             squeeze=False, sharex=True)
+    for i, cls_name in enumerate(classes):
+        for j, band in enumerate(bands):
+            ax = axes[i, j]
+            sel = {"class": cls_name, "band": band}
+            k = ds["k_db"].sel(sel).values
+            nominal = ds["k_nominal_db"].sel(sel).values
+            lo, hi = np.percentile(k, [5, 95], axis=0)
+            sd = k.std(axis=0, ddof=1) if k.shape[0] > 1 else np.zeros_like(nominal)
+            mean = k.mean(axis=0)
+            ax.fill_between(range_km, lo, hi, color="tab:blue", alpha=0.25, lw=0, label="members 5-95 %")
+            ax.plot(range_km, mean + sd, color="tab:blue", lw=0.6, ls="--", label="member mean +- 1 sd")
+            ax.plot(range_km, mean - sd, color="tab:blue", lw=0.6, ls="--")
+            ax.plot(range_km, nominal, color="k", lw=0.9, label="nominal")
+            ax.set_title(f"{cls_name} {band}", fontsize=9)
+            ax.grid(alpha=0.3)
+            if j == 0:
+                ax.set_ylabel("K(r), dB")
+            if i == len(classes) - 1:
+                ax.set_xlabel("range, km")
+    axes[0, 0].legend(fontsize=7, loc="upper right")
+    fig.suptitle(f"K(r) spread over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}", fontsize=10)
+    fig.tight_layout()
+    out = Path(out)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    plt.close(fig)
+    return out
+
+
+def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None) -> Path:
+    """Maps of the sd over members of band TL over depth and range, one per class (needs ``tl_db``)."""
+    plt = _pyplot()
+    if "tl_db" not in ds:
+        raise ValueError("the study has no tl_db (run it with --tl)")
+    band = str(ds["band"].values[0]) if band is None else band
+    classes = [str(c) for c in ds["class"].values]
+    fig, axes = plt.subplots(1, len(classes), figsize=(5.2 * len(classes), 3.8), squeeze=False)
+    range_km = ds["range"].values / 1000.0
+    depth = ds["depth"].values
+    for ax, cls_name in zip(axes[0], classes):
+        tl = ds["tl_db"].sel({"class": cls_name, "band": band}).values
+        sd = np.nanstd(tl, axis=0, ddof=1) if tl.shape[0] > 1 else np.zeros(tl.shape[1:])
+        mesh = ax.pcolormesh(range_km, depth, sd, shading="auto", cmap="magma_r", vmin=0,
+                             vmax=float(np.nanpercentile(sd, 99)) or 1.0)
+        ax.invert_yaxis()
+        ax.set_title(f"sd of TL, {cls_name} {band}", fontsize=9)
+        ax.set_xlabel("range, km")
+        ax.set_ylabel("depth, m")
+        fig.colorbar(mesh, ax=ax, label="dB")
+    fig.tight_layout()
+    out = Path(out)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    plt.close(fig)
+    return out

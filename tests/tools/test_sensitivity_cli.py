@@ -1,0 +1,143 @@
+"""``tmakit sensitivity``: a small study end to end, the write-back, and bad input (exit 2)."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import envdata
+from acoustics import sensitivity as sens
+from tests.conftest import DATA, MALFORMED
+from tools.cli import main
+
+REPO = Path(__file__).resolve().parents[2]
+TINY = str(DATA / "tiny-munk.toml")
+
+
+def tmakit(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tools.cli", *args], capture_output=True, text=True, cwd=REPO,
+                          env=os.environ.copy(), timeout=120)
+
+
+@pytest.mark.bellhop
+@pytest.mark.slow
+def test_small_study_writes_the_study_plots_and_the_measured_k_error(tmp_path, capsys):
+    out, png, area_out = tmp_path / "s.nc", tmp_path / "s.png", tmp_path / "tiny-k.toml"
+    argv = ["sensitivity", TINY, "--members", "4", "--seed", "5", "--workers", "2", "--out", str(out),
+            "--perturb", str(DATA / "perturb" / "tiny-study.toml"), "--perturb", "observer-depth:sd_m=3",
+            "--plot", str(png), "--write-k-error", str(area_out), "--ranges-km", "1,2,4", "--json"]
+    assert main([*argv, "--progress"]) == 0
+    captured = capsys.readouterr()
+    assert "sensitivity members" in captured.err and "5/5" in captured.err  # nominal + 4 members
+    data = json.loads(captured.out)
+    assert data["members"] == 4 and data["workers"] == 2 and data["members_reused"] == 0
+    assert data["perturbations"][-1] == "observer-depth:sd_m=3"
+    ds = sens.open_study(out)
+    assert ds["k_db"].dims == ("member", "class", "band", "range") and ds.sizes["member"] == 4
+    assert "observer_depth_m" in ds.coords and ds["observer_depth_m"].dims == ("member",)
+    assert ds["k_sd_db"].dims == ("class", "band", "range")  # the summaries travel in the same file
+    assert png.stat().st_size > 20_000
+    area = envdata.load_area(area_out)
+    measured = {c.name: c.k_error_sd_db for c in area.classes}
+    assert measured == {k: round(v, 2) for k, v in data["k_error_sd_db"].items()}
+    assert all(0.0 < v < 10.0 for v in measured.values())
+    assert list(data["range_error"]["SUB"]) == ["1", "2", "4"]
+    assert not list(tmp_path.glob(".s.nc.partial-*"))  # the resume cache is gone once the file is written
+    # the same study again from the CLI's summary, human-readable
+    assert main(argv[:-1]) == 0
+    text = capsys.readouterr().out
+    assert "measured k_error_sd_db (area file): SUB" in text and "level-ranging (eq. 20)" in text
+
+
+@pytest.mark.parametrize("name, match", [
+    ("negative-sd.toml", r"negative-sd.toml: \[\[perturb\]\] #1: perturbation displace: sd_m must be a finite "
+                         r"number >= 0, got -5.0"),
+    ("nonpositive-speed.toml", r"perturbation bottom-speed:sd_mps=450: makes the bottom speed non-positive"),
+    ("nonmonotonic.toml", r"makes the profile non-monotonic in depth"),
+    ("syntax-error.toml", r"syntax-error.toml: TOML syntax error"),
+])
+def test_bad_perturbation_files_are_one_error_line_and_no_output(tmp_path, capsys, name, match):
+    out = tmp_path / "s.nc"
+    assert main(["sensitivity", TINY, "--members", "2", "--out", str(out), "--perturb",
+                 str(MALFORMED / "perturb" / name)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: ")
+    assert __import__("re").search(match, err[0])
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--members", "0"], "error: --members: must be in [1, 100000], got 0"),
+    (["--workers", "0"], "error: --workers: must be >= 1, got 0"),
+    (["--ranges-km", "5,x"], "error: --ranges-km: expected comma-separated numbers, got '5,x'"),
+    (["--perturb", "displace:sd_m=-2"], "error: --perturb displace:sd_m=-2: perturbation displace: sd_m must be "
+                                        "a finite number >= 0, got -2.0"),
+])
+def test_bad_options_are_one_error_line(tmp_path, capsys, args, message):
+    assert main(["sensitivity", TINY, "--out", str(tmp_path / "s.nc"), *args]) == 2
+    assert capsys.readouterr().err.strip() == message
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_malformed_file_through_the_console_entry_point(tmp_path):
+    proc = tmakit("sensitivity", TINY, "--out", str(tmp_path / "s.nc"), "--perturb",
+                  str(MALFORMED / "perturb" / "unknown-kind.toml"))
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [
+        f"error: {MALFORMED / 'perturb' / 'unknown-kind.toml'}: [[perturb]] #1: unknown perturbation kind "
+        "'thermoclyne' (known: mixed-layer, displace, temperature, salinity, eof, water-depth, bottom-speed, "
+        "bottom-density, bottom-attenuation, source-depth, observer-depth)"]
+    assert "Traceback" not in proc.stderr and list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+def test_unreachable_scheduler_is_a_clear_error_within_seconds(tmp_path):
+    start = time.perf_counter()
+    proc = tmakit("sensitivity", TINY, "--members", "2", "--out", str(tmp_path / "s.nc"),
+                  "--scheduler", "tcp://127.0.0.1:9")
+    assert time.perf_counter() - start < 20.0  # 5 s connect timeout plus interpreter start-up
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "error: --scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_default_perturbations_are_valid_for_the_builtin_areas():
+    from acoustics.perturb import check_perturbations, default_perturbations
+
+    for name in envdata.builtin_area_names():
+        area = envdata.load_area(name)
+        check_perturbations(area, default_perturbations(area))
+        assert np.isclose(default_perturbations(area)[5].sd, 0.01 * area.water.depth_m)
+
+
+@pytest.mark.bellhop
+@pytest.mark.slow
+def test_an_interrupted_study_resumes_without_redoing_members(tmp_path):
+    out = tmp_path / "s.nc"
+    args = [sys.executable, "-m", "tools.cli", "sensitivity", TINY, "--members", "30", "--workers", "1",
+            "--out", str(out), "--json"]
+    proc = subprocess.Popen(args, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(list(tmp_path.glob(".s.nc.partial-*/member-*.npz"))) < 3:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines()[-1] == "error: interrupted; finished work is kept and a rerun resumes it"
+    assert not out.exists()
+    kept = len(list(tmp_path.glob(".s.nc.partial-*/member-*.npz")))
+    assert 3 <= kept < 30
+    again = subprocess.run(args, cwd=REPO, capture_output=True, text=True, timeout=120)
+    assert again.returncode == 0, again.stderr
+    assert json.loads(again.stdout)["members_reused"] == kept
+    assert sens.open_study(out).sizes["member"] == 30
