@@ -1,0 +1,48 @@
+"""Benchmarks of the ML tracker (Grinenkov & Mashoshin): cycle latency and the experiment.
+
+Run: ``make bench`` or ``python bench/bench_gm.py [GRID]`` (default: the ocean-deep grid in
+out/bench/, built or reused first). Prints `name: value unit` lines.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def main() -> None:
+    import acoustics
+    from tracker.gm_experiment import run
+    from tracker.mltma import MLTracker
+    from tracker.scenario import load_scenario
+    from tracker.simulate import simulate
+
+    from tools.grids_cmd import build_file
+
+    out = Path(__file__).resolve().parents[1] / "out" / "bench"
+    if len(sys.argv) > 1:
+        path = Path(sys.argv[1])
+    else:
+        path = Path(build_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2)["file"])
+    grid = acoustics.open_grid(path)
+    m, _ = simulate(load_scenario("gm-tv-30km"), grid, np.random.default_rng(0))
+    trk = MLTracker(grid, capacity=len(m))
+    vx, vy = m.obs_velocity_mps()
+    lat = []
+    for i in range(len(m)):
+        t0 = time.perf_counter()
+        trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
+        lat.append(time.perf_counter() - t0)
+    lat_ms = 1000.0 * np.median(lat[-20:])       # 220-240 bearings on the tack
+    print(f"ml_cycle_latency_3_classes_240_bearings: {lat_ms:.2f} ms")
+    print(f"ml_class_cycles_per_second: {3.0 / (lat_ms / 1000.0):.0f} 1/s")
+    t0 = time.perf_counter()
+    run("gm-tv-30km", grid_path=path, n=11, out_dir=out / "gm-experiment", workers=2)
+    print(f"gm_experiment_1331_runs_2_workers: {time.perf_counter() - t0:.1f} s")
+
+
+if __name__ == "__main__":
+    main()

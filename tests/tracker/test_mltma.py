@@ -1,0 +1,94 @@
+"""ML tracker: eqs. 7 and 8 by hand, and exact recovery on noiseless data."""
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from numpy.testing import assert_allclose
+
+import envdata
+from tracker.measurements import Measurements
+from tracker.mltma import course_from_relative_deg, relative_course_deg, track, trimmed_mean
+
+
+def _geometry(n=61, dt=10.0, tx=20000.0, ty=15000.0, k=300.0, v=6.5):
+    t = np.arange(n) * dt
+    ox, oy = 2.5 * t, np.zeros(n)                      # observer 90 deg, 2.5 m/s
+    x = tx + v * t * math.sin(math.radians(k))
+    y = ty + v * t * math.cos(math.radians(k))
+    b = np.mod(np.degrees(np.arctan2(x - ox, y - oy)), 360.0)
+    return t, ox, oy, x, y, b
+
+
+def test_eq8_relative_course_noiseless():
+    t, ox, oy, x, y, b = _geometry()
+    rel = np.degrees(np.arctan2(6.5 * math.sin(math.radians(300)) - 2.5,
+                                6.5 * math.cos(math.radians(300)))) % 360.0
+    i0, i1, i2 = np.array([[0, 2]]), np.array([[30, 31]]), np.array([[60, 58]])
+    k = relative_course_deg(t, b[None], i0, i1, i2, np.ones((1, 2), bool))
+    assert_allclose(k, rel, rtol=0, atol=1e-6)
+
+
+def test_eq7_course_from_relative_course():
+    # V = 6.5 at 300 deg, observer 2.5 m/s at 90 deg: relative velocity (-8.129, 3.25)
+    k_rel = math.degrees(math.atan2(-8.1292, 3.25)) % 360.0
+    assert_allclose(course_from_relative_deg(k_rel, 6.5, 90.0, 2.5), 300.0, atol=1e-3)
+    # stationary observer: course = relative course
+    assert_allclose(course_from_relative_deg(123.0, 5.0, 0.0, 0.0), 123.0, atol=1e-12)
+
+
+def test_robust_smoothing_drops_two_each_end():
+    v = np.arange(19.0)[None, :]
+    v[0, 0] = 1000.0   # an outlier is dropped
+    assert_allclose(trimmed_mean(v, np.array([19]), 2, 19), np.mean(np.arange(3, 18)))  # 3..17 kept
+
+
+def _synthetic_grid(truth_p0=131.02, speed=6.5):
+    """The ocean-deep area with a monotone K(r) and class means at the truth (a perfect prior)."""
+    area = envdata.load_area("ocean-deep")
+    classes = tuple(dataclasses.replace(c, speed_mean_mps=speed, noise_mean_db=truth_p0)
+                    if c.name == "TV" else c for c in area.classes)
+    area = dataclasses.replace(area, classes=classes)
+    r = np.arange(1, 1201) * 100.0
+    base = -20 * np.log10(r)
+    k = np.stack([np.stack([base - 0.02 * r / 1000 * (j + 1) - 3 * j for j in range(3)])
+                  for _ in area.classes])
+    return xr.Dataset({"k_db": (("class", "band", "range"), k)},
+                      coords={"class": [c.name for c in area.classes],
+                              "band": [b.name for b in area.bands], "range": r},
+                      attrs={"area_json": json.dumps(area.to_dict())})
+
+
+def test_noiseless_exact_recovery():
+    grid = _synthetic_grid()
+    t, ox, oy, x, y, b = _geometry(n=121)
+    kk = grid["k_db"].sel({"class": "TV"}).values
+    r_true = np.hypot(x - ox, y - oy)
+    idx = np.rint(r_true / 100.0).astype(int) - 1
+    lev = 131.02 + kk[:, idx].T                  # W = P0 + K(r) (eq. 12), no error
+    m = Measurements(source="noiseless", t_s=t, obs_x_m=ox, obs_y_m=oy,
+                     obs_depth_m=np.full(len(t), 100.0), bearing_deg=b,
+                     bearing_sigma_deg=np.full(len(t), 0.05), band_names=("FB1", "FB2", "FB3"),
+                     level_db=lev, snr_db=np.full(lev.shape, 20.0))
+    df = track(grid, m, cls_name="TV")
+    last = df.iloc[-1]
+    assert last["class"] == "TV" and last.tack == 1
+    assert_allclose(last.course_deg, 300.0, atol=0.5)     # search resolution 15/9 deg
+    assert_allclose(last.speed_mps, 6.5, atol=0.05)
+    assert_allclose(last.range_m, r_true[-1], rtol=0.01)  # grid step and rounding of r_true
+
+
+def test_nan_bearing_cycles_are_skipped(caplog):
+    grid = _synthetic_grid()
+    t, ox, oy, x, y, b = _geometry(n=30)
+    b = b.copy()
+    b[5] = np.nan
+    m = Measurements(source="gaps", t_s=t, obs_x_m=ox, obs_y_m=oy, obs_depth_m=np.full(30, 100.0),
+                     bearing_deg=b, bearing_sigma_deg=np.full(30, np.nan), band_names=(),
+                     level_db=np.zeros((30, 0)), snr_db=np.zeros((30, 0)))
+    df = track(grid, m, cls_name="TV")
+    assert len(df) == 29 and 50.0 not in df.t_s.values
+    assert "without a bearing skipped" in caplog.text

@@ -1,0 +1,39 @@
+"""Error models (eqs. 2, 11) and level ranging (eqs. 20, 21) against hand values."""
+
+import math
+
+import numpy as np
+from numpy.testing import assert_allclose
+
+from tracker.ranging import bearing_sd_deg, level_range, level_sd_db, offset_nodes
+
+
+def test_eq2_bearing_sd():
+    # 0.2 * 5 deg / Q: Q = 5 gives 0.2 deg
+    assert_allclose(bearing_sd_deg(5.0, 5.0), 0.2, rtol=0, atol=1e-12)
+
+
+def test_eq11_at_threshold_is_about_1p1_db():
+    # small q with q sqrt(df T) = 5: 10 lg(1 + sqrt(2)/5) = 1.078 dB ("does not exceed 1.1 dB")
+    df, t = 2000.0, 10.0
+    q = 5.0 / math.sqrt(df * t)
+    expected = 10 * math.log10(1 + math.sqrt((q + 1) ** 2 + 1) / 5.0)
+    assert_allclose(level_sd_db(q, df, t), expected, rtol=0, atol=1e-12)
+    assert 1.05 < expected < 1.1
+
+
+def test_eq20_exact_on_monotone_k_and_eq21_spread():
+    r = np.arange(1, 201) * 100.0
+    k = np.stack([-20 * np.log10(r), -20 * np.log10(r) - r / 1000.0])     # (2, R)
+    true = 7300.0
+    w = 100.0 + k[:, 72]
+    r_opt, r_sd = level_range(w[None], np.ones((1, 2), bool), np.ones((1, 2)), np.array([100.0]),
+                              k, r)
+    assert r_opt[0] == true and r_sd[0] == 0.0
+    off, wts = offset_nodes(2.5, 2.0, 5)
+    _, r_sd = level_range(w[None], np.ones((1, 2), bool), np.ones((1, 2)), np.array([100.0]),
+                          k, r, offsets_db=off, weights=wts)
+    assert 500.0 < r_sd[0] < 5000.0  # a few dB of offset move the range by ~30-50%
+    r_none, _ = level_range(w[None], np.zeros((1, 2), bool), np.ones((1, 2)),
+                            np.array([100.0]), k, r)
+    assert np.isnan(r_none[0])

@@ -1,0 +1,55 @@
+"""``tmakit experiment gm|idm SCENARIO [--runs N] --out DIR [--seed N] [--workers N]``."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from envdata.errors import InputError
+from tools.grids_cmd import build_file
+from tools.report import Report, want_progress
+
+
+def register(subparsers, common: argparse.ArgumentParser) -> None:
+    p = subparsers.add_parser(
+        "experiment", parents=[common], help="the papers' Monte Carlo studies",
+        description="gm: the 11 x 11 x 11 design of Grinenkov & Mashoshin (eqs. 32-34); "
+                    "idm: the Iglesis & de Montella scenarios.")
+    p.add_argument("study", choices=("gm", "idm"))
+    p.add_argument("scenario", help="scenario name or TOML file")
+    p.add_argument("--runs", type=int, default=None,
+                   help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs")
+    p.add_argument("--grid", metavar="FILE", help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.set_defaults(func=run_experiment)
+
+
+def run_experiment(args) -> Report:
+    if args.study == "idm":
+        from tracker import idm_experiment
+
+        grid = args.grid
+        if grid is None:  # build (or reuse) the appendix environment's grid beside the results
+            grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
+                              workers=args.workers, progress=want_progress(args))["file"]
+        res = idm_experiment.run(args.scenario, runs=1000 if args.runs is None else args.runs,
+                                 out_dir=Path(args.out), seed=args.seed, progress=want_progress(args),
+                                 workers=args.workers, grid=grid)
+        return Report(res.get("summary", ""), res)
+    from tracker import gm_experiment
+
+    runs = 1331 if args.runs is None else args.runs
+    n = round(runs ** (1.0 / 3.0))
+    if runs < 1 or n ** 3 != runs:
+        raise InputError(f"--runs: must be a cube n^3 (e.g. 27, 125, 1331), got {runs}")
+    if args.grid is None:
+        raise InputError("--grid: the gm experiment needs the propagation grid of the "
+                         "scenario's area (tmakit grids build ocean-deep)")
+    if args.workers < 1:
+        raise InputError(f"--workers: must be >= 1, got {args.workers}")
+    res = gm_experiment.run(args.scenario, grid_path=args.grid, n=n, out_dir=args.out,
+                            seed=args.seed, workers=args.workers, progress=want_progress(args))
+    return Report(res["summary"], res)

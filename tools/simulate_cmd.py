@@ -1,0 +1,39 @@
+"""``tmakit simulate SCENARIO --grid FILE --out DIR [--seed N]`` (Grinenkov & Mashoshin sec. 4)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from tools.report import Report
+
+
+def register(subparsers, common: argparse.ArgumentParser) -> None:
+    p = subparsers.add_parser(
+        "simulate", parents=[common], help="simulate bearings and band levels of a scenario",
+        description="Simulate a scenario (built-in name or TOML file) on a propagation grid: "
+                    "writes DIR/measurements.csv and DIR/truth.csv.")
+    p.add_argument("scenario", help="built-in scenario (gm-nps, gm-tv-110km, gm-tv-30km) or TOML")
+    p.add_argument("--grid", required=True, metavar="FILE", help="propagation grid (netCDF)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.set_defaults(func=run_simulate)
+
+
+def run_simulate(args) -> Report:
+    from acoustics import open_grid
+    from tracker.scenario import load_scenario
+    from tracker.simulate import simulate, write_simulation
+
+    sc = load_scenario(args.scenario)
+    grid = open_grid(args.grid)
+    m, truth = simulate(sc, grid, np.random.default_rng(args.seed))
+    files = write_simulation(args.out, m, truth)
+    det = np.isfinite(m.level_db).mean(axis=0)
+    summary = (f"simulated {sc.name}: {len(m)} cycles of {sc.cycle_s:g} s, class "
+               f"{sc.target_class}; detected fraction per band "
+               + ", ".join(f"{b} {f:.2f}" for b, f in zip(m.band_names, det))
+               + f"\n  wrote {files['measurements']}, {files['truth']}")
+    return Report(summary, {"scenario": sc.name, "cycles": len(m), **files,
+                            "detected_fraction": dict(zip(m.band_names, det.tolist()))})

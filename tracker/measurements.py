@@ -1,0 +1,316 @@
+"""Measurement CSV: one row per sonar cycle (DESIGN.md "Measurement CSV").
+
+Columns: ``t_s, obs_x_m, obs_y_m, obs_depth_m, bearing_deg`` (required), ``bearing_sigma_deg``
+(optional) and, per band NAME of the grid, ``level_db_NAME`` (blank when the band is not
+detected) and optional ``snr_db_NAME`` (10 lg q, the power SNR of eq. 11 after the array).
+Extra columns are ignored. A blank bearing is allowed (the trackers skip that cycle and say so
+once); every other required value must be a finite number.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from envdata.files import atomic_path
+from tracker.errors import MeasurementFileError
+
+REQUIRED_COLUMNS = ("t_s", "obs_x_m", "obs_y_m", "obs_depth_m", "bearing_deg")
+LEVEL_PREFIX = "level_db_"
+SNR_PREFIX = "snr_db_"
+_UNITS = {"t_s": "s", "obs_x_m": "m", "obs_y_m": "m", "obs_depth_m": "m", "bearing_deg": "deg",
+          "bearing_sigma_deg": "deg"}
+#: Plausible bounds of a band level and a band SNR, dB (a value outside is a unit mistake).
+LEVEL_RANGE_DB = (-50.0, 300.0)
+SNR_RANGE_DB = (-100.0, 200.0)
+#: Deepest observer accepted, m.
+MAX_DEPTH_M = 12000.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Measurements:
+    """Bearings and band levels of one target over the sonar cycles.
+
+    Attributes
+    ----------
+    source : str
+        File name (or another label), used in messages.
+    t_s : ndarray, shape (n,)
+        Cycle times, s, strictly increasing.
+    obs_x_m, obs_y_m, obs_depth_m : ndarray, shape (n,)
+        Observer position east, north and depth, m.
+    bearing_deg : ndarray, shape (n,)
+        Bearing to the target, deg clockwise from north in [0, 360); NaN where missing.
+    bearing_sigma_deg : ndarray, shape (n,)
+        Bearing error sd (eq. 2), deg; NaN where the column is absent or blank.
+    band_names : tuple of str
+        Bands that have a ``level_db_NAME`` column, in grid order.
+    level_db : ndarray, shape (n, n_bands)
+        Band levels, dB re 1 uPa; NaN when the band is not detected.
+    snr_db : ndarray, shape (n, n_bands)
+        Band power SNR 10 lg q, dB; NaN when absent or blank.
+    """
+
+    source: str
+    t_s: np.ndarray
+    obs_x_m: np.ndarray
+    obs_y_m: np.ndarray
+    obs_depth_m: np.ndarray
+    bearing_deg: np.ndarray
+    bearing_sigma_deg: np.ndarray
+    band_names: tuple[str, ...]
+    level_db: np.ndarray
+    snr_db: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = None
+        for name in ("t_s", "obs_x_m", "obs_y_m", "obs_depth_m", "bearing_deg",
+                     "bearing_sigma_deg"):
+            value = np.array(getattr(self, name), dtype=float, ndmin=1)
+            if value.ndim != 1:
+                raise MeasurementFileError(f"{self.source}: {name} must be one-dimensional, "
+                                           f"got shape {value.shape}")
+            n = len(value) if n is None else n
+            if len(value) != n:
+                raise MeasurementFileError(f"{self.source}: {name} has {len(value)} values, "
+                                           f"t_s has {n}")
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "band_names", tuple(self.band_names))
+        for name in ("level_db", "snr_db"):
+            value = np.array(getattr(self, name), dtype=float, ndmin=2)
+            if value.size == 0:
+                value = value.reshape(n, len(self.band_names))
+            if value.shape != (n, len(self.band_names)):
+                raise MeasurementFileError(f"{self.source}: {name} has shape {value.shape}, "
+                                           f"expected ({n}, {len(self.band_names)})")
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+        for name in ("t_s", "obs_x_m", "obs_y_m", "obs_depth_m"):
+            value = getattr(self, name)
+            bad = np.flatnonzero(~np.isfinite(value))
+            if bad.size:
+                i = int(bad[0])
+                raise MeasurementFileError(f"{self.source}: row {i + 1}, column {name}: "
+                                           f"{value[i]} {_UNITS[name]} is not a finite number")
+        bad = np.flatnonzero(np.diff(self.t_s) <= 0.0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise MeasurementFileError(f"{self.source}: row {i + 1}, column t_s: {self.t_s[i]} s "
+                                       f"is not after the previous row's {self.t_s[i - 1]} s")
+
+    def __len__(self) -> int:
+        return len(self.t_s)
+
+    def obs_velocity_mps(self) -> tuple[np.ndarray, np.ndarray]:
+        """Observer velocity east and north, m/s, from the positions.
+
+        Central differences inside, one-sided at the ends (``numpy.gradient`` over t_s). A
+        single cycle gives zero velocity.
+        """
+        if len(self.t_s) < 2:
+            return np.zeros(len(self.t_s)), np.zeros(len(self.t_s))
+        return (np.gradient(self.obs_x_m, self.t_s, edge_order=1),
+                np.gradient(self.obs_y_m, self.t_s, edge_order=1))
+
+    def band_index(self, name: str) -> int:
+        return self.band_names.index(name)
+
+    def take(self, rows) -> Measurements:
+        """The measurements of the given rows (a slice or index array)."""
+        return Measurements(source=self.source, t_s=self.t_s[rows], obs_x_m=self.obs_x_m[rows],
+                            obs_y_m=self.obs_y_m[rows], obs_depth_m=self.obs_depth_m[rows],
+                            bearing_deg=self.bearing_deg[rows],
+                            bearing_sigma_deg=self.bearing_sigma_deg[rows],
+                            band_names=self.band_names, level_db=self.level_db[rows],
+                            snr_db=self.snr_db[rows])
+
+    def to_frame(self):
+        """The measurements as a pandas DataFrame with the columns of the measurement CSV."""
+        import pandas as pd
+
+        cols = {name: getattr(self, name) for name in REQUIRED_COLUMNS}
+        cols["bearing_sigma_deg"] = self.bearing_sigma_deg
+        for j, band in enumerate(self.band_names):
+            cols[LEVEL_PREFIX + band] = self.level_db[:, j]
+        for j, band in enumerate(self.band_names):
+            cols[SNR_PREFIX + band] = self.snr_db[:, j]
+        return pd.DataFrame(cols)
+
+
+def _read_text(src: str, path) -> str:
+    try:
+        raw = Path(path).read_bytes()
+    except IsADirectoryError:
+        raise MeasurementFileError(f"{src}: is a directory, not a measurement CSV") from None
+    except OSError as exc:
+        raise MeasurementFileError(f"{src}: cannot read the measurement file: "
+                                   f"{exc.strerror or exc}") from None
+    if b"\x00" in raw:
+        raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise MeasurementFileError(f"{src}: not UTF-8 text ({exc.reason} at byte "
+                                   f"{exc.start})") from None
+
+
+def read_measurements(path: str | os.PathLike,
+                      grid_band_names: Sequence[str] | None = None) -> Measurements:
+    """Read and validate a measurement CSV.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file (header required; extra columns ignored).
+    grid_band_names : sequence of str, optional
+        Band names of the grid the measurements will be used with. A ``level_db_NAME`` or
+        ``snr_db_NAME`` column whose NAME is not among them is an error; the level columns are
+        returned in this order. Without it, the bands are taken in file order.
+
+    Returns
+    -------
+    Measurements
+
+    Raises
+    ------
+    MeasurementFileError
+        Unreadable, empty or binary file; a missing required column; a band the grid lacks;
+        a row with the wrong number of fields; a non-numeric or non-finite value; a bearing
+        outside [0, 360) deg, a bearing sd <= 0, a negative depth, a level or SNR out of its
+        plausible range; a time not after the previous row's. One line naming the file, row,
+        column and value.
+    """
+    src = str(path)
+    text = _read_text(src, path)
+    reader = csv.reader(io.StringIO(text))
+    header = None
+    for row in reader:
+        if any(cell.strip() for cell in row):
+            header = [cell.strip() for cell in row]
+            break
+    if header is None:
+        raise MeasurementFileError(f"{src}: empty file; expected a header with "
+                                   f"{', '.join(REQUIRED_COLUMNS)}")
+    dupes = sorted({h for h in header if h and header.count(h) > 1})
+    if dupes:
+        raise MeasurementFileError(f"{src}: column {dupes[0]!r} appears more than once")
+    missing = [name for name in REQUIRED_COLUMNS if name not in header]
+    if missing:
+        raise MeasurementFileError(f"{src}: missing required column {missing[0]!r} (required: "
+                                   f"{', '.join(REQUIRED_COLUMNS)})")
+    level_bands = [h[len(LEVEL_PREFIX):] for h in header if h.startswith(LEVEL_PREFIX)]
+    snr_bands = [h[len(SNR_PREFIX):] for h in header if h.startswith(SNR_PREFIX)]
+    if grid_band_names is not None:
+        grid_band_names = [str(b) for b in grid_band_names]
+        for prefix, bands in ((LEVEL_PREFIX, level_bands), (SNR_PREFIX, snr_bands)):
+            for band in bands:
+                if band not in grid_band_names:
+                    raise MeasurementFileError(
+                        f"{src}: column {prefix + band!r}: band {band!r} is not a band of the "
+                        f"grid ({', '.join(grid_band_names) or 'none'})")
+        band_names = tuple(b for b in grid_band_names if b in level_bands)
+    else:
+        band_names = tuple(level_bands)
+    for band in snr_bands:
+        if band not in band_names:
+            raise MeasurementFileError(f"{src}: column {SNR_PREFIX + band!r} has no matching "
+                                       f"{LEVEL_PREFIX + band!r} column")
+    index = {name: header.index(name) for name in REQUIRED_COLUMNS}
+    sigma_col = header.index("bearing_sigma_deg") if "bearing_sigma_deg" in header else None
+    level_cols = [header.index(LEVEL_PREFIX + b) for b in band_names]
+    snr_cols = [header.index(SNR_PREFIX + b) if SNR_PREFIX + b in header else None
+                for b in band_names]
+
+    values: dict[str, list[float]] = {name: [] for name in REQUIRED_COLUMNS}
+    sigma: list[float] = []
+    levels: list[list[float]] = []
+    snrs: list[list[float]] = []
+    n_row = 0
+
+    def number(cell: str, where: str, column: str, unit: str, *, blank_ok: bool) -> float:
+        cell = cell.strip()
+        if not cell:
+            if blank_ok:
+                return math.nan
+            raise MeasurementFileError(f"{src}: {where}, column {column}: blank value; expected "
+                                       f"a number in {unit}")
+        try:
+            value = float(cell)
+        except ValueError:
+            raise MeasurementFileError(f"{src}: {where}, column {column}: {cell!r} is not a "
+                                       f"number ({unit})") from None
+        if not math.isfinite(value):
+            if blank_ok and math.isnan(value):
+                return math.nan
+            raise MeasurementFileError(f"{src}: {where}, column {column}: {cell} {unit} is not "
+                                       f"a finite number")
+        return value
+
+    for row in reader:
+        if not any(cell.strip() for cell in row):
+            continue
+        n_row += 1
+        where = f"row {n_row} (line {reader.line_num})"
+        if len(row) != len(header):
+            raise MeasurementFileError(f"{src}: {where}: has {len(row)} fields, the header has "
+                                       f"{len(header)}")
+        for name, col in index.items():
+            value = number(row[col], where, name, _UNITS[name], blank_ok=name == "bearing_deg")
+            if name == "bearing_deg" and not math.isnan(value) and not 0.0 <= value < 360.0:
+                raise MeasurementFileError(f"{src}: {where}, column bearing_deg: {value:g} deg "
+                                           f"is outside [0, 360) deg")
+            if name == "obs_depth_m" and not 0.0 <= value <= MAX_DEPTH_M:
+                raise MeasurementFileError(f"{src}: {where}, column obs_depth_m: {value:g} m is "
+                                           f"outside [0, {MAX_DEPTH_M:g}] m")
+            if name == "t_s" and values["t_s"] and value <= values["t_s"][-1]:
+                raise MeasurementFileError(f"{src}: {where}, column t_s: {value:g} s is not after "
+                                           f"the previous row's {values['t_s'][-1]:g} s")
+            values[name].append(value)
+        s = math.nan
+        if sigma_col is not None:
+            s = number(row[sigma_col], where, "bearing_sigma_deg", "deg", blank_ok=True)
+            if not math.isnan(s) and not 0.0 < s <= 180.0:
+                raise MeasurementFileError(f"{src}: {where}, column bearing_sigma_deg: {s:g} deg "
+                                           f"is outside (0, 180] deg")
+        sigma.append(s)
+        lv, sn = [], []
+        for band, lc, sc in zip(band_names, level_cols, snr_cols):
+            v = number(row[lc], where, LEVEL_PREFIX + band, "dB", blank_ok=True)
+            if not math.isnan(v) and not LEVEL_RANGE_DB[0] <= v <= LEVEL_RANGE_DB[1]:
+                raise MeasurementFileError(f"{src}: {where}, column {LEVEL_PREFIX + band}: {v:g} "
+                                           f"dB is outside [{LEVEL_RANGE_DB[0]:g}, "
+                                           f"{LEVEL_RANGE_DB[1]:g}] dB re 1 uPa")
+            lv.append(v)
+            q = math.nan
+            if sc is not None:
+                q = number(row[sc], where, SNR_PREFIX + band, "dB", blank_ok=True)
+                if not math.isnan(q) and not SNR_RANGE_DB[0] <= q <= SNR_RANGE_DB[1]:
+                    raise MeasurementFileError(f"{src}: {where}, column {SNR_PREFIX + band}: "
+                                               f"{q:g} dB is outside [{SNR_RANGE_DB[0]:g}, "
+                                               f"{SNR_RANGE_DB[1]:g}] dB")
+            sn.append(q)
+        levels.append(lv)
+        snrs.append(sn)
+    if n_row == 0:
+        raise MeasurementFileError(f"{src}: no data rows after the header; expected one row "
+                                   f"per cycle")
+    nb = len(band_names)
+    return Measurements(source=src, **{k: np.array(v) for k, v in values.items()},
+                        bearing_sigma_deg=np.array(sigma), band_names=band_names,
+                        level_db=np.array(levels, dtype=float).reshape(n_row, nb),
+                        snr_db=np.array(snrs, dtype=float).reshape(n_row, nb))
+
+
+def write_measurements(path: str | os.PathLike, m: Measurements) -> None:
+    """Write measurements as a measurement CSV (atomically; blanks for NaN)."""
+    df = m.to_frame()
+    with atomic_path(path) as tmp:
+        df.to_csv(tmp, index=False, na_rep="", float_format="%.10g")

@@ -1,0 +1,657 @@
+"""ML target motion analysis without observer maneuver (Grinenkov & Mashoshin 2024).
+
+Every cycle, for every class hypothesis in parallel (section 3, steps 1-9):
+
+1. maneuver detection from bearings (eqs. 26-27) and levels (eq. 29); a detection starts a new
+   tack (the last estimates carry over as range weights and output until the new tack has data);
+2. sigma_P (eq. 2, or the measurement's bearing_sigma_deg) and sigma_dW (eq. 11) from the SNRs;
+3. relative course by least squares over bearing triples (eq. 8, Annex 1) once the bearing
+   change since the tack start passes eq. 30 (4.5 sigma_P), else the reverse bearing;
+4. course from the relative course and the class's mean speed (eq. 7);
+5. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21);
+6. the joint ML estimate of course, speed and range (eq. 25) when the bearing changed by more
+   than 3 sigma_P over the last 3 minutes (section 4 step 8, Russian original), else the
+   fallbacks listed after eq. 25 (mean speed, eq.-8/reverse-bearing course, eq.-20 range);
+7. robust smoothing over the last L = 19 cycles of the tack, dropping the 2 largest and the 2
+   smallest (ranges are first carried to the current time with each cycle's velocity).
+
+Search (eq. 25). The bearing term sum_i (p_i - P(t_i, k, v, r))^2 / sigma_Pi^2 is evaluated in
+its pseudo-linear form sum_i w_i (u_i^perp . d_i)^2 with d_i the target's position relative to
+the observer, u_i^perp the unit normal of the measured bearing line and w_i = 1/(sigma_Pi^2
+rho_i^2) (rho_i the range estimate when bearing i arrived); u^perp . d = rho sin(residual), so
+the two agree to first order and both vanish on noiseless data. In this form the bearing term
+is a quadratic form in (position, velocity) whose 5 x 5 matrix is a running sum over the tack:
+nothing is recomputed over old bearings. For fixed course and speed the whole functional (25)
+is quadratic in range, so range is minimised in closed form; the search runs over course
+(24 values) x speed (20 values) and is refined twice on 7 x 7 local grids. The same code serves
+one track (rows = class hypotheses) and the Monte Carlo experiment (rows = runs x classes).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from tracker.errors import MeasurementFileError
+from tracker.measurements import Measurements
+from tracker.ranging import (class_infos, indicator_snr, level_range, level_sd_db,
+                             offset_nodes, sonar_info, bearing_sd_deg)
+from tracker.track import TRACK_COLUMNS
+
+log = logging.getLogger(__name__)
+
+RAD = math.pi / 180.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MLParams:
+    """Tuning of the ML tracker; defaults are the paper's."""
+
+    smooth_cycles: int = 19            # L of the robust smoothing (section 4 step 9)
+    smooth_drop: int = 2               # dropped at each end of the ranked series
+    smooth_passes: int = 1             # 2: smooth the smoothed series again
+    rel_course_sd_deg: float = 4.0     # sK_rho of eqs. 9, 25 ("3-5 deg")
+    eq30_factor: float = 4.5           # eq. 30
+    eq25_factor: float = 3.0           # section 4 step 8: bearing change over 3 min > 3 sigma
+    eq25_window_s: float = 180.0
+    eq25_min_cycles: int = 6           # cycles on the tack before eq. 25 is tried
+    maneuver_s: int = 2                # S of eqs. 26-27
+    maneuver_l: int = 20               # L of eq. 27
+    maneuver_factor: float = 4.5       # eqs. 26, 29
+    maneuver_confirm: int = 2          # consecutive cycles a maneuver test must fire
+    level_f: int = 10                  # F of eq. 29
+    level_sd_floor_db: float = 0.5     # floor on sigma_dW in eq. 29 (K(r) ripple along range)
+    n_course: int = 24                 # global search: values per axis (>= 20, paper step 8)
+    n_speed: int = 20
+    speed_span_sd: float = 3.0         # speed axis: mV +- this many sV
+    refine_passes: int = 2
+    triples: int = 8                   # bearing triples of the eq.-8 least squares
+    offsets_n: int = 5                 # eq. 21 quadrature nodes per axis
+    range_min_m: float = 100.0
+
+    def __post_init__(self) -> None:
+        if self.smooth_cycles < 1 or 2 * self.smooth_drop >= self.smooth_cycles:
+            raise ValueError(f"smooth_cycles {self.smooth_cycles} must exceed 2 x smooth_drop "
+                             f"{self.smooth_drop}")
+        if self.n_course < 4 or self.n_speed < 2:
+            raise ValueError("n_course >= 4 and n_speed >= 2 are needed")
+
+
+def wrap180(a):
+    return np.mod(np.asarray(a, dtype=float) + 180.0, 360.0) - 180.0
+
+
+def relative_course_deg(t_s, bearing_deg, i0, i1, i2, valid):
+    """Relative course by least squares over bearing triples (eq. 8 / A1.4, Annex 1).
+
+    Each triple (P0, P1, P2) at (t0, t1, t2) gives the linear equation of A1.3 in
+    (sin K_rho, cos K_rho); the unit vector minimising the sum of squares over the triples
+    is the smallest eigenvector of a 2 x 2 matrix. The 180-deg ambiguity is resolved by the
+    sense of the bearing change (the relative motion turns the bearing the same way).
+
+    Parameters
+    ----------
+    t_s : ndarray (T,) ; bearing_deg : ndarray (B, T)
+    i0, i1, i2 : ndarray of int, (B, J) ; valid : ndarray of bool (B, J)
+    """
+    b = np.radians(bearing_deg)
+    take = lambda idx: np.take_along_axis(b, idx, axis=1)  # noqa: E731
+    p0, p1, p2 = take(i0), take(i1), take(i2)
+    t0, t1, t2 = t_s[i0], t_s[i1], t_s[i2]
+    # eq. 8 with P_1, P_k, P_N = p0, p1, p2 (A1.4 of the extraction has garbled indices; eq. 8
+    # is the form that holds on noiseless data, see the tests)
+    s10 = np.sin(p1 - p0) * (t2 - t1)
+    s20 = np.sin(p2 - p1) * (t1 - t0)
+    den = s10 * np.cos(p2) - s20 * np.cos(p0)      # coefficient of tan K_rho
+    num = s10 * np.sin(p2) - s20 * np.sin(p0)
+    # den sinK - num cosK = 0 ; scale each triple to unit norm (equal weight per triple)
+    norm = np.hypot(den, num)
+    ok = valid & (norm > 0)
+    den = np.where(ok, den / np.where(ok, norm, 1.0), 0.0)
+    num = np.where(ok, num / np.where(ok, norm, 1.0), 0.0)
+    alpha = (den * den).sum(1)
+    beta = (den * num).sum(1)
+    gamma = (num * num).sum(1)
+    theta = 0.5 * np.arctan2(2.0 * beta, alpha - gamma)   # minimises alpha s^2 - 2 beta s c + gamma c^2
+    k = np.degrees(theta)
+    # sense: bearing increasing (clockwise) <=> sin(K_rho - P_last) > 0
+    last = np.take_along_axis(bearing_deg, i2[:, -1:], axis=1)[:, 0]
+    first = np.take_along_axis(bearing_deg, i0[:, :1], axis=1)[:, 0]
+    change = wrap180(last - first)
+    flip = np.sign(np.sin(np.radians(k - last))) != np.sign(change)
+    return np.mod(k + np.where(flip, 180.0, 0.0), 360.0)
+
+
+def course_from_relative_deg(k_rel_deg, v_mps, obs_course_deg, obs_speed_mps):
+    """Course from relative course (eq. 7): K = K_rho - arcsin(V_n / V sin(K_rho - K_n))."""
+    arg = np.clip(obs_speed_mps / np.maximum(v_mps, 1e-6)
+                  * np.sin(np.radians(k_rel_deg - obs_course_deg)), -1.0, 1.0)
+    return np.mod(k_rel_deg - np.degrees(np.arcsin(arg)), 360.0)
+
+
+def trimmed_mean(values, count, drop_per_19: int, length: int):
+    """Robust mean of the first ``count`` entries of each row: sort, drop the ends, average.
+
+    ``drop_per_19`` values are dropped at each end for a full window of ``length``; shorter
+    windows drop proportionally fewer (rounded down).
+    """
+    v = np.where(np.arange(values.shape[1])[None, :] < count[:, None], values, np.inf)
+    v = np.sort(v, axis=1)
+    drop = (drop_per_19 * count) // length
+    j = np.arange(values.shape[1])[None, :]
+    keep = (j >= drop[:, None]) & (j < (count - drop)[:, None])
+    s = np.where(keep, v, 0.0).sum(1)
+    n = keep.sum(1)
+    return np.where(n > 0, s / np.maximum(n, 1), np.nan)
+
+
+class MLBatch:
+    """The ML tracker over B rows sharing one observer and one cycle clock.
+
+    Parameters
+    ----------
+    grid : xr.Dataset
+        Propagation grid (k_db and the area's classes, sonar, noise).
+    class_index : array of int, shape (B,)
+        Class hypothesis (index into the grid's class axis) of each row.
+    capacity : int
+        Largest number of cycles to be fed.
+    params : MLParams
+    """
+
+    def __init__(self, grid: xr.Dataset, class_index, capacity: int,
+                 params: MLParams | None = None):
+        self.p = params or MLParams()
+        self.classes = class_infos(grid)
+        self.sonar = sonar_info(grid)
+        self.range_axis = grid["range"].values.astype(float)
+        self.k_db = grid["k_db"].values.astype(float)        # (C, M, R)
+        self.ci = np.asarray(class_index, dtype=int)
+        b = len(self.ci)
+        self.B, self.M, self.T = b, self.k_db.shape[1], int(capacity)
+        cls = self.classes
+        self.mV = np.array([cls[i].speed_mean_mps for i in self.ci])
+        self.sV = np.array([cls[i].speed_sd_mps for i in self.ci])
+        self.p0 = np.array([cls[i].noise_mean_db for i in self.ci])
+        self.offsets = [offset_nodes(c.noise_sd_db, c.k_error_sd_db, self.p.offsets_n) for c in cls]
+        self.n = 0
+        self.t = np.zeros(self.T)
+        self.ox = np.zeros(self.T)
+        self.oy = np.zeros(self.T)
+        self.brg = np.zeros((b, self.T))
+        self.lvl_top = np.full((b, self.T), np.nan)   # level in the highest detected band
+        self.top_band = np.full((b, self.T), -1)
+        self.s0 = np.zeros(b, dtype=int)               # tack start index
+        self.tack = np.ones(b, dtype=int)
+        self.pending = np.zeros(b, dtype=int)
+        self.A = np.zeros((b, 5, 5))
+        # raw per-cycle estimates for smoothing
+        self.est = {k: np.full((b, self.T), np.nan) for k in ("course", "speed", "x", "y", "vx", "vy")}
+        self.last_range = np.full(b, np.nan)
+        self.last_out = None
+
+    # ------------------------------------------------------------------ one cycle
+    def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
+               obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db) -> dict:
+        """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates."""
+        p, n, b = self.p, self.n, self.B
+        if n >= self.T:
+            raise ValueError(f"MLBatch capacity {self.T} cycles exceeded")
+        self.t[n], self.ox[n], self.oy[n] = t_s, obs_x_m, obs_y_m
+        brg = np.broadcast_to(np.asarray(bearing_deg, dtype=float), (b,))
+        self.brg[:, n] = brg
+        level = np.broadcast_to(np.asarray(level_db, dtype=float), (b, self.M))
+        snr = np.broadcast_to(np.asarray(snr_db, dtype=float), (b, self.M))
+        det = np.isfinite(level)
+        df = np.array(self.sonar.bandwidth_hz)
+        tt = self.sonar.integration_time_s
+        # step 4: sigma_dW (eq. 11); without a measured SNR, q at the detection threshold
+        q_thr = self.sonar.detection_threshold / np.sqrt(df * tt)
+        q = np.where(np.isfinite(snr), 10.0 ** (snr / 10.0), q_thr[None, :])
+        q = np.maximum(q, 1e-6)
+        sd_w = level_sd_db(q, df, tt)
+        # step 3: sigma_P (eq. 2) unless the measurement carries it
+        sd_p = np.broadcast_to(np.asarray(bearing_sd, dtype=float), (b,)).copy()
+        miss = ~np.isfinite(sd_p)
+        if miss.any():
+            q_ind = indicator_snr(np.where(np.isfinite(snr), snr, 10 * np.log10(q_thr)), df, tt)
+            top = np.where(det.any(1), self.M - 1 - np.argmax(det[:, ::-1], axis=1),
+                           np.argmax(q_ind, axis=1))
+            qb = np.maximum(q_ind[np.arange(b), top], 1.0)
+            sd_p[miss] = bearing_sd_deg(self.sonar.beamwidth_deg, qb)[miss]
+        sd_p = np.maximum(sd_p, 1e-4)
+        topb = np.where(det.any(1), self.M - 1 - np.argmax(det[:, ::-1], axis=1), -1)
+        self.top_band[:, n] = topb
+        self.lvl_top[:, n] = np.where(topb >= 0, level[np.arange(b), np.maximum(topb, 0)], np.nan)
+        self.n = n + 1
+
+        # step 1: maneuver detection (eqs. 26-27 and 29), confirmed on consecutive cycles
+        self._maneuver(n, sd_p, sd_w)
+
+        # step 5 (eqs. 20-21) per class
+        r_opt = np.full(b, np.nan)
+        r_sd = np.full(b, np.nan)
+        for c in np.unique(self.ci):
+            rows = np.flatnonzero(self.ci == c)
+            off, wts = self.offsets[c]
+            r_opt[rows], r_sd[rows] = level_range(
+                level[rows], det[rows], sd_w[rows], self.p0[rows], self.k_db[c], self.range_axis,
+                offsets_db=off, weights=wts, gain_db=self.sonar.receiver_gain_db)
+        r_sd = np.maximum(r_sd, self.range_axis[1] - self.range_axis[0])
+        have_r = np.isfinite(r_opt)
+        # bearings-only cycles keep the last range as a weak prior
+        r_prior = np.where(have_r, r_opt, self.last_range)
+        r_prior_sd = np.where(have_r, r_sd, np.where(np.isfinite(self.last_range),
+                                                     0.5 * self.last_range, np.inf))
+
+        # accumulate the pseudo-linear bearing quadratic form of this cycle
+        rho = np.where(np.isfinite(self.last_range), self.last_range,
+                       np.where(have_r, r_opt, 10000.0))
+        self._accumulate(n, brg, sd_p, rho)
+
+        # steps 5-6: relative course and course (eqs. 30, 8, 7)
+        obs_speed = math.hypot(obs_vx_mps, obs_vy_mps)
+        obs_course = math.degrees(math.atan2(obs_vx_mps, obs_vy_mps)) % 360.0
+        n_tack = n - self.s0 + 1
+        change = np.abs(wrap180(brg - self.brg[np.arange(b), self.s0]))
+        eq30 = (change > p.eq30_factor * sd_p) & (n_tack >= 3)
+        k_rel = np.mod(brg + 180.0, 360.0)                 # reverse bearing
+        if eq30.any():
+            rows = np.flatnonzero(eq30)
+            k_rel[rows] = self._rel_course(rows, n)
+        k_fb = course_from_relative_deg(k_rel, self.mV, obs_course, obs_speed)
+
+        # step 8 condition: bearing change over the last 3 minutes > 3 sigma_P
+        back = np.searchsorted(self.t[:n + 1], t_s - p.eq25_window_s)
+        back = np.maximum(back, self.s0)
+        change3 = np.abs(wrap180(brg - self.brg[np.arange(b), back]))
+        use25 = (change3 > p.eq25_factor * sd_p) & (n_tack >= p.eq25_min_cycles) & np.isfinite(r_prior)
+
+        u = np.array([np.sin(np.radians(brg)), np.cos(np.radians(brg))])   # (2, B)
+        course = k_fb.copy()
+        speed = self.mV.copy()
+        rng_est = r_prior.copy()
+        course_sd = np.hypot(p.rel_course_sd_deg, self._dk_dv(k_rel, obs_course, obs_speed) * self.sV)
+        speed_sd = self.sV.copy()
+        range_sd = r_prior_sd.copy()
+        # a new tack starts from the last estimates (step 1) until eq. 25 applies on it
+        carry = ~use25 & (self.tack > 1) & (self.last_out is not None)
+        if carry.any():
+            lo = self.last_out
+            dt = t_s - self.t[n - 1]
+            a = np.radians(lo["course_deg"])
+            px = lo["x_m"] + lo["speed_mps"] * np.sin(a) * dt
+            py = lo["y_m"] + lo["speed_mps"] * np.cos(a) * dt
+            rc = np.hypot(px - obs_x_m, py - obs_y_m)
+            course = np.where(carry, lo["course_deg"], course)
+            speed = np.where(carry, lo["speed_mps"], speed)
+            rng_est = np.where(carry, rc, rng_est)
+        if use25.any():
+            rows = np.flatnonzero(use25)
+            res = self._search(rows, n, u[:, rows], k_rel[rows], obs_course, obs_speed,
+                               r_prior[rows], r_prior_sd[rows])
+            course[rows], speed[rows], rng_est[rows] = res[0], res[1], res[2]
+            course_sd[rows], speed_sd[rows], range_sd[rows] = res[3], res[4], res[5]
+        # raw estimates of this cycle: position and velocity
+        x = obs_x_m + rng_est * u[0]
+        y = obs_y_m + rng_est * u[1]
+        vx = speed * np.sin(np.radians(course))
+        vy = speed * np.cos(np.radians(course))
+        for key, val in (("course", course), ("speed", speed), ("x", x), ("y", y), ("vx", vx),
+                         ("vy", vy)):
+            self.est[key][:, n] = val
+        out = self._smooth(n, obs_x_m, obs_y_m, brg)
+        out.update(range_sd_m=range_sd, course_sd_deg=course_sd, speed_sd_mps=speed_sd,
+                   tack=self.tack.copy(), used_eq25=use25, r_level_m=r_opt, raw_course_deg=course,
+                   raw_speed_mps=speed, raw_range_m=rng_est)
+        self.last_range = np.where(np.isfinite(out["range_m"]), out["range_m"], self.last_range)
+        self.last_out = out
+        return out
+
+    # ------------------------------------------------------------------ pieces
+    def _dk_dv(self, k_rel, obs_course, obs_speed):
+        """|dK/dV| of eq. 7 at the mean speed, deg per m/s (for the fallback course sd)."""
+        h = 0.05
+        k1 = course_from_relative_deg(k_rel, self.mV + h, obs_course, obs_speed)
+        k0 = course_from_relative_deg(k_rel, np.maximum(self.mV - h, 1e-3), obs_course, obs_speed)
+        return np.abs(wrap180(k1 - k0)) / (2 * h)
+
+    def _maneuver(self, n, sd_p, sd_w):
+        p, b = self.p, self.B
+        rows = np.arange(b)
+        fire = np.zeros(b, dtype=bool)
+        ok = (n - self.s0) >= p.maneuver_l
+        if ok.any():
+            i_s, i_l = n - p.maneuver_s, n - p.maneuver_l
+            ts, tl, tn = self.t[i_s], self.t[i_l], self.t[n]
+            ps, pl, pn = self.brg[:, i_s], self.brg[:, i_l], self.brg[:, n]
+            rate = wrap180(ps - pl) / (ts - tl)                                     # eq. 27
+            fire |= ok & (np.abs(wrap180(ps + rate * (tn - ts) - pn)) > p.maneuver_factor * sd_p)
+        # eq. 29: level of the highest band vs its mean over F previous cycles but the last 3
+        okl = (n - self.s0) >= p.level_f + 3
+        if okl.any():
+            top = self.top_band[:, n]
+            lo = n - 3 - p.level_f
+            win_b = self.top_band[:, lo:n - 3]
+            win = np.where(win_b == top[:, None], self.lvl_top[:, lo:n - 3], np.nan)
+            cnt = np.isfinite(win).sum(1)
+            mean = np.where(cnt > p.level_f // 2, np.nansum(win, 1) / np.maximum(cnt, 1), np.nan)
+            sdw = np.maximum(sd_w[rows, np.maximum(top, 0)], p.level_sd_floor_db)
+            fire |= okl & (top >= 0) & np.isfinite(mean) & \
+                (np.abs(mean - self.lvl_top[:, n]) > p.maneuver_factor * sdw)
+        self.pending = np.where(fire, self.pending + 1, 0)
+        new = self.pending >= p.maneuver_confirm
+        if new.any():
+            self.s0[new] = n - p.maneuver_confirm + 1
+            self.tack[new] += 1
+            self.pending[new] = 0
+            self.A[new] = 0.0
+            # rebuild the quadratic form from the confirming cycles on the new tack
+            self._rebuild = new
+
+    def _rows_a(self, idx_rows, i, brg, sd_p, rho, t0):
+        a = np.radians(brg)
+        c, s = np.cos(a), np.sin(a)
+        tau = self.t[i] - t0
+        vec = np.stack([c, -s, c * tau, -s * tau, -(c * self.ox[i] - s * self.oy[i])], axis=1)
+        w = 1.0 / (np.square(np.radians(sd_p)) * np.square(rho))
+        return w[:, None, None] * vec[:, :, None] * vec[:, None, :]
+
+    def _accumulate(self, n, brg, sd_p, rho):
+        rebuild = getattr(self, "_rebuild", None)
+        if rebuild is not None and rebuild.any():
+            rows = np.flatnonzero(rebuild)
+            for i in range(int(self.s0[rows].min()), n):
+                sel = rows[self.s0[rows] <= i]
+                self.A[sel] += self._rows_a(sel, i, self.brg[sel, i], sd_p[sel], rho[sel],
+                                            self.t[self.s0[sel]])
+            self._rebuild = None
+        self.A += self._rows_a(None, n, brg, sd_p, rho, self.t[self.s0])
+
+    def _rel_course(self, rows, n):
+        s0 = self.s0[rows]
+        length = n - s0 + 1
+        j = np.arange(self.p.triples)[None, :]
+        span = np.maximum(length // 4, 1)[:, None]
+        i0 = s0[:, None] + (j * span) // self.p.triples
+        i2 = n - (j * span) // self.p.triples
+        i1 = (i0 + i2) // 2
+        valid = (i0 < i1) & (i1 < i2)
+        i0, i1, i2 = (np.clip(v, 0, n) for v in (i0, i1, i2))
+        return relative_course_deg(self.t[:n + 1], self.brg[rows, :n + 1], i0, i1, i2, valid)
+
+    @staticmethod
+    def _lin_const(f0, f1, c0, c1, C2, k_deg, v):
+        vx, vy = v * np.sin(np.radians(k_deg)), v * np.cos(np.radians(k_deg))
+        lin = f0 + f1[:, 0] * vx + f1[:, 1] * vy
+        const = (c0 + 2.0 * (c1[:, 0] * vx + c1[:, 1] * vy) + C2[:, 0, 0] * vx * vx
+                 + 2.0 * C2[:, 0, 1] * vx * vy + C2[:, 1, 1] * vy * vy)
+        return lin, const
+
+    def _search(self, rows, n, u, k_rel, obs_course, obs_speed, r_prior, r_prior_sd):
+        """Minimise eq. 25 over course x speed (range in closed form) for the given rows."""
+        p = self.p
+        A = self.A[rows]
+        tau = self.t[n] - self.t[self.s0[rows]]
+        g = np.zeros((len(rows), 5))
+        g[:, 0], g[:, 1], g[:, 4] = self.ox[n], self.oy[n], 1.0
+        H = np.zeros((len(rows), 5, 2))
+        H[:, 0, 0] = H[:, 1, 1] = -tau
+        H[:, 2, 0] = H[:, 3, 1] = 1.0
+        ze = np.zeros((len(rows), 5))
+        ze[:, 0], ze[:, 1] = u[0], u[1]
+        Ag = np.einsum("bij,bj->bi", A, g)
+        AH = np.einsum("bij,bjk->bik", A, H)
+        Aze = np.einsum("bij,bj->bi", A, ze)
+        c0 = np.einsum("bi,bi->b", g, Ag)
+        c1 = np.einsum("bi,bik->bk", g, AH)
+        C2 = np.einsum("bik,bil->bkl", H, AH)
+        f0 = np.einsum("bi,bi->b", ze, Ag)
+        f1 = np.einsum("bi,bik->bk", ze, AH)
+        e = np.einsum("bi,bi->b", ze, Aze)
+        inv_var = np.where(np.isfinite(r_prior_sd), 1.0 / np.square(r_prior_sd), 0.0)
+        r0 = np.where(np.isfinite(r_prior), r_prior, 0.0)
+        mV, sV = self.mV[rows], self.sV[rows]
+        sk2 = p.rel_course_sd_deg ** 2
+        r_lo, r_hi = p.range_min_m, self.range_axis[-1]
+        scale = np.square(np.where(np.isfinite(self.last_range[rows]), self.last_range[rows],
+                                   np.where(np.isfinite(r_prior), r_prior, 10000.0)))
+
+        def cost(k_deg, v):
+            """k_deg, v: (b, c) candidates -> cost (b, c), range (b, c)."""
+            vx = v * np.sin(np.radians(k_deg))
+            vy = v * np.cos(np.radians(k_deg))
+            lin = f0[:, None] + f1[:, 0:1] * vx + f1[:, 1:2] * vy
+            const = (c0[:, None] + 2.0 * (c1[:, 0:1] * vx + c1[:, 1:2] * vy)
+                     + C2[:, 0, 0, None] * vx * vx + 2.0 * C2[:, 0, 1, None] * vx * vy
+                     + C2[:, 1, 1, None] * vy * vy)
+            # bearing term rho_N^2 (e + 2 lin x + const x^2), x = 1/r (residuals divided by the
+            # candidate's own range: no pull toward short ranges); + range prior; Newton in r
+            jb = lambda r: scale[:, None] * (e[:, None] + 2.0 * lin / r + const / (r * r))  # noqa: E731
+            x_star = -lin / np.maximum(const, 1e-300)
+            starts = [np.where(x_star > 0, 1.0 / np.maximum(x_star, 1e-12), r_hi),
+                      np.where(inv_var[:, None] > 0, r0[:, None], r_hi) + 0.0 * lin]
+            best_r, best_j = None, None
+            for r in starts:
+                r = np.clip(r, r_lo, r_hi)
+                for _ in range(6):
+                    x = 1.0 / r
+                    g1 = scale[:, None] * (2.0 * lin + 2.0 * const * x)        # dJb/dx
+                    g2 = scale[:, None] * 2.0 * const
+                    d1 = -g1 * x * x + 2.0 * inv_var[:, None] * (r - r0[:, None])
+                    d2 = g2 * x ** 4 + 2.0 * g1 * x ** 3 + 2.0 * inv_var[:, None]
+                    step = np.where(d2 > 0, d1 / np.where(d2 > 0, d2, 1.0), np.sign(d1) * 0.2 * r)
+                    r = np.clip(r - np.clip(step, -0.5 * r, 0.5 * r), r_lo, r_hi)
+                jr = jb(r) + inv_var[:, None] * np.square(r - r0[:, None])
+                if best_j is None:
+                    best_r, best_j = r, jr
+                else:
+                    better = jr < best_j
+                    best_r, best_j = np.where(better, r, best_r), np.where(better, jr, best_j)
+            r, j = best_r, best_j
+            mk = course_from_relative_deg(k_rel[:, None], v, obs_course, obs_speed)
+            j = j + np.square((v - mV[:, None]) / sV[:, None]) \
+                + np.square(wrap180(k_deg - mk)) / sk2
+            return j, r
+
+        kk = np.arange(p.n_course) * 360.0 / p.n_course
+        vv = np.linspace(np.maximum(mV - p.speed_span_sd * sV, 0.2),
+                         mV + p.speed_span_sd * sV, p.n_speed).T               # (b, nv)
+        K = np.broadcast_to(kk[None, :, None], (len(rows), p.n_course, p.n_speed))
+        V = np.broadcast_to(vv[:, None, :], (len(rows), p.n_course, p.n_speed))
+        j, _ = cost(K.reshape(len(rows), -1), V.reshape(len(rows), -1))
+        best = np.argmin(j, axis=1)
+        kb = K.reshape(len(rows), -1)[np.arange(len(rows)), best]
+        vb = V.reshape(len(rows), -1)[np.arange(len(rows)), best]
+        dk = np.full(len(rows), 360.0 / p.n_course)
+        dv = vv[:, 1] - vv[:, 0]
+        off = np.linspace(-1.0, 1.0, 7)
+        for _ in range(p.refine_passes):
+            kc = kb[:, None, None] + off[None, :, None] * dk[:, None, None]
+            vc = np.maximum(vb[:, None, None] + off[None, None, :] * dv[:, None, None], 0.05)
+            kc, vc = np.broadcast_arrays(kc, vc)
+            jj, _ = cost(kc.reshape(len(rows), -1), vc.reshape(len(rows), -1))
+            bi = np.argmin(jj, axis=1)
+            kb = kc.reshape(len(rows), -1)[np.arange(len(rows)), bi]
+            vb = vc.reshape(len(rows), -1)[np.arange(len(rows)), bi]
+            dk, dv = dk / 3.0, dv / 3.0
+        # final point and curvatures (cost = -2 log L: sd = sqrt(2 / J''))
+        h_k, h_v = np.maximum(dk, 0.2), np.maximum(dv, 0.02)
+        kc = np.stack([kb, kb - h_k, kb + h_k, kb, kb], axis=1)
+        vc = np.stack([vb, vb, vb, np.maximum(vb - h_v, 0.01), vb + h_v], axis=1)
+        jj, rr = cost(kc, vc)
+        d2k = (jj[:, 1] + jj[:, 2] - 2 * jj[:, 0]) / h_k ** 2
+        d2v = (jj[:, 3] + jj[:, 4] - 2 * jj[:, 0]) / h_v ** 2
+        k_sd = np.sqrt(2.0 / np.maximum(d2k, 1e-12))
+        v_sd = np.sqrt(2.0 / np.maximum(d2v, 1e-12))
+        r_c = rr[:, 0]
+        h_r = np.maximum(0.01 * r_c, 1.0)
+        jr = [scale * (e + 2.0 * lin_r / rx + cst_r / (rx * rx)) + inv_var * (rx - r0) ** 2
+              for rx in (r_c - h_r, r_c, r_c + h_r)
+              for lin_r, cst_r in [self._lin_const(f0, f1, c0, c1, C2, kb, vb)]]
+        r_sd = np.sqrt(2.0 / np.maximum((jr[0] + jr[2] - 2 * jr[1]) / h_r ** 2, 1e-300))
+        return (np.mod(kb, 360.0), vb, rr[:, 0], np.minimum(k_sd, 180.0), np.minimum(v_sd, 50.0),
+                r_sd)
+
+    def _smooth(self, n, ox, oy, brg):
+        """Robust smoothing over the last L cycles of each row's tack (step 9)."""
+        p, b = self.p, self.B
+        lo = np.maximum(self.s0, n - p.smooth_cycles + 1)
+        count = n - lo + 1
+        width = p.smooth_cycles
+        idx = lo[:, None] + np.arange(width)[None, :]
+        idx = np.minimum(idx, n)
+        g = lambda key: np.take_along_axis(self.est[key], idx, axis=1)  # noqa: E731
+        dt = self.t[n] - self.t[idx]
+        px = g("x") + g("vx") * dt
+        py = g("y") + g("vy") * dt
+        rng = np.hypot(px - ox, py - oy)
+        course_raw = g("course")
+        ref = self.est["course"][:, n]
+        course_u = ref[:, None] + wrap180(course_raw - ref[:, None])
+        out_r = trimmed_mean(rng, count, p.smooth_drop, width)
+        out_k = trimmed_mean(course_u, count, p.smooth_drop, width)
+        out_v = trimmed_mean(g("speed"), count, p.smooth_drop, width)
+        if p.smooth_passes > 1:
+            out_r, out_k, out_v = self._second_pass(n, out_r, out_k, out_v, count)
+        a = np.radians(brg)
+        return {"range_m": out_r, "course_deg": np.mod(out_k, 360.0), "speed_mps": out_v,
+                "x_m": ox + out_r * np.sin(a), "y_m": oy + out_r * np.cos(a),
+                "bearing_deg": brg.copy()}
+
+    def _second_pass(self, n, r, k, v, count):
+        if not hasattr(self, "_s1"):
+            self._s1 = {key: np.full((self.B, self.T), np.nan) for key in ("r", "k", "v")}
+        s1 = self._s1
+        s1["r"][:, n], s1["k"][:, n], s1["v"][:, n] = r, k, v
+        width = self.p.smooth_cycles
+        lo = np.maximum(self.s0, n - width + 1)
+        idx = np.minimum(lo[:, None] + np.arange(width)[None, :], n)
+        g = lambda key: np.take_along_axis(s1[key], idx, axis=1)  # noqa: E731
+        ku = k[:, None] + wrap180(g("k") - k[:, None])
+        return (trimmed_mean(g("r"), count, self.p.smooth_drop, width),
+                trimmed_mean(ku, count, self.p.smooth_drop, width),
+                trimmed_mean(g("v"), count, self.p.smooth_drop, width))
+
+
+class MLTracker:
+    """One-cycle-at-a-time API: all class hypotheses of a grid (or the chosen ones) in parallel.
+
+    Examples
+    --------
+    >>> trk = MLTracker(grid, capacity=len(m))          # doctest: +SKIP
+    >>> for i in range(len(m)):
+    ...     rows = trk.update_from(m, i)                # one DataFrame row per class
+    """
+
+    def __init__(self, grid: xr.Dataset, *, capacity: int, class_names=None,
+                 params: MLParams | None = None, band_names=None):
+        names = [str(c) for c in grid["class"].values]
+        chosen = names if class_names is None else list(class_names)
+        for c in chosen:
+            if c not in names:
+                raise MeasurementFileError(f"class {c!r} is not a class of the grid "
+                                           f"({', '.join(names)})")
+        self.class_names = tuple(chosen)
+        self.grid_bands = [str(b) for b in grid["band"].values]
+        self.batch = MLBatch(grid, [names.index(c) for c in chosen], capacity, params)
+        self._skipped = 0
+        self._prev = None
+
+    def update(self, *, t_s, obs_x_m, obs_y_m, bearing_deg, bearing_sigma_deg=math.nan,
+               levels_db: dict | None = None, snrs_db: dict | None = None,
+               obs_velocity_mps: tuple[float, float] | None = None) -> pd.DataFrame | None:
+        """Process one cycle; returns the track rows (one per class) or None for a NaN bearing."""
+        if not math.isfinite(bearing_deg):
+            if self._skipped == 0:
+                log.warning("cycle at t = %g s has no bearing; such cycles are skipped", t_s)
+            self._skipped += 1
+            return None
+        m = len(self.grid_bands)
+        lv = np.full(m, np.nan)
+        sn = np.full(m, np.nan)
+        for name, val in (levels_db or {}).items():
+            lv[self.grid_bands.index(name)] = val
+        for name, val in (snrs_db or {}).items():
+            sn[self.grid_bands.index(name)] = val
+        if obs_velocity_mps is None:
+            if self._prev is None:
+                obs_velocity_mps = (0.0, 0.0)
+            else:
+                pt, px, py = self._prev
+                obs_velocity_mps = ((obs_x_m - px) / (t_s - pt), (obs_y_m - py) / (t_s - pt))
+        self._prev = (t_s, obs_x_m, obs_y_m)
+        out = self.batch.update(t_s, obs_x_m, obs_y_m, obs_velocity_mps[0], obs_velocity_mps[1],
+                                bearing_deg, bearing_sigma_deg, lv[None, :], sn[None, :])
+        return _frame(t_s, self.class_names, out)
+
+    def update_from(self, m: Measurements, i: int, obs_vel=None) -> pd.DataFrame | None:
+        """Process row i of a Measurements object."""
+        if obs_vel is None:
+            obs_vel = (None if i == 0 else
+                       ((m.obs_x_m[i] - m.obs_x_m[i - 1]) / (m.t_s[i] - m.t_s[i - 1]),
+                        (m.obs_y_m[i] - m.obs_y_m[i - 1]) / (m.t_s[i] - m.t_s[i - 1])))
+        return self.update(t_s=float(m.t_s[i]), obs_x_m=float(m.obs_x_m[i]),
+                           obs_y_m=float(m.obs_y_m[i]), bearing_deg=float(m.bearing_deg[i]),
+                           bearing_sigma_deg=float(m.bearing_sigma_deg[i]),
+                           levels_db=dict(zip(m.band_names, m.level_db[i])),
+                           snrs_db=dict(zip(m.band_names, m.snr_db[i])), obs_velocity_mps=obs_vel)
+
+
+def _frame(t_s, class_names, out) -> pd.DataFrame:
+    return pd.DataFrame({"t_s": t_s, "class": list(class_names), "x_m": out["x_m"],
+                         "y_m": out["y_m"], "range_m": out["range_m"],
+                         "bearing_deg": out["bearing_deg"], "course_deg": out["course_deg"],
+                         "speed_mps": out["speed_mps"], "range_sd_m": out["range_sd_m"],
+                         "course_sd_deg": out["course_sd_deg"],
+                         "speed_sd_mps": out["speed_sd_mps"], "tack": out["tack"],
+                         "method": "ml"}).loc[:, list(TRACK_COLUMNS)]
+
+
+def track(grid: xr.Dataset, measurements: Measurements, *, cls_name: str | None = None,
+          band: str | None = None, params: MLParams | None = None) -> pd.DataFrame:
+    """Run the ML tracker over a whole measurement file; one row per cycle per class.
+
+    Parameters
+    ----------
+    grid : xr.Dataset
+    measurements : Measurements
+        Bands must be bands of the grid. Cycles with a NaN bearing are skipped (said once).
+    cls_name : str, optional
+        Only this class hypothesis (default: every class of the grid).
+    band : str, optional
+        Use only this band's levels.
+    """
+    grid_bands = [str(b) for b in grid["band"].values]
+    for name in measurements.band_names:
+        if name not in grid_bands:
+            raise MeasurementFileError(f"{measurements.source}: column 'level_db_{name}': band "
+                                       f"{name!r} is not a band of the grid "
+                                       f"({', '.join(grid_bands)})")
+    if band is not None and band not in measurements.band_names:
+        raise MeasurementFileError(f"{measurements.source}: --band {band!r}: no level_db_{band} "
+                                   f"column (bands: {', '.join(measurements.band_names)})")
+    m = measurements
+    if band is not None:
+        j = m.band_names.index(band)
+        m = Measurements(source=m.source, t_s=m.t_s, obs_x_m=m.obs_x_m, obs_y_m=m.obs_y_m,
+                         obs_depth_m=m.obs_depth_m, bearing_deg=m.bearing_deg,
+                         bearing_sigma_deg=m.bearing_sigma_deg, band_names=(band,),
+                         level_db=m.level_db[:, j:j + 1], snr_db=m.snr_db[:, j:j + 1])
+    good = np.flatnonzero(np.isfinite(m.bearing_deg))
+    if len(good) < len(m):
+        log.warning("%s: %d cycle(s) without a bearing skipped (first at t = %g s)", m.source,
+                    len(m) - len(good), m.t_s[np.flatnonzero(~np.isfinite(m.bearing_deg))[0]])
+    if len(good) == 0:
+        raise MeasurementFileError(f"{m.source}: column bearing_deg: no cycle has a bearing")
+    m = m.take(good)
+    vx, vy = m.obs_velocity_mps()
+    trk = MLTracker(grid, capacity=len(m), class_names=None if cls_name is None else [cls_name],
+                    params=params)
+    frames = [trk.update_from(m, i, obs_vel=(vx[i], vy[i])) for i in range(len(m))]
+    return pd.concat(frames, ignore_index=True)

@@ -1,0 +1,187 @@
+"""Measurement simulator of Grinenkov & Mashoshin section 4 (cycle steps 1-6).
+
+Each cycle: true positions and bearing; band levels W_k = P0 + K_k(r) + dK + H (eqs. 12, 31;
+dK drawn once per run); band SNR 10 lg q = W_k - H - (N_k - DI) from the area's sea noise N_k
+in the band and the array's directivity index; a band is detected when the indicator SNR
+Q = q sqrt(df T) reaches the detection threshold, else its level is blank; level errors with
+the sd of eq. 11; bearing error with the sd of eq. 2 from the highest detected band.
+
+Batched over runs (leading axis E) for the Monte Carlo experiment; ``simulate`` is one run.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from envdata.files import atomic_path
+from tracker.errors import MeasurementFileError
+from tracker.measurements import Measurements, write_measurements
+from tracker.ranging import bearing_sd_deg, class_infos, level_sd_db, sonar_info
+from tracker.scenario import Scenario, _path_of, observer_track
+
+TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
+                 "tack")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SimBatch:
+    """E simulated runs of one scenario on a common time axis (arrays (E, T) or (E, T, M))."""
+
+    t_s: np.ndarray
+    obs_x_m: np.ndarray            # (T,)
+    obs_y_m: np.ndarray
+    obs_depth_m: float
+    x_m: np.ndarray                # (E, T) target truth
+    y_m: np.ndarray
+    course_deg: np.ndarray
+    speed_mps: np.ndarray
+    noise_db: np.ndarray
+    tack: np.ndarray               # (T,)
+    range_m: np.ndarray
+    bearing_true_deg: np.ndarray
+    bearing_deg: np.ndarray        # measured
+    bearing_sigma_deg: np.ndarray
+    level_true_db: np.ndarray      # (E, T, M)
+    level_db: np.ndarray           # measured, NaN when not detected
+    snr_db: np.ndarray
+    band_names: tuple[str, ...]
+
+
+def k_interp(k_db: np.ndarray, range_axis_m: np.ndarray, range_m: np.ndarray) -> np.ndarray:
+    """K_k(r), dB, linearly interpolated on the grid's range axis (clamped at its ends).
+
+    k_db (M, R); range_m any shape S -> result S + (M,).
+    """
+    r = np.clip(range_m, range_axis_m[0], range_axis_m[-1])
+    step = range_axis_m[1] - range_axis_m[0]
+    f = (r - range_axis_m[0]) / step
+    i = np.clip(np.floor(f).astype(int), 0, len(range_axis_m) - 2)
+    a = (f - i)[..., None]
+    return k_db.T[i] * (1.0 - a) + k_db.T[i + 1] * a
+
+
+def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
+                   dv_mps=0.0, dp0_db=0.0, dk_db=None) -> SimBatch:
+    """Simulate E runs of a scenario.
+
+    Parameters
+    ----------
+    sc : Scenario
+    grid : xr.Dataset
+        Propagation grid of the scenario's area; its k_db of the scenario's class is the
+        "actual" transfer characteristic.
+    rng : numpy.random.Generator
+        Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
+    dv_mps, dp0_db : array_like, shape (E,) or scalar
+        Offsets added to every target tack's speed, m/s, and noise P0, dB (the experiment's
+        true-speed and true-noise axes).
+    dk_db : array_like, shape (E,), optional
+        Transfer-characteristic error dK of eq. 31, dB; drawn once per run from the class's
+        k_error_sd_db when None.
+    """
+    classes = {c.name: c for c in class_infos(grid)}
+    if sc.target_class not in classes:
+        raise MeasurementFileError(f"{sc.source}: [scenario] target_class: {sc.target_class!r} "
+                                   f"is not a class of the grid ({', '.join(classes)})")
+    cls = classes[sc.target_class]
+    sonar = sonar_info(grid)
+    dv = np.atleast_1d(np.asarray(dv_mps, dtype=float))
+    dp = np.atleast_1d(np.asarray(dp0_db, dtype=float))
+    e = max(len(dv), len(dp), 1 if dk_db is None else len(np.atleast_1d(dk_db)))
+    dv = np.broadcast_to(dv, (e,))
+    dp = np.broadcast_to(dp, (e,))
+    dk = (rng.normal(0.0, cls.k_error_sd_db, e) if dk_db is None
+          else np.broadcast_to(np.atleast_1d(np.asarray(dk_db, dtype=float)), (e,)))
+    t = sc.times_s()
+    ox, oy, _, _ = observer_track(sc, t)
+    # target path per run: offsets change every tack's speed
+    xs, ys, cs, vs, ps = [], [], [], [], []
+    for j in range(e):
+        tacks = tuple(type(tk)(course_deg=tk.course_deg, speed_mps=max(tk.speed_mps + dv[j], 0.0),
+                               duration_s=tk.duration_s, noise_db=tk.noise_db + dp[j])
+                      for tk in sc.target_tacks)
+        x, y, c, v, tack = _path_of(tacks, sc.target_x_m, sc.target_y_m, t)
+        xs.append(x), ys.append(y), cs.append(c), vs.append(v)
+        ps.append(np.array([tacks[k - 1].noise_db for k in tack]))
+    x, y, c, v, p0 = map(np.array, (xs, ys, cs, vs, ps))
+    dx, dy = x - ox, y - oy
+    r = np.hypot(dx, dy)
+    b_true = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
+    kc = grid["k_db"].sel({"class": sc.target_class}).values            # (M, R)
+    raxis = grid["range"].values
+    k = k_interp(kc, raxis, r)                                          # (E, T, M)
+    w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
+    noise = np.array(sonar.noise_band_db) - sonar.directivity_index_db
+    snr_db = w_true - sonar.receiver_gain_db - noise
+    q = 10.0 ** (snr_db / 10.0)
+    df = np.array(sonar.bandwidth_hz)
+    q_ind = q * np.sqrt(df * sonar.integration_time_s)
+    det = q_ind >= sonar.detection_threshold
+    sd_w = level_sd_db(q, df, sonar.integration_time_s)
+    level = np.where(det, w_true + rng.standard_normal(w_true.shape) * sd_w, np.nan)
+    # bearing sd from the highest detected band (eq. 2); with none detected, the best band
+    m = det.shape[-1]
+    idx = np.where(det.any(axis=-1), m - 1 - np.argmax(det[..., ::-1], axis=-1),
+                   np.argmax(q_ind, axis=-1))
+    q_b = np.maximum(np.take_along_axis(q_ind, idx[..., None], axis=-1)[..., 0], 1.0)
+    sd_p = np.maximum(bearing_sd_deg(sonar.beamwidth_deg, q_b), sc.bearing_sd_min_deg)
+    bearing = np.mod(b_true + rng.standard_normal(b_true.shape) * sd_p, 360.0) % 360.0
+    tack = _path_of(sc.target_tacks, sc.target_x_m, sc.target_y_m, t)[4]
+    return SimBatch(t_s=t, obs_x_m=ox, obs_y_m=oy, obs_depth_m=sc.obs_depth_m, x_m=x, y_m=y,
+                    course_deg=c, speed_mps=v, noise_db=p0, tack=tack, range_m=r,
+                    bearing_true_deg=b_true, bearing_deg=bearing, bearing_sigma_deg=sd_p,
+                    level_true_db=w_true, level_db=level, snr_db=snr_db,
+                    band_names=tuple(str(b) for b in grid["band"].values))
+
+
+def measurements_of(sim: SimBatch, run: int = 0, source: str = "simulated") -> Measurements:
+    """The measurements of one simulated run."""
+    n = len(sim.t_s)
+    return Measurements(source=source, t_s=sim.t_s, obs_x_m=sim.obs_x_m, obs_y_m=sim.obs_y_m,
+                        obs_depth_m=np.full(n, sim.obs_depth_m), bearing_deg=sim.bearing_deg[run],
+                        bearing_sigma_deg=sim.bearing_sigma_deg[run], band_names=sim.band_names,
+                        level_db=sim.level_db[run], snr_db=sim.snr_db[run])
+
+
+def truth_of(sim: SimBatch, sc: Scenario, run: int = 0) -> pd.DataFrame:
+    """Truth table of one run (DESIGN.md "Truth CSV")."""
+    n = len(sim.t_s)
+    return pd.DataFrame({"t_s": sim.t_s, "x_m": sim.x_m[run], "y_m": sim.y_m[run],
+                         "depth_m": np.full(n, sc.target_depth_m),
+                         "course_deg": sim.course_deg[run], "speed_mps": sim.speed_mps[run],
+                         "class": sc.target_class, "noise_db": sim.noise_db[run],
+                         "tack": sim.tack})
+
+
+def simulate(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator):
+    """One run: (Measurements, truth DataFrame); dK drawn from the class's k_error_sd_db."""
+    sim = simulate_batch(sc, grid, rng)
+    return measurements_of(sim, 0, source=sc.name), truth_of(sim, sc, 0)
+
+
+def write_simulation(out_dir: str | os.PathLike, m: Measurements, truth: pd.DataFrame) -> dict:
+    """Write measurements.csv and truth.csv into out_dir (atomically)."""
+    out = Path(out_dir)
+    write_measurements(out / "measurements.csv", m)
+    with atomic_path(out / "truth.csv") as tmp:
+        truth.loc[:, list(TRUTH_COLUMNS)].to_csv(tmp, index=False, float_format="%.6f")
+    return {"measurements": str(out / "measurements.csv"), "truth": str(out / "truth.csv")}
+
+
+def max_detection_range_m(grid: xr.Dataset, cls_name: str, p0_db: float) -> float:
+    """Largest grid range at which any band of a class at noise P0 is detected, m."""
+    sonar = sonar_info(grid)
+    k = grid["k_db"].sel({"class": cls_name}).values
+    snr = p0_db + k - (np.array(sonar.noise_band_db) - sonar.directivity_index_db)[:, None]
+    q_ind = 10.0 ** (snr / 10.0) * np.sqrt(np.array(sonar.bandwidth_hz)[:, None]
+                                           * sonar.integration_time_s)
+    det = (q_ind >= sonar.detection_threshold).any(axis=0)
+    rr = grid["range"].values
+    return float(rr[det].max()) if det.any() else math.nan
