@@ -27,8 +27,15 @@ demo: setup
 test: setup
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
-bench: setup
-	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
+# Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
+STONESOUP := .venv-stonesoup/.installed
+$(STONESOUP):
+	$(PYTHON) -m venv .venv-stonesoup
+	.venv-stonesoup/bin/python -m pip install -q stonesoup
+	@touch $@
+
+bench: setup $(STONESOUP)
+	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
 
 clean:
-	rm -rf $(VENV) out
+	rm -rf $(VENV) .venv-stonesoup out

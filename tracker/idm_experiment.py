@@ -1,0 +1,273 @@
+"""Monte Carlo study of Iglesis & de Montella sec. 5: RMSE of BOT and BOT+SPL and the BOT CRLB.
+
+``run("idm-static", runs=1000, out_dir=...)`` simulates the scenario's bearings (sd 1.5 deg)
+and SPLs (sd 4 dB; SL of eq. 12 minus the grid's TL, eq. 16), filters every run with the RPF
+bearings-only ("rpf-bot") and with bearings and SPL ("rpf", sigma_l = 10 dB in the filter) on
+the same measurements, and writes the position RMSE against time with the BOT CRLB (zero
+process noise) as CSV and PNG (analogues of Figs. 3, 5 and 7), plus Table 1 for the static
+observer. Runs go in chunks of ``CHUNK_RUNS`` (arrays (4, runs, N)), each chunk with its own
+seed from ``numpy.random.SeedSequence(seed).spawn``, so the result does not depend on the
+number of worker processes.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from envdata.files import atomic_path
+from tracker import rpf
+from tracker.crlb import bot_crlb, prior_covariance
+from tracker.idm_scenarios import IdmScenario, ScenarioError, get_scenario
+from tracker.tl_interp import tl_table
+
+log = logging.getLogger(__name__)
+
+AREA = "munk-1000"
+CLASS = "ship"
+BAND = "F50"
+CHUNK_RUNS = 20
+#: sd of the source-level offset prior of the "rpf-sl" filter (beyond the paper), dB.
+SL_OFFSET_PRIOR_SD_DB = 6.0
+
+
+def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
+    """Filters compared in a scenario: BOT and BOT+SPL; plus the joint SL offset where it matters."""
+    base = ("rpf-bot", "rpf")
+    return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
+
+
+def _config(method: str, n_particles: int) -> rpf.RpfConfig:
+    cfg = rpf.RpfConfig(n_particles=n_particles)
+    if method == "rpf-sl":
+        cfg = replace(cfg, sl_offset_sd_db=SL_OFFSET_PRIOR_SD_DB)
+    return cfg
+
+
+def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generator
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """Measured bearings (rad, [0, 2 pi)) and SPLs (dB) of ``runs`` runs, shape (runs, K).
+
+    Bearing = eq. 9 + N(0, sd); SPL = SL(v) + offset + K(r) + N(0, sd) (eqs. 12, 15-16).
+    """
+    t = scenario.t_s
+    rel = scenario.target_state(t) - scenario.observer_state(t)
+    tgt = scenario.target_state(t)
+    true_b = rpf.bearing_rad(rel[:, 0], rel[:, 1])
+    true_l = (rpf.ross_source_level_db(np.hypot(tgt[:, 2], tgt[:, 3])) + scenario.sl_offset_db
+              + k_profile(np.hypot(rel[:, 0], rel[:, 1])))
+    b = true_b[None] + math.radians(scenario.bearing_sd_deg) * rng.standard_normal((runs, t.size))
+    lv = true_l[None] + scenario.level_sd_db * rng.standard_normal((runs, t.size))
+    return np.mod(b, 2.0 * math.pi), lv
+
+
+def _chunk(args) -> dict[str, np.ndarray]:
+    """One chunk of runs: simulate, filter with every method, return position errors (m)."""
+    scenario, range_m, k_db, runs, seed_seq, n_particles = args
+    from tracker.tl_interp import LevelProfile
+
+    profile = LevelProfile(range_m=range_m, k_db=k_db)
+    rng = np.random.default_rng(seed_seq)
+    t = scenario.t_s
+    obs = scenario.observer_state(t)
+    rel = scenario.target_state(t) - obs
+    bearings, levels = simulate(scenario, profile, runs, rng)
+    out = {}
+    for method in methods_for(scenario):
+        res = rpf.run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings,
+                            level_db_meas=None if method == "rpf-bot" else levels,
+                            k_profiles=[profile] * t.size, cfg=_config(method, n_particles),
+                            rng=rng)
+        out[method] = np.hypot(res.mean[:, :, 0] - rel[None, :, 0],
+                               res.mean[:, :, 1] - rel[None, :, 1])
+        out[method + ":resampled"] = res.resampled.mean(axis=1)
+    return out
+
+
+def _find_grid(grid):
+    import acoustics
+
+    if grid is None:
+        raise ScenarioError(f"the idm experiment needs the {AREA} grid: build it with "
+                            f"'tmakit grids build {AREA}' and pass it with --grid")
+    return (grid, "<grid>") if hasattr(grid, "data_vars") else (acoustics.open_grid(grid), str(grid))
+
+
+def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = False,
+        workers: int | None = None, grid=None, n_particles: int = 5000) -> dict:
+    """Run one scenario's Monte Carlo study and write its CSV, PNG and JSON.
+
+    Parameters
+    ----------
+    scenario : str
+        ``idm-maneuvering``, ``idm-parallel``, ``idm-static`` or ``idm-static-sl-offset``.
+    runs : int
+        Monte Carlo runs (the paper: 1000).
+    out_dir : Path
+        Output directory: ``SCENARIO_rmse.csv``, ``SCENARIO_rmse.png``, ``SCENARIO.json`` and,
+        for the static observer, ``table1.csv``.
+    seed : int
+        Seed of everything random; same seed, same numbers (whatever ``workers``).
+    progress : bool
+        Progress bar on stderr.
+    workers : int, optional
+        Worker processes (default: the CPU count).
+    grid : path or xarray.Dataset
+        The munk-1000 grid (the tracker reads grids; it never runs BELLHOP).
+    n_particles : int
+        N (5000).
+
+    Returns
+    -------
+    dict
+        "summary" (text) and JSON-able figures: RMSE at the report times, the paper's values,
+        files written, elapsed time.
+    """
+    sc = get_scenario(scenario)
+    if int(runs) != runs or runs < 1:
+        raise ScenarioError(f"--runs: must be a positive integer, got {runs}")
+    out_dir = Path(out_dir)
+    ds, grid_name = _find_grid(grid)
+    table = tl_table(ds, CLASS, BAND)
+    if abs(table.source_depth_m - sc.target_depth_m) > 1e-6:
+        raise ScenarioError(f"{grid_name}: class {CLASS!r} radiates at {table.source_depth_m:g} m, "
+                        f"the scenario's target is at {sc.target_depth_m:g} m")
+    profile = table.level_profile(sc.obs_depth_m)
+    t = sc.t_s
+    n_chunks = math.ceil(runs / CHUNK_RUNS)
+    seeds = np.random.SeedSequence(seed).spawn(n_chunks)
+    sizes = [min(CHUNK_RUNS, runs - i * CHUNK_RUNS) for i in range(n_chunks)]
+    jobs = [(sc, profile.range_m, profile.k_db, sizes[i], seeds[i], n_particles)
+            for i in range(n_chunks)]
+    workers = max(1, min(workers or os.cpu_count() or 1, n_chunks))
+    start = time.perf_counter()
+    results = []
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=runs, desc=scenario, unit="run")
+    if workers == 1:
+        for job in jobs:
+            results.append(_chunk(job))
+            if bar:
+                bar.update(job[3])
+    else:
+        import multiprocessing as mp
+
+        with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as pool:
+            for job, res in zip(jobs, pool.map(_chunk, jobs)):
+                results.append(res)
+                if bar:
+                    bar.update(job[3])
+    if bar:
+        bar.close()
+    elapsed = time.perf_counter() - start
+    methods = methods_for(sc)
+    err = {m: np.concatenate([r[m] for r in results]) for m in methods}
+    resampled = {m: float(np.mean(np.concatenate([r[m + ":resampled"] for r in results])))
+                 for m in methods}
+
+    rel = sc.target_state(t) - sc.observer_state(t)
+    cfg = rpf.RpfConfig(n_particles=n_particles)
+    p0 = prior_covariance(float(rpf.bearing_rad(rel[0, 0], rel[0, 1])),
+                          range_mean_m=cfg.range_mean_m, range_sd_m=cfg.range_sd_m,
+                          bearing_sd_rad=math.radians(cfg.bearing_sigma_deg),
+                          speed_mean_mps=cfg.speed_mean_mps, speed_sd_mps=cfg.speed_sd_mps,
+                          course_sd_rad=math.radians(cfg.course_sd_deg))
+    crlb = bot_crlb(t, rel, bearing_sd_rad=math.radians(sc.bearing_sd_deg), p0=p0)
+    frame = pd.DataFrame({"t_s": t, "t_min": t / 60.0})
+    for m in methods:
+        frame[f"rmse_{_col(m)}_m"] = np.sqrt(np.mean(err[m] ** 2, axis=0))
+        frame[f"median_{_col(m)}_m"] = np.median(err[m], axis=0)
+    frame["crlb_bot_m"] = crlb
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    csv_path = out_dir / f"{scenario}_rmse.csv"
+    png_path = out_dir / f"{scenario}_rmse.png"
+    json_path = out_dir / f"{scenario}.json"
+    with atomic_path(csv_path) as tmp:
+        frame.to_csv(tmp, index=False, float_format="%.6g")
+    from tracker.idm_plot import rmse_figure, save_figure
+
+    save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path)
+
+    at = {}
+    for tm in sc.report_times_min:
+        row = frame.iloc[int(np.argmin(np.abs(frame["t_min"] - tm)))]
+        at[f"{tm:g}"] = {f"rmse_{_col(m)}_m": float(row[f"rmse_{_col(m)}_m"]) for m in methods}
+        at[f"{tm:g}"]["crlb_bot_m"] = float(row["crlb_bot_m"])
+    minima = {}
+    for m in methods:
+        col = frame[f"rmse_{_col(m)}_m"]
+        i = int(np.argmin(col.values[1:])) + 1  # the first cycle is the prior
+        minima[_col(m)] = {"t_min": float(frame["t_min"].iloc[i]), "rmse_m": float(col.iloc[i])}
+    files = {"csv": str(csv_path), "png": str(png_path), "json": str(json_path)}
+    table_rows = None
+    if sc.name == "idm-static":
+        table_rows = _table1(frame, sc)
+        t1 = out_dir / "table1.csv"
+        with atomic_path(t1) as tmp:
+            pd.DataFrame(table_rows).to_csv(tmp, index=False, float_format="%.6g")
+        files["table1"] = str(t1)
+    particle_steps = runs * t.size * n_particles * len(methods)
+    data = {
+        "scenario": sc.name, "title": sc.title, "runs": runs, "seed": seed,
+        "n_particles": n_particles, "cycles": int(t.size), "methods": list(methods),
+        "grid": grid_name, "at": at, "minimum": minima, "paper": sc.paper,
+        "final": {f"rmse_{_col(m)}_m": float(frame[f"rmse_{_col(m)}_m"].iloc[-1])
+                  for m in methods} | {"crlb_bot_m": float(crlb[-1])},
+        "resampled_fraction": resampled, "table1": table_rows, "files": files,
+        "elapsed_s": elapsed, "workers": workers,
+        "particle_steps_per_s": particle_steps / elapsed,
+    }
+    with atomic_path(json_path) as tmp:
+        tmp.write_text(json.dumps(data, indent=2))
+    data["summary"] = _summary(data, sc, methods)
+    return data
+
+
+def _col(method: str) -> str:
+    return {"rpf-bot": "bot", "rpf": "spl", "rpf-sl": "spl_offset"}[method]
+
+
+def _table1(frame: pd.DataFrame, sc: IdmScenario) -> list[dict]:
+    rows = []
+    for tm in (36.0, 63.0, 150.0):
+        row = frame.iloc[int(np.argmin(np.abs(frame["t_min"] - tm)))]
+        key = f"{tm:g}min_m"
+        rows.append({"t_min": tm, "bot_m": float(row["rmse_bot_m"]),
+                     "paper_bot_m": sc.paper[f"bot_{key}"], "spl_m": float(row["rmse_spl_m"]),
+                     "paper_spl_m": sc.paper[f"spl_{key}"], "crlb_bot_m": float(row["crlb_bot_m"])})
+    return rows
+
+
+def _summary(data: dict, sc: IdmScenario, methods) -> str:
+    names = {"rpf-bot": "BOT", "rpf": "BOT+SPL", "rpf-sl": "BOT+SPL+SL offset"}
+    lines = [f"{sc.name}: {sc.title}",
+             f"{data['runs']} runs x {data['cycles']} cycles x {data['n_particles']} particles, "
+             f"seed {data['seed']}, {data['workers']} workers, {data['elapsed_s']:.1f} s "
+             f"({data['particle_steps_per_s'] / 1e6:.2f} M particle-steps/s); grid {data['grid']}",
+             "position RMSE, m:"]
+    head = f"  {'t_min':>6} " + " ".join(f"{names[m]:>18}" for m in methods) + f" {'BOT CRLB':>10}"
+    lines.append(head)
+    for tm, vals in data["at"].items():
+        lines.append(f"  {float(tm):>6g} " + " ".join(
+            f"{vals[f'rmse_{_col(m)}_m']:>18.0f}" for m in methods)
+            + f" {vals['crlb_bot_m']:>10.0f}")
+    for m in methods:
+        mn = data["minimum"][_col(m)]
+        lines.append(f"  minimum {names[m]}: {mn['rmse_m']:.0f} m at {mn['t_min']:g} min")
+    if data["paper"]:
+        lines.append("paper: " + ", ".join(f"{k} = {v:g}" for k, v in data["paper"].items()))
+    lines.append("files: " + ", ".join(data["files"].values()))
+    return "\n".join(lines)

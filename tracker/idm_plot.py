@@ -1,0 +1,57 @@
+"""Plots of the Iglesis & de Montella study: position RMSE vs time (analogues of Figs. 3, 5, 7)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pandas as pd
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from envdata.files import atomic_path
+
+_STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
+          "rpf": ("BOT + SPL (RPF)", "tab:blue", "-"),
+          "rpf-sl": ("BOT + SPL, joint SL offset", "tab:green", "-")}
+_COL = {"rpf-bot": "bot", "rpf": "spl", "rpf-sl": "spl_offset"}
+
+
+def save_figure(fig: Figure, path: str | os.PathLike) -> None:
+    """Write ``fig`` as PNG through a temporary file, renamed on success."""
+    FigureCanvasAgg(fig)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+
+
+def rmse_figure(frame: pd.DataFrame, scenario, methods, *, runs: int) -> Figure:
+    """Position RMSE of each filter and the BOT CRLB against time, log scale, with the paper's
+    reported points as markers."""
+    fig = Figure(figsize=(7.5, 4.6))
+    ax = fig.add_subplot(1, 1, 1)
+    t = frame["t_min"].to_numpy()
+    for m in methods:
+        label, color, ls = _STYLE[m]
+        ax.plot(t, frame[f"rmse_{_COL[m]}_m"], color=color, ls=ls, lw=1.6, label=label)
+    ax.plot(t, frame["crlb_bot_m"], color="k", ls="--", lw=1.2, label="BOT CRLB (no process noise)")
+    paper = scenario.paper or {}
+    for key, value in paper.items():
+        parts = key.split("_")
+        if len(parts) == 3 and parts[1].endswith("min") and parts[0] in ("bot", "spl"):
+            tm = float(parts[1][:-3])
+            color = _STYLE["rpf-bot" if parts[0] == "bot" else "rpf"][1]
+            ax.plot([tm], [value], marker="o", mfc="none", color=color, ls="none", ms=8)
+    if paper:
+        ax.plot([], [], marker="o", mfc="none", color="gray", ls="none", label="paper's values")
+    if scenario.turn is not None:
+        ax.axvspan(scenario.turn[0] / 60.0, scenario.turn[1] / 60.0, color="0.9", zorder=0,
+                   label="observer turn")
+    ax.set_yscale("log")
+    ax.set_xlim(0, t[-1])
+    ax.set_xlabel("time, min")
+    ax.set_ylabel("position RMSE, m")
+    ax.set_title(f"{scenario.name}: {runs} runs", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    return fig
