@@ -14,9 +14,11 @@ from collections.abc import Sequence
 
 from acoustics.errors import BellhopError
 from envdata.errors import InputError
-from tools import areas_cmd, demo_cmd, doctor_cmd, grids_cmd, locate_cmd
+from tools import (areas_cmd, demo_cmd, doctor_cmd, experiment_cmd, grids_cmd, locate_cmd, sensitivity_cmd,
+                   simulate_cmd, track_cmd)
 
-COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, locate_cmd, demo_cmd)
+COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, sensitivity_cmd, simulate_cmd, track_cmd, experiment_cmd,
+                   locate_cmd, demo_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:
