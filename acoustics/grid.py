@@ -22,6 +22,7 @@ import xarray as xr
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.exe import find_bellhop
+from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
 from acoustics.runs import Run, RunStats, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
@@ -56,26 +57,73 @@ def receiver_depths_m(area: Area) -> np.ndarray:
     return np.unique(np.append(area.depth_m(), area.observer.depth_m))
 
 
-def plan_runs(area: Area, source_depths_m=None, receiver_depths=None) -> list[Run]:
-    """The BELLHOP runs for ``area``: one per (source depth, run frequency)."""
+def fan_slices(n_beams: int, angle_min_deg: float, angle_max_deg: float,
+               pieces: int) -> list[tuple[int, float, float]]:
+    """A beam fan cut into ``pieces`` slices: (beams, first angle, last angle) of each.
+
+    The slices keep the fan's angular spacing, and BELLHOP's beam amplitudes depend on the fan
+    only through that spacing, so the slices' intensities (incoherent, semicoherent) or
+    pressures (coherent) add up to the whole fan's. BELLHOP's automatic count (0) is not cut.
+    """
+    if pieces == 1 or n_beams < 2 * pieces:
+        return [(n_beams, angle_min_deg, angle_max_deg)]
+    step = (angle_max_deg - angle_min_deg) / (n_beams - 1)
+    cuts = [round(j * n_beams / pieces) for j in range(pieces + 1)]
+    return [(hi - lo, angle_min_deg + lo * step, angle_min_deg + (hi - 1) * step)
+            for lo, hi in zip(cuts[:-1], cuts[1:])]
+
+
+def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance: bool = True,
+              pieces: int | None = None) -> list[Run]:
+    """The BELLHOP runs for ``area``: one per (source depth, run frequency).
+
+    With ``balance``, an odd number of runs has its last run cut into two halves of the beam
+    fan (see ``fan_slices``), so that two workers finish together; the choice depends only on
+    the area, never on the number of workers, so the numbers do not either. ``pieces`` cuts
+    every run into that many slices instead.
+    """
     prop = area.propagation
     if source_depths_m is None:
         source_depths_m = sorted({cls.depth_m for cls in area.classes})
     if receiver_depths is None:
         receiver_depths = receiver_depths_m(area)
     ranges = tuple(float(r) for r in area.grid.range_m())
+    # a frequency shared by two bands (an edge) is one run
+    groups = list(dict.fromkeys((float(sd), _fkey(f)) for sd in source_depths_m for band in area.bands
+                                for f in run_frequencies_hz(area, band)))
+    n_pieces = [pieces or 1] * len(groups)
+    if pieces is None and balance and len(groups) % 2 == 1:
+        n_pieces[-1] = 2
     runs = []
-    for sd in source_depths_m:
-        for band in area.bands:
-            for f in run_frequencies_hz(area, band):
-                spec = RunSpec(title=f"tmakit {area.name} sd={sd:g} m f={f:.3f} Hz", freq_hz=float(f),
-                               source_depth_m=(float(sd),),
-                               receiver_depth_m=tuple(float(z) for z in receiver_depths),
-                               range_m=ranges, mode=prop.mode, beam_type=prop.beam_type,
-                               n_beams=prop.n_beams, angle_min_deg=prop.angle_min_deg,
-                               angle_max_deg=prop.angle_max_deg, absorption=prop.absorption)
-                runs.append(Run(env=env_text(area, spec), freq_hz=float(f), source_depth_m=float(sd)))
+    for (sd, f), n in zip(groups, n_pieces):
+        slices = fan_slices(prop.n_beams, prop.angle_min_deg, prop.angle_max_deg, n)
+        for part, (n_beams, a1, a2) in enumerate(slices):
+            spec = RunSpec(title=f"tmakit {area.name} sd={sd:g} m f={f:.3f} Hz part {part + 1}/{len(slices)}",
+                           freq_hz=f, source_depth_m=(sd,),
+                           receiver_depth_m=tuple(float(z) for z in receiver_depths),
+                           range_m=ranges, mode=prop.mode, beam_type=prop.beam_type,
+                           n_beams=n_beams, angle_min_deg=a1, angle_max_deg=a2,
+                           absorption=prop.absorption)
+            runs.append(Run(env=env_text(area, spec), freq_hz=f, source_depth_m=sd, part=part,
+                            n_parts=len(slices), n_beams=n_beams))
     return runs
+
+
+def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:
+    """TL of a whole beam fan from its slices' pressure fields (see ``fan_slices``), dB."""
+    if mode is TlMode.COHERENT:
+        return tl_from_pressure(np.sum(parts, axis=0), tl_max_db)
+    intensity = np.sum([np.abs(p).astype(np.float64) ** 2 for p in parts], axis=0)
+    return -10.0 * np.log10(np.maximum(intensity, 10.0 ** (-tl_max_db / 10.0)))
+
+
+def _tl_by_freq(area: Area, runs: list[Run], fields: dict[str, np.ndarray], rows=slice(None)) -> dict:
+    """{run frequency: TL field} of one source depth's runs, slices combined."""
+    groups: dict[float, list[np.ndarray]] = {}
+    for run in {run.key: run for run in runs}.values():  # each slice once
+        groups.setdefault(_fkey(run.freq_hz), []).append(fields[run.key][rows])
+    prop = area.propagation
+    return {f: combined_tl_db(parts, prop.mode, prop.tl_max_db) for f, parts in groups.items()}
 
 
 def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
@@ -93,7 +141,7 @@ def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
         fields[run.key] = field
         for (ic, ib), keys in list(pending.items()):
             if keys <= fields.keys():
-                by_freq = {_fkey(by_key[key].freq_hz): fields[key] for key in keys}
+                by_freq = _tl_by_freq(area, [by_key[key] for key in keys], fields)
                 fill(ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
                 del pending[(ic, ib)]
         needed = set().union(*pending.values()) if pending else set()
@@ -189,7 +237,7 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
             tl[ic, ib] = band_tl[on_grid]
             k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
 
-        _assemble(area, runs, fill, tl_max_db=prop.tl_max_db, workers=workers, scheduler=scheduler,
+        _assemble(area, runs, fill, workers=workers, scheduler=scheduler,
                   cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                   exe=str(exe.path), stats=stats)
     else:
@@ -218,16 +266,16 @@ def build_k(area: Area, *, reciprocity: bool = True, workers: int = 1, scheduler
     else:
         runs = plan_runs(area, receiver_depths=[area.observer.depth_m])
     stats.runs = runs
-    fields = execute_runs(runs, tl_max_db=area.propagation.tl_max_db, workers=workers, scheduler=scheduler,
+    fields = execute_runs(runs, workers=workers, scheduler=scheduler,
                           progress=progress, exe=str(exe.path), stats=stats)
     rng = area.grid.range_m()
     k = np.empty((len(area.classes), len(area.bands), rng.size))
     for ic, cls in enumerate(area.classes):
         if reciprocity:
             row = class_depths.index(cls.depth_m)
-            by_freq = {_fkey(run.freq_hz): fields[run.key][row:row + 1] for run in runs}
+            by_freq = _tl_by_freq(area, runs, fields, slice(row, row + 1))
         else:
-            by_freq = {_fkey(run.freq_hz): fields[run.key] for run in runs if run.source_depth_m == cls.depth_m}
+            by_freq = _tl_by_freq(area, [run for run in runs if run.source_depth_m == cls.depth_m], fields)
         for ib, band in enumerate(area.bands):
             k[ic, ib] = spectral_term_db(cls, band) - band_tl_from_runs(area, cls, band, by_freq)[0]
     return xr.DataArray(k, dims=("class", "band", "range"),

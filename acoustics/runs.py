@@ -1,6 +1,6 @@
 """Planning and executing the BELLHOP runs a grid needs: in threads, or on a Dask cluster.
 
-A run is one .env file; its result is the TL field (receiver depth x range) as float32. Results
+A run is one .env file; its result is the pressure field (receiver depth x range), complex64. Results
 are stored as .npy files in a cache folder when one is given, so that an interrupted build
 resumes without redoing finished runs.
 """
@@ -21,7 +21,6 @@ import numpy as np
 from tqdm import tqdm
 
 from acoustics.bellhop.runner import run_env
-from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.errors import BellhopError
 from envdata.errors import InputError
 
@@ -30,9 +29,14 @@ log = logging.getLogger(__name__)
 
 @dataclass(frozen=True, slots=True)
 class Run:
+    """One BELLHOP run; ``part`` of ``n_parts`` slices of one beam fan at (source depth, frequency)."""
+
     env: str
     freq_hz: float
     source_depth_m: float
+    part: int = 0
+    n_parts: int = 1
+    n_beams: int = 0  # beams in this run (0: BELLHOP's automatic count)
 
     @property
     def key(self) -> str:
@@ -47,23 +51,23 @@ class RunStats:
     wall_seconds: float = 0.0
 
 
-def execute_run(env: str, tl_max_db: float, exe: str | None = None) -> tuple[np.ndarray, float]:
-    """Run one environment; return its TL field (first source depth), float32, and BELLHOP's time."""
+def execute_run(env: str, exe: str | None = None) -> tuple[np.ndarray, float]:
+    """Run one environment; return its pressure field (first source depth), complex64, and
+    BELLHOP's time. In incoherent and semicoherent modes |p|^2 is the summed beam intensity."""
     result = run_env(env, exe=exe)
-    tl = tl_from_pressure(result.field.pressure[0], tl_max_db).astype(np.float32)
-    return tl, result.seconds
+    return result.field.pressure[0], result.seconds
 
 
 def execute_runs(runs: Sequence[Run], **kwargs) -> dict[str, np.ndarray]:
-    """Execute ``runs`` (deduplicated by key) and return {run.key: TL field}."""
+    """Execute ``runs`` (deduplicated by key) and return {run.key: pressure field}."""
     return {run.key: tl for run, tl in iter_runs(runs, **kwargs)}
 
 
-def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
+def iter_runs(runs: Sequence[Run], *, workers: int = 1,
               scheduler: str | None = None, cache_dir: Path | None = None,
               progress: bool = False, exe: str | None = None,
               stats: RunStats | None = None) -> Iterator[tuple[Run, np.ndarray]]:
-    """Yield (run, TL field) as runs finish: cached ones first, then as BELLHOP completes them.
+    """Yield (run, pressure field) as runs finish: cached ones first, then as BELLHOP completes them.
 
     BELLHOP always runs in worker threads (one per worker), so whatever the caller does with a
     result overlaps the next BELLHOP run.
@@ -103,11 +107,14 @@ def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
         yield from cached
         del cached
         if scheduler is not None:
-            for run, tl, seconds in _execute_dask(todo, tl_max_db, scheduler, exe):
+            for run, tl, seconds in _execute_dask(todo, scheduler, exe):
                 yield keep(run, tl, seconds)
         elif todo:
+            # longest first (BELLHOP's cost grows with the beams), so the half-fan slices that
+            # balance the workers come last
+            todo = sorted(todo, key=lambda run: -run.n_beams if run.n_beams else 0)
             with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
-                futures = {pool.submit(execute_run, run.env, tl_max_db, exe): run for run in todo}
+                futures = {pool.submit(execute_run, run.env, exe): run for run in todo}
                 try:
                     for future in as_completed(futures):
                         yield keep(futures[future], *future.result())
@@ -119,7 +126,7 @@ def iter_runs(runs: Sequence[Run], *, tl_max_db: float, workers: int = 1,
         stats.wall_seconds = time.perf_counter() - start
 
 
-def _execute_dask(todo: Sequence[Run], tl_max_db: float, scheduler: str,
+def _execute_dask(todo: Sequence[Run], scheduler: str,
                   exe: str | None) -> Iterator[tuple[Run, np.ndarray, float]]:
     from distributed import Client, as_completed as dask_as_completed
 
@@ -129,7 +136,7 @@ def _execute_dask(todo: Sequence[Run], tl_max_db: float, scheduler: str,
         raise InputError(f"--scheduler {scheduler}: cannot connect to a Dask scheduler "
                          f"({type(exc).__name__}: {exc})") from None
     try:
-        futures = client.map(execute_run, [run.env for run in todo], tl_max_db=tl_max_db, exe=exe,
+        futures = client.map(execute_run, [run.env for run in todo], exe=exe,
                              key=[f"bellhop-{run.key}" for run in todo], retries=2)
         by_key = {future.key: run for future, run in zip(futures, todo)}
         for future in dask_as_completed(futures):

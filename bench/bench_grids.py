@@ -87,8 +87,7 @@ def main() -> None:
 
     # -- the naive loop: classes x bands x frequencies at BELLHOP's automatic beam count ----------
     receivers = receiver_depths_m(area).size * area.grid.range_m().size
-    beams_default = area.propagation.n_beams
-    ns_per = raw / len(runs) / (beams_default * receivers) * 1e9
+    ns_per = raw / (sum(r.n_beams for r in runs) * receivers) * 1e9
     say("bellhop_cost_per_beam_receiver", ns_per, "ns")
     c0 = area.water.ssp.speed_mps[0]
 

@@ -11,7 +11,8 @@ from numpy.testing import assert_allclose
 
 import acoustics
 import envdata
-from acoustics.grid import plan_runs
+from acoustics.grid import combined_tl_db, plan_runs
+from acoustics.runs import execute_runs
 from acoustics.kcurve import spectral_term_db
 
 pytestmark = pytest.mark.bellhop
@@ -120,3 +121,47 @@ def test_coherent_modes_run_every_quadrature_frequency(tiny_area, mode):
     runs = plan_runs(area)
     assert len(runs) == 2 * (7 + 1)  # 2 depths x (7 frequencies of FB1 + the single F500)
     assert all(f"'{mode[0].upper()}G'" in r.env for r in runs)
+
+
+@pytest.mark.parametrize("mode", ["incoherent", "coherent"])
+def test_beam_fan_slices_add_up_to_the_whole_fan(tiny_area, mode):
+    """Slices of one fan with the same angular spacing sum (intensity or pressure) to the fan."""
+    area = dataclasses.replace(tiny_area, propagation=dataclasses.replace(
+        tiny_area.propagation, mode=envdata.TlMode(mode)))
+    whole = plan_runs(area, source_depths_m=[150.0], pieces=1)[:1]
+    sliced = plan_runs(area, source_depths_m=[150.0], pieces=3)[:3]
+    assert [r.n_beams for r in sliced] == [100, 100, 100] and whole[0].n_beams == 300
+    # spacing 160 / 299 deg kept: slices -80..-27.02, -26.49..26.49, 27.02..80 deg
+    assert "-80 -27.023411 /" in sliced[0].env and "27.023411 80 /" in sliced[2].env
+    fields = execute_runs(whole + sliced)
+    tl_whole = combined_tl_db([fields[whole[0].key]], area.propagation.mode, 200.0)
+    tl_sliced = combined_tl_db([fields[r.key] for r in sliced], area.propagation.mode, 200.0)
+    audible = tl_whole < 150.0
+    # the same beams, summed in another order and stored as single precision: to 0.01 dB
+    assert_allclose(tl_sliced[audible], tl_whole[audible], rtol=0, atol=0.01)
+
+
+def test_an_odd_number_of_runs_gets_its_last_run_halved(tiny_area):
+    three_bands = dataclasses.replace(tiny_area, bands=tiny_area.bands + (
+        envdata.Band(name="F900", low_hz=900.0, high_hz=900.0),), classes=tiny_area.classes[:1])
+    runs = plan_runs(three_bands)
+    assert [(r.freq_hz, r.part, r.n_parts, r.n_beams) for r in runs][-2:] == [
+        (900.0, 0, 2, 150), (900.0, 1, 2, 150)]
+    assert len(runs) == 4 and all(r.n_parts == 1 for r in runs[:2])
+
+
+def test_a_frequency_shared_by_two_bands_is_one_run_counted_once(tiny_area):
+    """FB1 100-300 Hz and FB2 300-900 Hz share 300 Hz: one run, and its intensity is not doubled."""
+    bands = (envdata.Band(name="FB1", low_hz=100.0, high_hz=300.0),
+             envdata.Band(name="FB2", low_hz=300.0, high_hz=900.0))
+    prop = dataclasses.replace(tiny_area.propagation, frequency_shortcut=False, freqs_per_band=3)
+    area = dataclasses.replace(tiny_area, bands=bands, classes=tiny_area.classes[:1], propagation=prop)
+    runs = plan_runs(area)
+    assert sorted({round(r.freq_hz) for r in runs}) == [100, 173, 300, 520, 900]
+    assert len(runs) == 6  # five runs, the odd last one in two fan slices
+    k = acoustics.build_k(area, reciprocity=False)
+    grid = acoustics.build_grid(area)
+    assert_allclose(k.values, grid["k_db"].values, rtol=0, atol=1e-4)
+    # FB2 alone, with nothing shared, gives the same K
+    alone = acoustics.build_k(dataclasses.replace(area, bands=bands[1:]), reciprocity=False)
+    assert_allclose(k.sel(band="FB2").values, alone.sel(band="FB2").values, rtol=0, atol=1e-9)
