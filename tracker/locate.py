@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from tracker.errors import LocateError, MeasurementFileError
+from tracker.measurements import parse_number
 
 log = logging.getLogger(__name__)
 
@@ -216,18 +217,7 @@ def read_bearings_csv(path: str | os.PathLike) -> Bearings:
                                        f"{len(header)}")
         for name, col in index.items():
             cell = row[col].strip()
-            unit = _UNITS[name]
-            if not cell:
-                raise MeasurementFileError(f"{src}: {where}, column {name}: blank value; "
-                                           f"expected a number in {unit}")
-            try:
-                value = float(cell)
-            except ValueError:
-                raise MeasurementFileError(f"{src}: {where}, column {name}: {cell!r} is not a "
-                                           f"number ({unit})") from None
-            if not math.isfinite(value):
-                raise MeasurementFileError(f"{src}: {where}, column {name}: {cell} {unit} is "
-                                           f"not a finite number")
+            value = parse_number(cell, f"{src}: {where}, column {name}", _UNITS[name])
             if name == "bearing_deg" and not 0.0 <= value < 360.0:
                 raise MeasurementFileError(f"{src}: {where}, column bearing_deg: {cell} deg is "
                                            f"outside [0, 360) deg")

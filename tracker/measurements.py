@@ -162,6 +162,27 @@ def _read_text(src: str, path) -> str:
                                    f"{exc.start})") from None
 
 
+def parse_number(cell: str, where: str, unit: str, *, blank_ok: bool = False) -> float:
+    """One CSV cell as a finite number; blank (or NaN) gives NaN when ``blank_ok``.
+
+    ``where`` names file, row and column for the MeasurementFileError message.
+    """
+    cell = cell.strip()
+    if not cell:
+        if blank_ok:
+            return math.nan
+        raise MeasurementFileError(f"{where}: blank value; expected a number in {unit}")
+    try:
+        value = float(cell)
+    except ValueError:
+        raise MeasurementFileError(f"{where}: {cell!r} is not a number ({unit})") from None
+    if not math.isfinite(value):
+        if blank_ok and math.isnan(value):
+            return math.nan
+        raise MeasurementFileError(f"{where}: {cell} {unit} is not a finite number")
+    return value
+
+
 def read_measurements(path: str | os.PathLike,
                       grid_band_names: Sequence[str] | None = None) -> Measurements:
     """Read and validate a measurement CSV.
@@ -236,23 +257,7 @@ def read_measurements(path: str | os.PathLike,
     n_row = 0
 
     def number(cell: str, where: str, column: str, unit: str, *, blank_ok: bool) -> float:
-        cell = cell.strip()
-        if not cell:
-            if blank_ok:
-                return math.nan
-            raise MeasurementFileError(f"{src}: {where}, column {column}: blank value; expected "
-                                       f"a number in {unit}")
-        try:
-            value = float(cell)
-        except ValueError:
-            raise MeasurementFileError(f"{src}: {where}, column {column}: {cell!r} is not a "
-                                       f"number ({unit})") from None
-        if not math.isfinite(value):
-            if blank_ok and math.isnan(value):
-                return math.nan
-            raise MeasurementFileError(f"{src}: {where}, column {column}: {cell} {unit} is not "
-                                       f"a finite number")
-        return value
+        return parse_number(cell, f"{src}: {where}, column {column}", unit, blank_ok=blank_ok)
 
     for row in reader:
         if not any(cell.strip() for cell in row):
