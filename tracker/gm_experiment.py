@@ -36,6 +36,39 @@ def design(cls, n: int):
     return dv.ravel(), dp.ravel(), dk.ravel(), ww.ravel()
 
 
+def weighted_rms(sq: dict, w) -> tuple[dict, dict]:
+    """Weighted RMS over runs of squared errors (C, E, T) (eqs. 32-34) and the runs counted.
+
+    Eqs. 32-34 count time from the moment of detection, so every run has an estimate at every
+    t_i. Here the time axis is the scenario's and a run may have no estimate yet at a cycle
+    (the submarine before any band is detected: no level range and no earlier range). Such
+    (run, cycle) pairs are left out of both sums of eqs. 32-34 (the weights are renormalised
+    over the runs that have an estimate); the count of runs that entered is returned beside the
+    RMS (NaN where no run has an estimate).
+
+    Parameters
+    ----------
+    sq : dict of str to ndarray, shape (C, E, T)
+        Squared errors, NaN where the run has no estimate.
+    w : array_like, shape (E,)
+        Design weights g_V g_P0 g_dK of the runs.
+
+    Returns
+    -------
+    rms, runs : dict of str to ndarray, shape (C, T)
+    """
+    w = np.asarray(w, dtype=float)
+    rms, runs = {}, {}
+    for key, v in sq.items():
+        ok = np.isfinite(v)
+        num = np.einsum("e,cet->ct", w, np.where(ok, v, 0.0))
+        den = np.einsum("e,cet->ct", w, ok.astype(float))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rms[key] = np.where(den > 0, np.sqrt(num / np.where(den > 0, den, 1.0)), np.nan)
+        runs[key] = ok.sum(axis=1)
+    return rms, runs
+
+
 def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed: int, params=None):
     """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
     from acoustics import open_grid
@@ -57,7 +90,8 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed: int, params=None)
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
                            rep(sim.bearing_deg), rep(sim.bearing_sigma_deg),
                            np.repeat(sim.level_db[:, i, :], n_cls, axis=0),
-                           np.repeat(sim.snr_db[:, i, :], n_cls, axis=0))
+                           np.repeat(sim.snr_db[:, i, :], n_cls, axis=0),
+                           obs_depth_m=sim.obs_depth_m)
         k = out["course_deg"].reshape(e, n_cls).T
         v = out["speed_mps"].reshape(e, n_cls).T
         r = out["range_m"].reshape(e, n_cls).T
@@ -92,14 +126,16 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     sq = {k: np.concatenate([r[0][k] for r in results], axis=1) for k in ("course", "speed", "range")}
     sim0 = results[0][2]
     t_s = sim0.t_s
-    wn = w / w.sum()
-    rms = {k: np.sqrt(np.einsum("e,cet->ct", wn, sq[k])) for k in sq}      # eqs. 32-34
+    rms, runs = weighted_rms(sq, w)                                       # eqs. 32-34
     names = [c.name for c in classes]
     rows = []
     for ci, name in enumerate(names):
         for i, t in enumerate(t_s):
             rows.append({"t_s": t, "class": name, "course_rms_deg": rms["course"][ci, i],
                          "speed_rms_mps": rms["speed"][ci, i], "range_rms_m": rms["range"][ci, i],
+                         "course_runs": int(runs["course"][ci, i]),
+                         "speed_runs": int(runs["speed"][ci, i]),
+                         "range_runs": int(runs["range"][ci, i]),
                          "range_true_m": float(np.average(
                              np.concatenate([r[2].range_m for r in results])[:, i], weights=w))})
     df = pd.DataFrame(rows)

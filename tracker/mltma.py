@@ -39,7 +39,7 @@ import xarray as xr
 
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
-from tracker.ranging import (class_infos, indicator_snr, level_range, level_sd_db,
+from tracker.ranging import (KAtDepth, class_infos, indicator_snr, level_range, level_sd_db,
                              offset_nodes, sonar_info, bearing_sd_deg)
 from tracker.track import TRACK_COLUMNS
 
@@ -138,10 +138,14 @@ def trimmed_mean(values, count, drop_per_19: int, length: int):
     """Robust mean of the first ``count`` entries of each row: sort, drop the ends, average.
 
     ``drop_per_19`` values are dropped at each end for a full window of ``length``; shorter
-    windows drop proportionally fewer (rounded down).
+    windows drop proportionally fewer (rounded down). Entries without an estimate (NaN: a
+    cycle with neither a level range nor an earlier range) are left out of the window; a
+    window with none left gives NaN.
     """
-    v = np.where(np.arange(values.shape[1])[None, :] < count[:, None], values, np.inf)
+    valid = (np.arange(values.shape[1])[None, :] < count[:, None]) & np.isfinite(values)
+    v = np.where(valid, values, np.inf)
     v = np.sort(v, axis=1)
+    count = valid.sum(1)
     drop = (drop_per_19 * count) // length
     j = np.arange(values.shape[1])[None, :]
     keep = (j >= drop[:, None]) & (j < (count - drop)[:, None])
@@ -170,7 +174,8 @@ class MLBatch:
         self.classes = class_infos(grid)
         self.sonar = sonar_info(grid)
         self.range_axis = grid["range"].values.astype(float)
-        self.k_db = grid["k_db"].values.astype(float)        # (C, M, R)
+        self.k_at = KAtDepth(grid)                            # K(r) at the cycle's depth
+        self.k_db = self.k_at.k_db                            # (C, M, R) at the grid's depth
         self.ci = np.asarray(class_index, dtype=int)
         b = len(self.ci)
         self.B, self.M, self.T = b, self.k_db.shape[1], int(capacity)
@@ -197,8 +202,13 @@ class MLBatch:
 
     # ------------------------------------------------------------------ one cycle
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
-               obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db) -> dict:
-        """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates."""
+               obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
+               obs_depth_m: float | None = None) -> dict:
+        """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates.
+
+        K(r) is taken at ``obs_depth_m`` (TL linear in depth; default the grid's observer
+        depth), `tracker.ranging.KAtDepth`.
+        """
         p, n, b = self.p, self.n, self.B
         if n >= self.T:
             raise ValueError(f"MLBatch capacity {self.T} cycles exceeded")
@@ -236,11 +246,12 @@ class MLBatch:
         # step 5 (eqs. 20-21) per class
         r_opt = np.full(b, np.nan)
         r_sd = np.full(b, np.nan)
+        k_now = self.k_at(obs_depth_m)
         for c in np.unique(self.ci):
             rows = np.flatnonzero(self.ci == c)
             off, wts = self.offsets[c]
             r_opt[rows], r_sd[rows] = level_range(
-                level[rows], det[rows], sd_w[rows], self.p0[rows], self.k_db[c], self.range_axis,
+                level[rows], det[rows], sd_w[rows], self.p0[rows], k_now[c], self.range_axis,
                 offsets_db=off, weights=wts, gain_db=self.sonar.receiver_gain_db)
         r_sd = np.maximum(r_sd, self.range_axis[1] - self.range_axis[0])
         have_r = np.isfinite(r_opt)
@@ -565,8 +576,12 @@ class MLTracker:
 
     def update(self, *, t_s, obs_x_m, obs_y_m, bearing_deg, bearing_sigma_deg=math.nan,
                levels_db: dict | None = None, snrs_db: dict | None = None,
-               obs_velocity_mps: tuple[float, float] | None = None) -> pd.DataFrame | None:
-        """Process one cycle; returns the track rows (one per class) or None for a NaN bearing."""
+               obs_velocity_mps: tuple[float, float] | None = None,
+               obs_depth_m: float | None = None) -> pd.DataFrame | None:
+        """Process one cycle; returns the track rows (one per class) or None for a NaN bearing.
+
+        K(r) is taken at ``obs_depth_m`` (default the grid's observer depth).
+        """
         if not math.isfinite(bearing_deg):
             if self._skipped == 0:
                 log.warning("cycle at t = %g s has no bearing; such cycles are skipped", t_s)
@@ -587,7 +602,8 @@ class MLTracker:
                 obs_velocity_mps = ((obs_x_m - px) / (t_s - pt), (obs_y_m - py) / (t_s - pt))
         self._prev = (t_s, obs_x_m, obs_y_m)
         out = self.batch.update(t_s, obs_x_m, obs_y_m, obs_velocity_mps[0], obs_velocity_mps[1],
-                                bearing_deg, bearing_sigma_deg, lv[None, :], sn[None, :])
+                                bearing_deg, bearing_sigma_deg, lv[None, :], sn[None, :],
+                                obs_depth_m=obs_depth_m)
         return _frame(t_s, self.class_names, out)
 
     def update_from(self, m: Measurements, i: int, obs_vel=None) -> pd.DataFrame | None:
@@ -600,7 +616,8 @@ class MLTracker:
                            obs_y_m=float(m.obs_y_m[i]), bearing_deg=float(m.bearing_deg[i]),
                            bearing_sigma_deg=float(m.bearing_sigma_deg[i]),
                            levels_db=dict(zip(m.band_names, m.level_db[i])),
-                           snrs_db=dict(zip(m.band_names, m.snr_db[i])), obs_velocity_mps=obs_vel)
+                           snrs_db=dict(zip(m.band_names, m.snr_db[i])), obs_velocity_mps=obs_vel,
+                           obs_depth_m=float(m.obs_depth_m[i]))
 
 
 def _frame(t_s, class_names, out) -> pd.DataFrame:
@@ -643,6 +660,13 @@ def track(grid: xr.Dataset, measurements: Measurements, *, cls_name: str | None 
                          obs_depth_m=m.obs_depth_m, bearing_deg=m.bearing_deg,
                          bearing_sigma_deg=m.bearing_sigma_deg, band_names=(band,),
                          level_db=m.level_db[:, j:j + 1], snr_db=m.snr_db[:, j:j + 1])
+    k_at = KAtDepth(grid)
+    bad = np.flatnonzero(k_at.outside(m.obs_depth_m))
+    if bad.size:
+        i, z = int(bad[0]), k_at.depth_axis_m
+        raise MeasurementFileError(f"{m.source}: row {i + 1}, column obs_depth_m: "
+                                   f"{m.obs_depth_m[i]:g} m is outside the grid's depth axis "
+                                   f"[{z[0]:g}, {z[-1]:g}] m")
     good = np.flatnonzero(np.isfinite(m.bearing_deg))
     if len(good) < len(m):
         log.warning("%s: %d cycle(s) without a bearing skipped (first at t = %g s)", m.source,

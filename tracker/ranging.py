@@ -183,3 +183,69 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     none = ~det.any(axis=1)
     r_opt = np.where(none, np.nan, r_opt)
     return r_opt, np.where(none, np.nan, np.sqrt(var))
+
+
+class KAtDepth:
+    """K(r) of every class and band at a receiver depth, ``k_db`` corrected by the grid's TL.
+
+    DESIGN.md: TL and K(r) are taken at the row's observer depth. The grid's ``k_db`` holds
+    K = S - TL at the grid's observer depth (attribute ``observer_depth_m``); at depth d,
+
+        K(d, r) = k_db(r) + TL(d_grid, r) - TL(d, r),
+
+    with TL linear in depth over ``tl_db(class, band, depth, range)`` (so K(d_grid) equals
+    ``k_db`` to float rounding). A grid without ``tl_db`` or without the attribute (a K-only
+    grid of ``acoustics.build_k``) has K at one depth only and is used as is.
+
+    Parameters
+    ----------
+    grid : xr.Dataset
+    """
+
+    def __init__(self, grid: xr.Dataset):
+        self.k_db = np.asarray(grid["k_db"].transpose("class", "band", "range").values, dtype=float)
+        obs = float(grid.attrs.get("observer_depth_m", math.nan))
+        self.depth_axis_m = None
+        self._cache: dict[float, np.ndarray] = {}
+        if "tl_db" in grid and math.isfinite(obs):
+            self.depth_axis_m = np.asarray(grid["depth"].values, dtype=float)
+            self.tl_db = np.asarray(grid["tl_db"].transpose("class", "band", "depth", "range").values,
+                                    dtype=float)                       # (C, M, D, R)
+            self.grid_depth_m = obs
+            self._tl_grid = self._tl(obs)
+
+    def _tl(self, depth_m: float) -> np.ndarray:
+        z = self.depth_axis_m
+        if z.size == 1:
+            return self.tl_db[:, :, 0]
+        j = int(np.clip(np.searchsorted(z, depth_m, side="right") - 1, 0, z.size - 2))
+        f = (depth_m - z[j]) / (z[j + 1] - z[j])
+        return (1.0 - f) * self.tl_db[:, :, j] + f * self.tl_db[:, :, j + 1]
+
+    def outside(self, depth_m) -> np.ndarray:
+        """Mask of depths outside the grid's depth axis (all False for a K-only grid)."""
+        d = np.asarray(depth_m, dtype=float)
+        if self.depth_axis_m is None:
+            return np.zeros(d.shape, dtype=bool)
+        return ~((d >= self.depth_axis_m[0]) & (d <= self.depth_axis_m[-1]))
+
+    def __call__(self, depth_m: float | None) -> np.ndarray:
+        """K(r) at a receiver depth, dB, shape (C, M, R); None means the grid's observer depth.
+
+        Raises
+        ------
+        MeasurementFileError
+            The depth is outside the grid's depth axis.
+        """
+        if depth_m is None or self.depth_axis_m is None:
+            return self.k_db
+        d = float(depth_m)
+        if d == self.grid_depth_m:
+            return self.k_db
+        if d not in self._cache:
+            if self.outside(d):
+                z = self.depth_axis_m
+                raise MeasurementFileError(f"observer depth {d:g} m is outside the grid's depth "
+                                           f"axis [{z[0]:g}, {z[-1]:g}] m")
+            self._cache[d] = self.k_db + self._tl_grid - self._tl(d)
+        return self._cache[d]

@@ -23,8 +23,8 @@ import xarray as xr
 from envdata.files import atomic_path
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
-from tracker.ranging import bearing_sd_deg, class_infos, level_sd_db, sonar_info
-from tracker.scenario import Scenario, _path_of, observer_track
+from tracker.ranging import KAtDepth, bearing_sd_deg, class_infos, level_sd_db, sonar_info
+from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
 
 TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
                  "tack")
@@ -75,8 +75,9 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
     ----------
     sc : Scenario
     grid : xr.Dataset
-        Propagation grid of the scenario's area; its k_db of the scenario's class is the
-        "actual" transfer characteristic.
+        Propagation grid of the scenario's area; its K(r) of the scenario's class at the
+        scenario's observer depth (`tracker.ranging.KAtDepth`) is the "actual" transfer
+        characteristic.
     rng : numpy.random.Generator
         Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
     dv_mps, dp0_db : array_like, shape (E,) or scalar
@@ -114,7 +115,13 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
     dx, dy = x - ox, y - oy
     r = np.hypot(dx, dy)
     b_true = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
-    kc = grid["k_db"].sel({"class": sc.target_class}).values            # (M, R)
+    k_at = KAtDepth(grid)
+    if k_at.outside(sc.obs_depth_m):
+        z = k_at.depth_axis_m
+        raise ScenarioError(f"{sc.source}: [observer] depth_m: {sc.obs_depth_m:g} m is outside "
+                            f"the grid's depth axis [{z[0]:g}, {z[-1]:g}] m")
+    ic = [str(c) for c in grid["class"].values].index(sc.target_class)
+    kc = k_at(sc.obs_depth_m)[ic]                                       # (M, R) at obs depth
     raxis = grid["range"].values
     k = k_interp(kc, raxis, r)                                          # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db

@@ -41,3 +41,19 @@ def test_tv_30km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
     assert tv["range_rms_m"] < s["NPS"]["range_rms_m"]
     assert tv["speed_rms_mps"] < s["NPS"]["speed_rms_mps"]
     assert (tmp_path / "rms.csv").exists() and (tmp_path / "rms.png").exists()
+
+
+def test_rms_skips_runs_without_an_estimate():
+    import numpy as np
+
+    from tracker.gm_experiment import weighted_rms
+
+    # 1 class, 3 runs, 2 cycles; run 0 has no range estimate in cycle 0 (not yet detected)
+    sq = {"range": np.array([[[np.nan, 4.0], [1.0, 1.0], [9.0, 9.0]]])}
+    rms, runs = weighted_rms(sq, [2.0, 1.0, 1.0])
+    # eqs. 32-34 over the runs that have an estimate: cycle 0 sqrt((1 + 9) / 2), cycle 1 all
+    assert rms["range"][0, 0] == pytest.approx(np.sqrt(5.0))
+    assert rms["range"][0, 1] == pytest.approx(np.sqrt((2 * 4.0 + 1.0 + 9.0) / 4.0))
+    assert runs["range"].tolist() == [[2, 3]]
+    rms, runs = weighted_rms({"range": np.full((1, 2, 1), np.nan)}, [1.0, 1.0])
+    assert np.isnan(rms["range"][0, 0]) and runs["range"][0, 0] == 0
