@@ -17,7 +17,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--grid", required=True, metavar="FILE", help="propagation grid (netCDF)")
     p.add_argument("--measurements", required=True, metavar="CSV", help="measurement CSV")
     p.add_argument("--out", required=True, metavar="CSV", help="track CSV to write")
-    p.add_argument("--method", choices=("ml", "rpf", "rpf-bot"), default="ml",
+    p.add_argument("--method", choices=("ml", "rpf", "rpf-bot", "rpf-vp"), default="ml",
                    help="tracker (default ml)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the particle filters")
     p.add_argument("--class", dest="cls_name", metavar="NAME", help="only this class hypothesis")

@@ -41,15 +41,19 @@ SL_OFFSET_PRIOR_SD_DB = 6.0
 
 
 def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
-    """Filters compared in a scenario: BOT and BOT+SPL; plus the joint SL offset where it matters."""
-    base = ("rpf-bot", "rpf")
+    """Filters compared in a scenario: the paper's BOT and BOT+SPL, BOT+SPL with the
+    variance-preserving regularization ("rpf-vp", beyond the paper), and the joint SL offset
+    where the scenario has one."""
+    base = ("rpf-bot", "rpf", "rpf-vp")
     return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
 
 
 def _config(method: str, n_particles: int) -> rpf.RpfConfig:
     cfg = rpf.RpfConfig(n_particles=n_particles)
+    if method == "rpf-vp":
+        cfg = replace(cfg, shrink=True)
     if method == "rpf-sl":
-        cfg = replace(cfg, sl_offset_sd_db=SL_OFFSET_PRIOR_SD_DB)
+        cfg = replace(cfg, sl_offset_sd_db=SL_OFFSET_PRIOR_SD_DB, shrink=True)
     return cfg
 
 
@@ -237,7 +241,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
 
 
 def _col(method: str) -> str:
-    return {"rpf-bot": "bot", "rpf": "spl", "rpf-sl": "spl_offset"}[method]
+    return {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}[method]
 
 
 def _table1(frame: pd.DataFrame, sc: IdmScenario) -> list[dict]:
@@ -252,7 +256,8 @@ def _table1(frame: pd.DataFrame, sc: IdmScenario) -> list[dict]:
 
 
 def _summary(data: dict, sc: IdmScenario, methods) -> str:
-    names = {"rpf-bot": "BOT", "rpf": "BOT+SPL", "rpf-sl": "BOT+SPL+SL offset"}
+    names = {"rpf-bot": "BOT", "rpf": "BOT+SPL", "rpf-vp": "BOT+SPL, VP kernel",
+             "rpf-sl": "BOT+SPL, VP, SL offset"}
     lines = [f"{sc.name}: {sc.title}",
              f"{data['runs']} runs x {data['cycles']} cycles x {data['n_particles']} particles, "
              f"seed {data['seed']}, {data['workers']} workers, {data['elapsed_s']:.1f} s "

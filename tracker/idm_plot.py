@@ -13,8 +13,9 @@ from envdata.files import atomic_path
 
 _STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
           "rpf": ("BOT + SPL (RPF)", "tab:blue", "-"),
-          "rpf-sl": ("BOT + SPL, joint SL offset", "tab:green", "-")}
-_COL = {"rpf-bot": "bot", "rpf": "spl", "rpf-sl": "spl_offset"}
+          "rpf-vp": ("BOT + SPL, variance-preserving kernel", "tab:purple", "-"),
+          "rpf-sl": ("BOT + SPL, VP kernel, joint SL offset", "tab:green", "-")}
+_COL = {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}
 
 
 def save_figure(fig: Figure, path: str | os.PathLike) -> None:
@@ -41,7 +42,14 @@ def rmse_figure(frame: pd.DataFrame, scenario, methods, *, runs: int) -> Figure:
             tm = float(parts[1][:-3])
             color = _STYLE["rpf-bot" if parts[0] == "bot" else "rpf"][1]
             ax.plot([tm], [value], marker="o", mfc="none", color=color, ls="none", ms=8)
-    if paper:
+        if key.startswith("bot_over_spl_") and key.endswith("min"):
+            # the paper gives only the ratio BOT / BOT+SPL here: place it under our BOT RMSE
+            tm = float(key[len("bot_over_spl_"):-3])
+            i = int(np.argmin(np.abs(t - tm)))
+            ax.plot([tm], [frame["rmse_bot_m"].iloc[i] / value], marker="s", mfc="none",
+                    color=_STYLE["rpf"][1], ls="none", ms=8,
+                    label=f"our BOT / the paper's ratio {value:g}")
+    if any(k.endswith("min_m") for k in paper):
         ax.plot([], [], marker="o", mfc="none", color="gray", ls="none", label="paper's values")
     if scenario.turn is not None:
         ax.axvspan(scenario.turn[0] / 60.0, scenario.turn[1] / 60.0, color="0.9", zorder=0,

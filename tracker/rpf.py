@@ -54,6 +54,7 @@ class Method(StrEnum):
 
     RPF = "rpf"          # bearings and SPL (eq. 31)
     RPF_BOT = "rpf-bot"  # bearings only (eq. 32)
+    RPF_VP = "rpf-vp"    # bearings and SPL, variance-preserving regularization (not in the paper)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -82,6 +83,14 @@ class RpfConfig:
     sl_offset_sd_db : float
         Not in the paper: 0 (default) keeps the 4-component state; > 0 adds a source-level
         offset (dB, prior N(0, sd^2)) estimated jointly with the motion.
+    shrink : bool
+        Not in the paper: False (default) regularizes as Musso et al. (x = x' + h D eps, which
+        inflates the particle covariance by 1 + h^2/(n+4) at each resampling); True shrinks the
+        resampled particles toward the weighted mean m first (x = m + a (x' - m) + h D eps,
+        a = sqrt(1 - h^2/(n+4))), so that the regularization keeps the covariance. The
+        inflation acts as artificial process noise on the velocity; when the bearings carry no
+        range information (observer parallel to the target) it lets the filter forget the
+        speed prior and drift out along the SL(v) - TL(r) ridge.
     """
 
     n_particles: int = 5000
@@ -95,6 +104,7 @@ class RpfConfig:
     speed_sd_mps: float = 2.0 * KNOT_MPS
     course_sd_deg: float = math.degrees(math.pi / math.sqrt(12.0))
     sl_offset_sd_db: float = 0.0
+    shrink: bool = False
 
     def __post_init__(self) -> None:
         if int(self.n_particles) != self.n_particles or self.n_particles < 2:
@@ -392,7 +402,8 @@ def weighted_covariance(state: np.ndarray, weights: np.ndarray, work: dict | Non
 
 
 def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator, *,
-               bandwidth: float | None = None, work: dict | None = None) -> np.ndarray:
+               bandwidth: float | None = None, shrink: bool = False,
+               work: dict | None = None) -> np.ndarray:
     """Resample then jitter with the Epanechnikov kernel, eq. 21: x = x' + h D eps.
 
     Parameters
@@ -403,6 +414,9 @@ def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator,
         Their normalised weights.
     bandwidth : float, optional
         h; default the optimal one of eqs. 27-28 for N and D.
+    shrink : bool
+        Variance-preserving form (not in the paper): x = m + a (x' - m) + h D eps with m the
+        weighted mean and a = sqrt(1 - h^2/(n+4)); the kernel's covariance is I/(n+4).
 
     Returns
     -------
@@ -416,13 +430,19 @@ def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator,
     """
     n_dim, runs, n = state.shape
     h = optimal_bandwidth(n, n_dim) if bandwidth is None else bandwidth
-    _, cov = weighted_covariance(state, weights, work)
+    mean, cov = weighted_covariance(state, weights, work)
     scale = np.maximum(np.einsum("rii->ri", cov), 0.0).max(axis=1)
     cov = cov + (1e-12 * scale + 1e-18)[:, None, None] * np.eye(n_dim)
     d = np.linalg.cholesky(cov)  # (runs, D, D)
     idx = multinomial_resample(weights, rng)
     idx += (np.arange(runs) * n)[:, None]  # flat index into the (D, runs * N) particles
     new = np.take(state.reshape(n_dim, runs * n), idx.ravel(), axis=1).reshape(state.shape)
+    if shrink:
+        a = math.sqrt(max(0.0, 1.0 - h * h / (n_dim + 4)))
+        m = mean[:, :, None]
+        new -= m
+        new *= a
+        new += m
     eps = epanechnikov_sample(n_dim, (runs, n), rng, work)
     d *= h
     tmp = _buf(work, "tmp", (runs, n))
@@ -607,9 +627,10 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
         low = n_eff(w) < n_thr
         if low.any():
             if low.all():
-                state = regularise(state, w, rng, work=work)
+                state = regularise(state, w, rng, shrink=cfg.shrink, work=work)
             else:
-                state[:, low] = regularise(state[:, low], w[low], rng, work=work)
+                state[:, low] = regularise(state[:, low], w[low], rng, shrink=cfg.shrink,
+                                           work=work)
             log_w[low] = -math.log(cfg.n_particles)
             w[low] = 1.0 / cfg.n_particles
             resampled[low, k] = True
@@ -657,8 +678,9 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     measurements : tracker.measurements.Measurements
         Bearings and band levels. ``rpf`` needs the ``level_db_NAME`` column of the band; a
         blank level uses the bearing alone that cycle, a blank bearing the level alone.
-    method : {"rpf", "rpf-bot"}
-        Bearings and SPL, or bearings only.
+    method : {"rpf", "rpf-bot", "rpf-vp"}
+        Bearings and SPL, bearings only, or bearings and SPL with the variance-preserving
+        regularization (``RpfConfig.shrink``).
     rng : numpy.random.Generator
         Seeded generator: same seed, same track.
     cls_name : str, optional
@@ -693,8 +715,9 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     try:
         method = Method(method)
     except ValueError:
-        raise MeasurementFileError(f"--method: {method!r} is not an RPF method (rpf, rpf-bot)"
-                                   ) from None
+        raise MeasurementFileError(f"--method: {method!r} is not an RPF method (rpf, rpf-bot, "
+                                   f"rpf-vp)") from None
+    spl = method is not Method.RPF_BOT
     grid_name = str(grid.attrs.get("area", "<grid>"))
     classes = [str(c) for c in grid["class"].values]
     bands = [str(b) for b in grid["band"].values]
@@ -705,11 +728,13 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
         raise GridFileError(f"grid of area {grid_name}: band {band!r} is not in the grid "
                             f"(bands: {', '.join(bands)})")
     cfg = config or RpfConfig()
+    if method is Method.RPF_VP:
+        cfg = _replace(cfg, shrink=True)
     sig = np.asarray(m.bearing_sigma_deg, dtype=float)
     if sig.size and np.all(np.isfinite(sig)):
         cfg = _replace(cfg, bearing_sigma_deg=float(np.median(sig)))
     levels = None
-    if method is Method.RPF:
+    if spl:
         if band is None:
             usable = [b for b in bands if b in m.band_names]
             if not usable:
@@ -758,7 +783,7 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     for name in hypotheses:
         profiles = [None] * t.size
         model, p0, p0_sd = "ross", math.nan, 0.0
-        if method is Method.RPF:
+        if spl:
             table = tl_table(grid, name, band)
             model = table.source_level_model
             if model != "ross" and not math.isfinite(table.noise_mean_db):
@@ -779,7 +804,7 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]
         sds = res.extra["sd"][0]
         frames.append(pd.DataFrame({
-            "t_s": t, "class": name if method is Method.RPF or cls_name else "any",
+            "t_s": t, "class": name if spl or cls_name else "any",
             "x_m": ax, "y_m": ay, "range_m": np.hypot(mean[:, 0], mean[:, 1]),
             "bearing_deg": np.mod(np.degrees(bearing_rad(mean[:, 0], mean[:, 1])), 360.0),
             "course_deg": np.mod(np.degrees(np.arctan2(tvx, tvy)), 360.0),

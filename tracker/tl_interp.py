@@ -10,8 +10,12 @@ of a source with spectral level SL at the band's reference frequency is
 with S the band's spectral term (0 dB for a single-frequency band with the Ross model; DESIGN.md
 "Grid dataset"), recovered from the grid as ``k_db + TL(observer depth)``.
 
-Outside the range axis `TlTable.tl_at` holds the end values; the filter's `LevelProfile` holds
-the first value below the axis and continues K beyond the last range by spherical spreading.
+Outside the range axis `TlTable.tl_at` holds the end values. The filter's `LevelProfile` holds
+the first value below the axis, and beyond the last range gives K a penalty of
+`BEYOND_GRID_PENALTY_DB`: the grid's range axis is the horizon of the level model, and a
+particle beyond it keeps a weight only if every particle is beyond it. (Holding the end value,
+or continuing it by spherical spreading, lets a fast, receding target far outside the grid
+explain a steady level as well as the true one: the non-maneuvering scenario then drifts out.)
 A receiver depth outside the depth axis is an error.
 """
 
@@ -25,6 +29,9 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+
+#: K beyond the grid's last range: its last value less this, dB (a rejection, not physics).
+BEYOND_GRID_PENALTY_DB = 1000.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -129,12 +136,10 @@ class LevelProfile:
 
     def __call__(self, range_m) -> np.ndarray:
         """K at the given ranges, dB: linear inside the axis, the first value below it, and
-        beyond the last range the last value less spherical spreading, 20 lg(r / r_max), so
-        that far particles are not given a flat, free likelihood."""
+        beyond the last range the last value less `BEYOND_GRID_PENALTY_DB`."""
         r = np.asarray(range_m, dtype=float)
         k = np.interp(r, self.range_m, self.k_db)
-        r_max = self.range_m[-1]
-        return k - 20.0 * np.log10(np.maximum(r, r_max) / r_max)
+        return np.where(r > self.range_m[-1], k - BEYOND_GRID_PENALTY_DB, k)
 
 
 def tl_table(grid: xr.Dataset, cls_name: str, band: str) -> TlTable:

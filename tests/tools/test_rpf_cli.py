@@ -113,3 +113,26 @@ def test_missing_level_column_band_class_and_depth_are_errors(munk, static_csv, 
         rpf.track(munk, nob, method="rpf-bot", rng=rng)
     with pytest.raises(MeasurementFileError, match=r"--method: 'ml' is not an RPF method"):
         rpf.track(munk, m, method="ml", rng=rng)
+
+
+def test_cli_track_rpf_vp_writes_a_track(munk, static_csv, tmp_path, capsys):
+    # the variance-preserving variant through the command line, on the real munk-1000 grid file
+    from tools.cli import main
+
+    grid_path = tmp_path / "munk.nc"
+    acoustics.write_grid(munk, grid_path)
+    out = tmp_path / "track.csv"
+    assert main(["track", "--grid", str(grid_path), "--measurements", str(static_csv),
+                 "--out", str(out), "--method", "rpf-vp", "--seed", "3"]) == 0
+    import pandas as pd
+
+    df = pd.read_csv(out)
+    assert tuple(df.columns) == TRACK_COLUMNS and (df["method"] == "rpf-vp").all()
+    truth = get_scenario("idm-static").target_state(df["t_s"].to_numpy())
+    err = np.hypot(df["x_m"] - truth[:, 0], df["y_m"] - truth[:, 1])
+    assert err.iloc[-1] < 2000.0  # as for rpf: the SPL pins the range
+    with pytest.raises(SystemExit) as exc:  # argparse rejects an unknown method
+        main(["track", "--grid", str(grid_path), "--measurements", str(static_csv),
+              "--out", str(tmp_path / "no.csv"), "--method", "rpf-vq"])
+    assert exc.value.code == 2
+    assert not (tmp_path / "no.csv").exists()

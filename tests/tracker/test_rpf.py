@@ -119,6 +119,22 @@ def test_regularise_keeps_the_mean_and_inflates_the_covariance_by_h2_over_n_plus
     assert (shift < 5 * np.sqrt(np.diag(cov) / (n * runs) * (1 + h * h / (d + 4)))).all()
 
 
+def test_shrunk_regularisation_keeps_the_mean_and_the_covariance(rng):
+    # x = m + a (x' - m) + h D eps with a^2 = 1 - h^2/(n+4): a^2 P + h^2 P/(n+4) = P
+    n, runs, d = 5000, 40, 4
+    cov = np.array([[4e6, 1e6, 0, 0], [1e6, 1e6, 0, 0], [0, 0, 1.0, 0.2], [0, 0, 0.2, 0.5]])
+    state = np.einsum("ij,jrn->irn", np.linalg.cholesky(cov), rng.standard_normal((d, runs, n)))
+    state += np.array([5000.0, 800.0, -1.0, -2.0])[:, None, None]
+    w = np.full((runs, n), 1.0 / n)
+    new = rpf.regularise(state, w, rng, shrink=True)
+    _, before = rpf.weighted_covariance(state, w)
+    _, after = rpf.weighted_covariance(new, w)
+    # 40 runs x 5000 particles: the sampling error of a variance ratio is ~0.005; 0.02 is 4 sd
+    assert_allclose(np.diag(after.mean(axis=0) / before.mean(axis=0)), 1.0, atol=0.02)
+    shift = np.abs(new.mean(axis=(1, 2)) - state.mean(axis=(1, 2)))
+    assert (shift < 5 * np.sqrt(np.diag(cov) / (n * runs))).all()
+
+
 def test_regularise_of_a_degenerate_cloud_stays_finite(rng):
     state = np.ones((4, 2, 100))
     w = np.full((2, 100), 0.01)

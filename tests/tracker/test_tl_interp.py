@@ -8,7 +8,7 @@ from numpy.testing import assert_allclose
 
 from acoustics.errors import GridFileError
 from acoustics.kcurve import spectral_term_db
-from tracker.tl_interp import tl_table
+from tracker.tl_interp import BEYOND_GRID_PENALTY_DB, tl_table
 
 pytestmark = pytest.mark.bellhop
 
@@ -68,3 +68,13 @@ def test_unknown_class_band_and_depth_are_errors(tiny_grid):
         tab.tl_at(1500.0, 1000.0)
     with pytest.raises(GridFileError, match=r"receiver depth -1 m"):
         tab.level_profile(-1.0)
+
+
+def test_level_profile_rejects_ranges_beyond_the_grid(tiny_grid):
+    # beyond the last range the level model has no value: K drops by BEYOND_GRID_PENALTY_DB, so
+    # that a particle out there keeps a weight only when every particle is out there
+    prof = tl_table(tiny_grid, "SUB", "FB1").level_profile(100.0)
+    r_end, k_end = prof.range_m[-1], prof.k_db[-1]
+    assert_allclose(prof(r_end), k_end, atol=1e-9)
+    assert_allclose(prof([r_end + 1.0, 1e7]), k_end - BEYOND_GRID_PENALTY_DB, atol=1e-9)
+    assert_allclose(prof(0.5 * prof.range_m[0]), prof.k_db[0], atol=1e-9)
