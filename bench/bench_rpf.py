@@ -5,8 +5,9 @@
 Prints one line per figure, ``name: value unit``, all measured in this one run:
 
 - particle-steps per second of one tmakit filter (N = 5000, bearings only, the static-observer
-  scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in cache-sized blocks
-  of runs, on one thread and on 2 threads);
+  scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in blocks of runs, on
+  one thread and on 2 threads), with the compiled fused cycle loop (``rpf.ENGINE = "kernel"``,
+  the default; `tracker.rpf_kernel`) and, for reference, the numpy implementation;
 - the same for Stone Soup's particle filter on the same bearings (ParticlePredictor,
   ParticleUpdater with a MultinomialResampler applied when N_eff < N/3, and the
   MCMCRegulariser), run by the Python of a separate environment holding ``stonesoup``
@@ -105,12 +106,14 @@ def _scenario():
 
 
 def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None = None,
-                 repeat: int = 1) -> float:
+                 repeat: int = 1, engine: str = "kernel") -> float:
     """Particle-steps per second of the tmakit RPF, bearings only, ``runs`` runs per call.
 
     Over the first ``cycles`` cycles (all by default); the best of ``repeat`` calls.
     """
     from tracker import rpf
+
+    rpf.ENGINE = engine
 
     _, t, obs, b = _scenario()
     t, obs, b = t[:cycles], obs[:cycles], b[:cycles]
@@ -124,7 +127,9 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
                             threads=threads)
         best = max(best, runs * t.size * n / (time.perf_counter() - start))
     if runs == 1 and repeat > 1:
-        say(f"rpf_resampled_fraction_{t.size}_cycles", float(res.resampled[:, 1:].mean()))
+        say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
+            float(res.resampled[:, 1:].mean()))
+    rpf.ENGINE = "kernel"
     return best
 
 
@@ -178,19 +183,29 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="skip the 1000-run study")
     parser.add_argument("--stonesoup-python",
-                        default=os.environ.get("STONESOUP_PYTHON", str(REPO / ".venv-stonesoup" / "bin" / "python")))
+                        default=os.environ.get("STONESOUP_PYTHON",
+                                               str(REPO / ".venv-stonesoup" / "bin" / "python")))
     args = parser.parse_args(argv)
 
-    bench_tmakit(1, cycles=5)  # warm-up (imports, first allocations), not timed
+    start = time.perf_counter()
+    bench_tmakit(1, cycles=5)  # warm-up (imports, numba's compile or cache load), not timed
+    say("rpf_kernel_first_call_incl_compile_or_cache_load", time.perf_counter() - start, "s")
+    bench_tmakit(1, cycles=5, engine="numpy")
     one = bench_tmakit(1, repeat=3)
     # the same cycles as Stone Soup is timed on (the first ones, where it resamples more)
     one_30 = bench_tmakit(1, cycles=STONESOUP_STEPS + 1, repeat=3)
-    batched = bench_tmakit(40)
-    threaded = bench_tmakit(40, threads=2)
+    batched = bench_tmakit(40, repeat=2)
+    threaded = bench_tmakit(40, threads=2, repeat=2)
+    one_np = bench_tmakit(1, repeat=2, engine="numpy")
+    batched_np = bench_tmakit(40, engine="numpy")
     say("rpf_one_filter_n5000", one / 1e6, "M particle-steps/s")
     say("rpf_one_filter_n5000_first_31_cycles", one_30 / 1e6, "M particle-steps/s")
     say("rpf_batched_40_runs_n5000", batched / 1e6, "M particle-steps/s")
     say("rpf_batched_40_runs_n5000_2_threads", threaded / 1e6, "M particle-steps/s")
+    say("rpf_numpy_reference_one_filter_n5000", one_np / 1e6, "M particle-steps/s")
+    say("rpf_numpy_reference_batched_40_runs_n5000", batched_np / 1e6, "M particle-steps/s")
+    say("speedup_kernel_vs_numpy_one_filter", one / one_np, "x")
+    say("speedup_kernel_vs_numpy_batched", batched / batched_np, "x")
     ss = bench_stonesoup(args.stonesoup_python)
     if ss is None:
         say("stonesoup", "not available", f"(no {args.stonesoup_python})")

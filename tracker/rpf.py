@@ -47,6 +47,10 @@ KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
 BLOCK_PARTICLES = 20_000
+#: Cycle loop of `run_batch`: "kernel" (default) the compiled fused loop of
+#: `tracker.rpf_kernel`; "numpy" the reference implementation below (same statistics, other
+#: random numbers).
+ENGINE = "kernel"
 
 
 class Method(StrEnum):
@@ -547,10 +551,10 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
     summaries : bool
         Also return per-cycle particle sd of range, course and target speed (for track CSVs).
     threads : int
-        Blocks of runs filtered at once on this many threads (numpy releases the GIL in its
-        array loops). The results do not depend on it: the runs go in blocks of about
-        ``BLOCK_PARTICLES`` particles (sized for the CPU cache), each with its own generator
-        spawned from ``rng``.
+        Blocks of runs filtered at once on this many threads (the compiled loop and numpy's
+        array loops release the GIL). The results do not depend on it: the runs go in blocks
+        of about ``BLOCK_PARTICLES`` particles, each with its own generator spawned from
+        ``rng`` (and, with ``ENGINE = "kernel"``, one generator per run seeded from it).
 
     Returns
     -------
@@ -588,6 +592,19 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
 def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, cfg, rng,
                source_level_model, p0_db, p0_sd_db, summaries) -> BatchResult:
     """`run_batch` on one block of runs, one generator."""
+    if ENGINE == "kernel" and (level_db_meas is None
+                               or all(p is None or hasattr(p, "k_db") for p in k_profiles)):
+        from tracker import rpf_kernel
+
+        sigma_l = math.hypot(cfg.level_sigma_db,
+                             p0_sd_db if source_level_model != "ross" else 0.0)
+        means, covs, resampled, sds = rpf_kernel.run(
+            t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
+            level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
+            ross=source_level_model == "ross", p0_db=p0_db, sigma_l_db=sigma_l,
+            bandwidth=optimal_bandwidth(cfg.n_particles, cfg.n_dim), summaries=summaries)
+        return BatchResult(mean=means, cov=covs, resampled=resampled,
+                           extra={"sd": sds} if summaries else {})
     runs, n_cycles = bearing_rad_meas.shape
     sigma_theta = math.radians(cfg.bearing_sigma_deg)
     sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model != "ross" else 0.0)
