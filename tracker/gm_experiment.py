@@ -2,9 +2,15 @@
 
 An n x n x n design (the paper: 11 x 11 x 11 = 1331 runs) over the true speed, the true noise
 P0 and the transfer-characteristic error dK, each at n nodes over +- 2 sd of the class's
-distribution (offsets added to the scenario's tacks), weighted by the normal densities of
-eqs. 32-34. All runs and all class hypotheses go through one batched tracker (rows = runs x
-classes), cycle by cycle; runs are split into chunks over worker processes.
+distribution, weighted by the normal densities of eqs. 32-34. Section 4 draws the speed and
+noise of every repetition "according to the PDFs of the object's class", and g_V(V_n),
+g_P0(P0_m) of eqs. 32-34 are the class PDFs at the actual values; so by default
+(``center="class"``) the first target tack's speed and noise are set to the class means plus
+the node offsets, and later tacks keep the scenario's changes from the first (the transport's
++2 m/s and +4 dB). ``center="scenario"`` adds the offsets to the scenario's own values instead
+(the scenario's tack then sits 1 sd below the class mean for the transport). All runs and all
+class hypotheses go through one batched tracker (rows = runs x classes), cycle by cycle; runs
+are split into chunks over worker processes.
 """
 
 from __future__ import annotations
@@ -13,7 +19,7 @@ import json
 import math
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -69,6 +75,20 @@ def weighted_rms(sq: dict, w) -> tuple[dict, dict]:
     return rms, runs
 
 
+def center_offsets(sc, cls, center: str) -> tuple[float, float]:
+    """Speed and noise shifts (m/s, dB) added to every run's offsets for a design centre.
+
+    ``"class"``: the first target tack gets the class means mV, mP0 (eqs. 32-34, section 4);
+    ``"scenario"``: the scenario's values are the centre (no shift).
+    """
+    if center == "scenario":
+        return 0.0, 0.0
+    if center != "class":
+        raise ValueError(f"center must be 'class' or 'scenario', got {center!r}")
+    tk = sc.target_tacks[0]
+    return cls.speed_mean_mps - tk.speed_mps, cls.noise_mean_db - tk.noise_db
+
+
 def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed: int, params=None):
     """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
     from acoustics import open_grid
@@ -103,8 +123,12 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed: int, params=None)
 
 
 def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, workers: int = 1,
-        progress: bool = False, params: MLParams | None = None) -> dict:
-    """Run the n^3 experiment of a scenario; write rms.csv, summary.json and plots into out_dir."""
+        progress: bool = False, params: MLParams | None = None, center: str = "class") -> dict:
+    """Run the n^3 experiment of a scenario; write rms.csv, summary.json and plots into out_dir.
+
+    ``center``: ``"class"`` (default, the paper's eqs. 32-34) or ``"scenario"``, see
+    `center_offsets`. ``progress`` shows a tqdm bar of finished runs on stderr.
+    """
     from acoustics import open_grid
 
     t_start = time.perf_counter()
@@ -113,16 +137,34 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     classes = class_infos(grid)
     true_cls = next(c for c in classes if c.name == sc.target_class)
     dv, dp, dk, w = design(true_cls, n)
+    shift_v, shift_p = center_offsets(sc, true_cls, center)
+    dv, dp = dv + shift_v, dp + shift_p
     n_runs = len(dv)
     n_chunks = max(workers * 2, math.ceil(n_runs / 400)) if n_runs > 1 else 1
     chunks = np.array_split(np.arange(n_runs), min(n_chunks, n_runs))
     args = [(str(grid_path), scenario, dv[c], dp[c], dk[c], seed + j, params)
             for j, c in enumerate(chunks)]
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_runs, desc=f"gm {sc.name}", unit="run")
+    results = [None] * len(args)
     if workers > 1:
         with ProcessPoolExecutor(workers) as pool:
-            results = list(pool.map(run_chunk, *zip(*args)))
+            futures = {pool.submit(run_chunk, *a): j for j, a in enumerate(args)}
+            for fut in as_completed(futures):
+                j = futures[fut]
+                results[j] = fut.result()
+                if bar:
+                    bar.update(len(chunks[j]))
     else:
-        results = [run_chunk(*a) for a in args]
+        for j, a in enumerate(args):
+            results[j] = run_chunk(*a)
+            if bar:
+                bar.update(len(chunks[j]))
+    if bar:
+        bar.close()
     sq = {k: np.concatenate([r[0][k] for r in results], axis=1) for k in ("course", "speed", "range")}
     sim0 = results[0][2]
     t_s = sim0.t_s
@@ -146,12 +188,17 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     steady = _steady(df, t_s)
     elapsed = time.perf_counter() - t_start
     summary = {"scenario": sc.name, "true_class": sc.target_class, "runs": n_runs,
+               "center": center,
                "cycles": len(t_s), "classes": names, "elapsed_s": elapsed,
                "steady_state": steady, "rms_csv": str(out / "rms.csv")}
     try:
         from tracker.gm_plot import plot_experiment
 
-        summary["plots"] = plot_experiment(df, results[0], sc, names, out)
+        # the one-run plot shows the design's centre (class mean speed and noise, dK = 0)
+        centre = int(np.argmax(w))
+        j = next(j for j, c in enumerate(chunks) if centre in c)
+        summary["plots"] = plot_experiment(df, results[j], sc, names, out,
+                                           run=int(np.flatnonzero(chunks[j] == centre)[0]))
     except ImportError:  # pragma: no cover - matplotlib is a dependency
         summary["plots"] = []
     with atomic_path(out / "summary.json") as tmp:

@@ -6,7 +6,10 @@ Every cycle, for every class hypothesis in parallel (section 3, steps 1-9):
    tack (the last estimates carry over as range weights and output until the new tack has data);
 2. sigma_P (eq. 2, or the measurement's bearing_sigma_deg) and sigma_dW (eq. 11) from the SNRs;
 3. relative course by least squares over bearing triples (eq. 8, Annex 1) once the bearing
-   change since the tack start passes eq. 30 (4.5 sigma_P), else the reverse bearing;
+   change since the tack start passes eq. 30 (4.5 sigma_P) and the bearing trace's curvature
+   is significant (quadratic term of a fit over the tack > 4.5 sd; eq. 8 is undetermined on a
+   straight trace), else the reverse bearing; in eq. 25 the relative course of eq. 8 has the
+   paper's sd sK_rho = 4 deg, the reverse bearing 30 deg (conclusion 4's course errors);
 4. course from the relative course and the class's mean speed (eq. 7);
 5. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21);
 6. the joint ML estimate of course, speed and range (eq. 25) when the bearing changed by more
@@ -23,7 +26,9 @@ the two agree to first order and both vanish on noiseless data. In this form the
 is a quadratic form in (position, velocity) whose 5 x 5 matrix is a running sum over the tack:
 nothing is recomputed over old bearings. For fixed course and speed the whole functional (25)
 is quadratic in range, so range is minimised in closed form; the search runs over course
-(24 values) x speed (20 values) and is refined twice on 7 x 7 local grids. The same code serves
+(24 values) x speed (20 values) and is refined twice on 7 x 7 local grids; then damped
+Gauss-Newton steps (analytic Jacobian) minimise eq. 25 as written, with the exact bearing
+residuals over every bearing of the tack. The same code serves
 one track (rows = class hypotheses) and the Monte Carlo experiment (rows = runs x classes).
 """
 
@@ -57,6 +62,10 @@ class MLParams:
     smooth_passes: int = 1             # 2: smooth the smoothed series again
     rel_course_sd_deg: float = 4.0     # sK_rho of eqs. 9, 25 ("3-5 deg")
     eq30_factor: float = 4.5           # eq. 30
+    curvature_factor: float = 4.5      # eq. 8 also needs the bearing's curvature: quadratic term
+                                       # of a fit over the tack > this many sd (0: eq. 30 only)
+    reverse_course_sd_deg: float = 30.0  # sd of the reverse-bearing relative course in eq. 25
+                                         # (conclusion 4: course errors up to 30 deg with it)
     eq25_factor: float = 3.0           # section 4 step 8: bearing change over 3 min > 3 sigma
     eq25_window_s: float = 180.0
     eq25_min_cycles: int = 6           # cycles on the tack before eq. 25 is tried
@@ -73,6 +82,7 @@ class MLParams:
     triples: int = 8                   # bearing triples of the eq.-8 least squares
     offsets_n: int = 5                 # eq. 21 quadrature nodes per axis
     range_min_m: float = 100.0
+    polish_iters: int = 6             # Gauss-Newton steps on the exact eq. 25 after the search
 
     def __post_init__(self) -> None:
         if self.smooth_cycles < 1 or 2 * self.smooth_drop >= self.smooth_cycles:
@@ -189,12 +199,14 @@ class MLBatch:
         self.ox = np.zeros(self.T)
         self.oy = np.zeros(self.T)
         self.brg = np.zeros((b, self.T))
+        self.sdp = np.ones((b, self.T))                # bearing sd of each cycle, deg
         self.lvl_top = np.full((b, self.T), np.nan)   # level in the highest detected band
         self.top_band = np.full((b, self.T), -1)
         self.s0 = np.zeros(b, dtype=int)               # tack start index
         self.tack = np.ones(b, dtype=int)
         self.pending = np.zeros(b, dtype=int)
         self.A = np.zeros((b, 5, 5))
+        self.sk_deg = np.full(b, self.p.rel_course_sd_deg)  # relative-course sd of eq. 25, deg
         # raw per-cycle estimates for smoothing
         self.est = {k: np.full((b, self.T), np.nan) for k in ("course", "speed", "x", "y", "vx", "vy")}
         self.last_range = np.full(b, np.nan)
@@ -235,6 +247,7 @@ class MLBatch:
             qb = np.maximum(q_ind[np.arange(b), top], 1.0)
             sd_p[miss] = bearing_sd_deg(self.sonar.beamwidth_deg, qb)[miss]
         sd_p = np.maximum(sd_p, 1e-4)
+        self.sdp[:, n] = sd_p
         topb = np.where(det.any(1), self.M - 1 - np.argmax(det[:, ::-1], axis=1), -1)
         self.top_band[:, n] = topb
         self.lvl_top[:, n] = np.where(topb >= 0, level[np.arange(b), np.maximum(topb, 0)], np.nan)
@@ -271,7 +284,11 @@ class MLBatch:
         n_tack = n - self.s0 + 1
         change = np.abs(wrap180(brg - self.brg[np.arange(b), self.s0]))
         eq30 = (change > p.eq30_factor * sd_p) & (n_tack >= 3)
+        if p.curvature_factor > 0 and eq30.any():
+            eq30 &= self._curved(n, p.curvature_factor)
         k_rel = np.mod(brg + 180.0, 360.0)                 # reverse bearing
+        # sd of the relative course entering eq. 25: sK_rho for eq. 8, wider for the reverse bearing
+        self.sk_deg = np.where(eq30, p.rel_course_sd_deg, p.reverse_course_sd_deg)
         if eq30.any():
             rows = np.flatnonzero(eq30)
             k_rel[rows] = self._rel_course(rows, n)
@@ -306,6 +323,9 @@ class MLBatch:
             rows = np.flatnonzero(use25)
             res = self._search(rows, n, u[:, rows], k_rel[rows], obs_course, obs_speed,
                                r_prior[rows], r_prior_sd[rows])
+            if p.polish_iters > 0:
+                res = self._polish(rows, n, res, k_rel[rows], obs_course, obs_speed,
+                                   r_prior[rows], r_prior_sd[rows])
             course[rows], speed[rows], rng_est[rows] = res[0], res[1], res[2]
             course_sd[rows], speed_sd[rows], range_sd[rows] = res[3], res[4], res[5]
         # raw estimates of this cycle: position and velocity
@@ -384,6 +404,37 @@ class MLBatch:
             self._rebuild = None
         self.A += self._rows_a(None, n, brg, sd_p, rho, self.t[self.s0])
 
+    def _curved(self, n, factor):
+        """Rows whose bearings over the tack curve significantly (eq. 8 is then determined).
+
+        Weighted least-squares fit P(t) = a + b t + c t^2 over the tack (bearings unwrapped from
+        the tack's first); True where |c| > factor x sd(c). Eq. 8 rests on the bearing's
+        curvature (a straight bearing trace leaves the relative course undetermined), as eq. 30
+        rests on its change.
+        """
+        b = self.B
+        lo = int(self.s0.min())
+        idx = np.arange(lo, n + 1)[None, :]
+        on = idx >= self.s0[:, None]
+        t0 = self.t[self.s0][:, None]
+        tc = np.where(on, self.t[None, lo:n + 1] - t0, 0.0)
+        scale = np.maximum(tc.max(1, keepdims=True), 1.0)
+        x = tc / scale
+        y = wrap180(self.brg[:, lo:n + 1] - self.brg[np.arange(b), self.s0][:, None])
+        w = np.where(on, 1.0 / np.square(self.sdp[:, lo:n + 1]), 0.0)
+        X = np.stack([np.ones_like(x), x, x * x], axis=2)                  # (B, N, 3)
+        XtWX = np.einsum("bni,bn,bnj->bij", X, w, X)
+        XtWy = np.einsum("bni,bn,bn->bi", X, w, y)
+        ok = on.sum(1) >= 5
+        XtWX = np.where(ok[:, None, None], XtWX, np.eye(3)[None])
+        try:
+            cov = np.linalg.inv(XtWX)
+        except np.linalg.LinAlgError:
+            return np.zeros(b, dtype=bool)
+        coef = np.einsum("bij,bj->bi", cov, np.where(ok[:, None], XtWy, 0.0))
+        sd_c = np.sqrt(np.maximum(cov[:, 2, 2], 1e-300))
+        return ok & (np.abs(coef[:, 2]) > factor * sd_c)
+
     def _rel_course(self, rows, n):
         s0 = self.s0[rows]
         length = n - s0 + 1
@@ -428,7 +479,7 @@ class MLBatch:
         inv_var = np.where(np.isfinite(r_prior_sd), 1.0 / np.square(r_prior_sd), 0.0)
         r0 = np.where(np.isfinite(r_prior), r_prior, 0.0)
         mV, sV = self.mV[rows], self.sV[rows]
-        sk2 = p.rel_course_sd_deg ** 2
+        sk2 = np.square(self.sk_deg[rows])[:, None]
         r_lo, r_hi = p.range_min_m, self.range_axis[-1]
         scale = np.square(np.where(np.isfinite(self.last_range[rows]), self.last_range[rows],
                                    np.where(np.isfinite(r_prior), r_prior, 10000.0)))
@@ -508,6 +559,102 @@ class MLBatch:
         r_sd = np.sqrt(2.0 / np.maximum((jr[0] + jr[2] - 2 * jr[1]) / h_r ** 2, 1e-300))
         return (np.mod(kb, 360.0), vb, rr[:, 0], np.minimum(k_sd, 180.0), np.minimum(v_sd, 50.0),
                 r_sd)
+
+    def _eq25_residuals(self, rows, n, k_deg, v, r, k_rel, obs_course, obs_speed, r0, r_sd,
+                        jacobian: bool = False):
+        """Residuals of eq. 25 as written (exact bearing residuals over the tack), (b, N + 3).
+
+        With ``jacobian``, also their derivatives by (course deg, speed m/s, range m),
+        (b, N + 3, 3): analytic for the bearings, central differences for mK(v) of eq. 7.
+        """
+        p = self.p
+        lo = int(self.s0[rows].min())
+        s0 = self.s0[rows]
+        idx = np.arange(lo, n + 1)[None, :]
+        on = idx >= s0[:, None]
+        a = np.radians(self.brg[rows, n])
+        dt = (self.t[n] - self.t[lo:n + 1])[None, :]
+        kr = np.radians(k_deg)
+        sk, ck = np.sin(kr)[:, None], np.cos(kr)[:, None]
+        dx = (self.ox[n] + r * np.sin(a))[:, None] - v[:, None] * sk * dt - self.ox[None, lo:n + 1]
+        dy = (self.oy[n] + r * np.cos(a))[:, None] - v[:, None] * ck * dt - self.oy[None, lo:n + 1]
+        pred = np.degrees(np.arctan2(dx, dy))
+        inv_sd = np.where(on, 1.0 / self.sdp[rows, lo:n + 1], 0.0)
+        res_b = wrap180(self.brg[rows, lo:n + 1] - pred) * inv_sd
+        mk = course_from_relative_deg(k_rel, v, obs_course, obs_speed)
+        inv = np.where(np.isfinite(r_sd), 1.0 / r_sd, 0.0)
+        res_p = np.stack([(r - np.where(np.isfinite(r0), r0, 0.0)) * inv,
+                          (v - self.mV[rows]) / self.sV[rows],
+                          wrap180(k_deg - mk) / self.sk_deg[rows]], axis=1)
+        f = np.concatenate([res_b, res_p], axis=1)
+        if not jacobian:
+            return f
+        # d pred / d(dx, dy) = (dy, -dx) / rho^2 (radians); residual = -(180/pi) pred / sd
+        rho2 = np.maximum(dx * dx + dy * dy, 1e-6)
+        gx, gy = dy / rho2, -dx / rho2
+        c = -np.degrees(1.0) * inv_sd
+        vv = v[:, None]
+        d_k = c * (gx * (-vv * ck * dt) + gy * (vv * sk * dt)) * (math.pi / 180.0)
+        d_v = c * (gx * (-sk * dt) + gy * (-ck * dt))
+        d_r = c * (gx * np.sin(a)[:, None] + gy * np.cos(a)[:, None])
+        Jb = np.stack([d_k, d_v, d_r], axis=2)
+        h = 1e-3
+        dmk = wrap180(course_from_relative_deg(k_rel, v + h, obs_course, obs_speed)
+                      - course_from_relative_deg(k_rel, np.maximum(v - h, 1e-6), obs_course,
+                                                 obs_speed)) / (2 * h)
+        Jp = np.zeros((len(rows), 3, 3))
+        Jp[:, 0, 2] = inv
+        Jp[:, 1, 1] = 1.0 / self.sV[rows]
+        Jp[:, 2, 0] = 1.0 / self.sk_deg[rows]
+        Jp[:, 2, 1] = -dmk / self.sk_deg[rows]
+        return f, np.concatenate([Jb, Jp], axis=1)
+
+    def _polish(self, rows, n, res, k_rel, obs_course, obs_speed, r0, r_sd):
+        """Damped Gauss-Newton on eq. 25 with exact bearing residuals from the search's optimum.
+
+        The grid search minimises the pseudo-linear form of the bearing term (weights from the
+        earlier range estimates); this polish makes the estimate the local minimum of eq. 25
+        as written. A step is kept only where it lowers the functional; speed stays in the
+        search's interval.
+        """
+        k, v, r = res[0].copy(), res[1].copy(), res[2].copy()
+        r_hi = self.range_axis[-1]
+        mV, sV = self.mV[rows], self.sV[rows]               # the search's speed interval
+        v_lo = np.maximum(mV - self.p.speed_span_sd * sV, 0.2)
+        v_hi = mV + self.p.speed_span_sd * sV
+        args = (k_rel, obs_course, obs_speed, r0, r_sd)
+        f, J = self._eq25_residuals(rows, n, k, v, r, *args, jacobian=True)
+        cost = np.square(f).sum(1)
+        lam = np.full(len(rows), 1e-3)
+        for it in range(self.p.polish_iters):
+            Jt = J.transpose(0, 2, 1)
+            JtJ = Jt @ J
+            g = (Jt @ f[:, :, None])[:, :, 0]
+            diag = np.einsum("bii->bi", JtJ)
+            A = JtJ + (lam[:, None] * np.maximum(diag, 1e-12))[:, :, None] * np.eye(3)[None]
+            try:
+                step = -np.linalg.solve(A, g[:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError:
+                break
+            if np.all((np.abs(step[:, 0]) < 1e-3) & (np.abs(step[:, 1]) < 1e-4)
+                      & (np.abs(step[:, 2]) < 1e-5 * r)):
+                break                                        # converged everywhere
+            k1 = k + step[:, 0]
+            v1 = np.clip(v + step[:, 1], v_lo, v_hi)
+            r1 = np.clip(r + step[:, 2], self.p.range_min_m, r_hi)
+            last = it == self.p.polish_iters - 1
+            out = self._eq25_residuals(rows, n, k1, v1, r1, *args, jacobian=not last)
+            f1, J1 = (out, None) if last else out
+            c1 = np.square(f1).sum(1)
+            ok = np.isfinite(c1) & (c1 < cost)
+            k, v, r = np.where(ok, k1, k), np.where(ok, v1, v), np.where(ok, r1, r)
+            if last:
+                break
+            f = np.where(ok[:, None], f1, f)
+            J = np.where(ok[:, None, None], J1, J)
+            cost = np.where(ok, c1, cost)
+            lam = np.where(ok, lam * 0.3, lam * 10.0)
+        return (np.mod(k, 360.0), v, r) + tuple(res[3:])
 
     def _smooth(self, n, ox, oy, brg):
         """Robust smoothing over the last L cycles of each row's tack (step 9)."""

@@ -50,3 +50,28 @@ def test_experiment_runs_must_be_a_cube(tmp_path, capsys):
     assert main(["experiment", "gm", "gm-tv-30km", "--runs", "10", "--grid", "x.nc",
                  "--out", str(tmp_path)]) == 2
     assert "--runs: must be a cube" in capsys.readouterr().err
+
+
+@pytest.mark.bellhop
+def test_track_observer_depth_outside_the_grid(tiny_grid_file, tmp_path, capsys):
+    import xarray as xr
+
+    g = xr.open_dataset(tiny_grid_file)
+    depth = g["depth"].values
+    band = str(g["band"].values[0])
+    g.close()
+    bad_depth = float(depth[-1]) + 500.0
+    rows = ["t_s,obs_x_m,obs_y_m,obs_depth_m,bearing_deg,bearing_sigma_deg,"
+            f"level_db_{band},snr_db_{band}"]
+    for i in range(5):
+        z = bad_depth if i == 3 else float(depth[0])
+        rows.append(f"{10.0 * i},{25.0 * i},0,{z:g},45.0,0.5,80.0,10.0")
+    csv = tmp_path / "deep.csv"
+    csv.write_text("\n".join(rows) + "\n")
+    out = tmp_path / "track.csv"
+    assert main(["track", "--method", "ml", "--grid", str(tiny_grid_file), "--measurements",
+                 str(csv), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:"), err
+    assert "row 4, column obs_depth_m" in err[0] and f"{bad_depth:g} m is outside" in err[0]
+    assert not out.exists()
