@@ -7,7 +7,8 @@ import math
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tracker.crlb import bot_crlb, prior_covariance
+from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
+from tracker.tl_interp import LevelProfile
 
 
 def test_two_step_bound_matches_the_hand_computation():
@@ -56,3 +57,27 @@ def test_observer_maneuver_collapses_the_bound():
     assert bound[24] < 0.1 * bound[13]
     # before the turn the observer and target both move straight: little information
     assert bound[13] > 0.5 * bound[0]
+
+
+def test_level_adds_its_information_to_the_range_and_speed_axes():
+    # as the two-step test, plus a level with K(r) = -0.02 dB/m * r and the target moving north
+    # at the Ross reference speed (observer velocity (0, 5.14) m/s, relative velocity 0):
+    # H_l = [K' x/r, K' y/r, SL' vx/v, SL' vy/v] = [0, -0.02, 0, d], d = 53 / (5.14 ln 10).
+    a, b, sigma, sigma_l = 4.0e6, 1.0, math.radians(1.5), 4.0
+    t = np.array([0.0, 1.0])
+    rel = np.array([[0.0, 1000.0, 0.0, 0.0], [0.0, 1000.0, 0.0, 0.0]])
+    obs_vel = np.array([[0.0, 5.14], [0.0, 5.14]])
+    profile = LevelProfile(range_m=np.array([0.0, 2000.0]), k_db=np.array([0.0, -40.0]))
+    bound = bot_spl_crlb(t, rel, obs_vel, bearing_sd_rad=sigma, level_sd_db=sigma_l,
+                         k_profile=profile, p0=np.diag([a, a, b, b]))
+    assert_allclose(bound[0], math.sqrt(2 * a), rtol=1e-12)
+    s_, d = -0.02, 53.0 / (5.14 * math.log(10.0))
+    c = 1.0 / (sigma ** 2 * 1000.0 ** 2)
+    var_x = (1 / a + 1 / b) / (1 / (a * b) + c * (1 / a + 1 / b))
+    # (y, vy) block: [[1/a + s^2/sl^2, -1/a + s d/sl^2], [-1/a + s d/sl^2, 1/a + 1/b + d^2/sl^2]]
+    j11 = 1 / a + s_ ** 2 / sigma_l ** 2
+    j12 = -1 / a + s_ * d / sigma_l ** 2
+    j22 = 1 / a + 1 / b + d ** 2 / sigma_l ** 2
+    var_y = j22 / (j11 * j22 - j12 ** 2)
+    assert_allclose(bound[1], math.sqrt(var_x + var_y), rtol=1e-9)
+
