@@ -1,4 +1,5 @@
-"""``tmakit experiment gm|idm SCENARIO [--runs N] --out DIR [--seed N] [--workers N]``."""
+"""``tmakit experiment gm|idm SCENARIO [--runs N] --out DIR [--seed N] [--workers N]
+[--level-sigma-db DB]``."""
 
 from __future__ import annotations
 
@@ -24,6 +25,9 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--level-sigma-db", type=float, default=None, metavar="DB",
+                   help="idm: sigma_l of the filters' SPL likelihood (default the paper's 10 dB; "
+                        "the data have 4 dB)")
     p.set_defaults(func=run_experiment)
 
 
@@ -31,15 +35,25 @@ def run_experiment(args) -> Report:
     if args.study == "idm":
         from tracker import idm_experiment
 
+        sigma = args.level_sigma_db
+        if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
+            raise InputError(f"--level-sigma-db: must be a positive number of dB, got {sigma:g}")
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
                               workers=args.workers, progress=want_progress(args))["file"]
         res = idm_experiment.run(args.scenario, runs=1000 if args.runs is None else args.runs,
                                  out_dir=Path(args.out), seed=args.seed, progress=want_progress(args),
-                                 workers=args.workers, grid=grid)
+                                 workers=args.workers, grid=grid,
+                                 level_sigma_db=(idm_experiment.PAPER_LEVEL_SIGMA_DB
+                                                 if args.level_sigma_db is None
+                                                 else args.level_sigma_db))
         return Report(res.get("summary", ""), res)
     from tracker import gm_experiment
+
+    if args.level_sigma_db is not None:
+        raise InputError("--level-sigma-db: only the idm study has it (the gm tracker takes "
+                         "its level sd from the SNR, eq. 11)")
 
     runs = 1331 if args.runs is None else args.runs
     n = round(runs ** (1.0 / 3.0))

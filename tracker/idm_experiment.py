@@ -26,7 +26,7 @@ import pandas as pd
 
 from envdata.files import atomic_path
 from tracker import rpf
-from tracker.crlb import bot_crlb, prior_covariance
+from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 from tracker.idm_scenarios import IdmScenario, ScenarioError, get_scenario
 from tracker.tl_interp import tl_table
 
@@ -38,6 +38,8 @@ BAND = "F50"
 CHUNK_RUNS = 20
 #: sd of the source-level offset prior of the "rpf-sl" filter (beyond the paper), dB.
 SL_OFFSET_PRIOR_SD_DB = 6.0
+#: sigma_l of the filters' SPL likelihood in the paper, dB (its data have 4 dB).
+PAPER_LEVEL_SIGMA_DB = 10.0
 
 
 def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
@@ -48,8 +50,8 @@ def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
     return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
 
 
-def _config(method: str, n_particles: int) -> rpf.RpfConfig:
-    cfg = rpf.RpfConfig(n_particles=n_particles)
+def _config(method: str, n_particles: int, level_sigma_db: float) -> rpf.RpfConfig:
+    cfg = rpf.RpfConfig(n_particles=n_particles, level_sigma_db=level_sigma_db)
     if method == "rpf-vp":
         cfg = replace(cfg, shrink=True)
     if method == "rpf-sl":
@@ -76,7 +78,7 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
 
 def _chunk(args) -> dict[str, np.ndarray]:
     """One chunk of runs: simulate, filter with every method, return position errors (m)."""
-    scenario, range_m, k_db, runs, seed_seq, n_particles = args
+    scenario, range_m, k_db, runs, seed_seq, n_particles, level_sigma_db = args
     from tracker.tl_interp import LevelProfile
 
     profile = LevelProfile(range_m=range_m, k_db=k_db)
@@ -89,7 +91,7 @@ def _chunk(args) -> dict[str, np.ndarray]:
     for method in methods_for(scenario):
         res = rpf.run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings,
                             level_db_meas=None if method == "rpf-bot" else levels,
-                            k_profiles=[profile] * t.size, cfg=_config(method, n_particles),
+                            k_profiles=[profile] * t.size, cfg=_config(method, n_particles, level_sigma_db),
                             rng=rng)
         out[method] = np.hypot(res.mean[:, :, 0] - rel[None, :, 0],
                                res.mean[:, :, 1] - rel[None, :, 1])
@@ -107,7 +109,8 @@ def _find_grid(grid):
 
 
 def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = False,
-        workers: int | None = None, grid=None, n_particles: int = 5000) -> dict:
+        workers: int | None = None, grid=None, n_particles: int = 5000,
+        level_sigma_db: float = PAPER_LEVEL_SIGMA_DB) -> dict:
     """Run one scenario's Monte Carlo study and write its CSV, PNG and JSON.
 
     Parameters
@@ -129,6 +132,10 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         The munk-1000 grid (the tracker reads grids; it never runs BELLHOP).
     n_particles : int
         N (5000).
+    level_sigma_db : float
+        sigma_l of the SPL likelihood in the filters (eq. 33), dB: the paper's 10 dB against
+        its 4 dB measurement noise; the data's value (``scenario.level_sd_db``) is the
+        matched filter (beyond the paper, docs/idm.md).
 
     Returns
     -------
@@ -139,6 +146,9 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     sc = get_scenario(scenario)
     if int(runs) != runs or runs < 1:
         raise ScenarioError(f"--runs: must be a positive integer, got {runs}")
+    if not (math.isfinite(level_sigma_db) and level_sigma_db > 0):
+        raise ScenarioError(f"--level-sigma-db: must be a positive number of dB, got "
+                            f"{level_sigma_db:g}")
     out_dir = Path(out_dir)
     ds, grid_name = _find_grid(grid)
     table = tl_table(ds, CLASS, BAND)
@@ -150,7 +160,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     n_chunks = math.ceil(runs / CHUNK_RUNS)
     seeds = np.random.SeedSequence(seed).spawn(n_chunks)
     sizes = [min(CHUNK_RUNS, runs - i * CHUNK_RUNS) for i in range(n_chunks)]
-    jobs = [(sc, profile.range_m, profile.k_db, sizes[i], seeds[i], n_particles)
+    jobs = [(sc, profile.range_m, profile.k_db, sizes[i], seeds[i], n_particles, level_sigma_db)
             for i in range(n_chunks)]
     workers = max(1, min(workers or os.cpu_count() or 1, n_chunks))
     start = time.perf_counter()
@@ -189,11 +199,16 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
                           speed_mean_mps=cfg.speed_mean_mps, speed_sd_mps=cfg.speed_sd_mps,
                           course_sd_rad=math.radians(cfg.course_sd_deg))
     crlb = bot_crlb(t, rel, bearing_sd_rad=math.radians(sc.bearing_sd_deg), p0=p0)
+    # the same bound with the levels (data's sd, Ross SL known): how much the SPL can give
+    crlb_spl = bot_spl_crlb(t, rel, sc.observer_state(t)[:, 2:4],
+                            bearing_sd_rad=math.radians(sc.bearing_sd_deg),
+                            level_sd_db=sc.level_sd_db, k_profile=profile, p0=p0)
     frame = pd.DataFrame({"t_s": t, "t_min": t / 60.0})
     for m in methods:
         frame[f"rmse_{_col(m)}_m"] = np.sqrt(np.mean(err[m] ** 2, axis=0))
         frame[f"median_{_col(m)}_m"] = np.median(err[m], axis=0)
     frame["crlb_bot_m"] = crlb
+    frame["crlb_spl_m"] = crlb_spl
 
     out_dir.mkdir(parents=True, exist_ok=True)
     csv_path = out_dir / f"{scenario}_rmse.csv"
@@ -210,6 +225,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         row = frame.iloc[int(np.argmin(np.abs(frame["t_min"] - tm)))]
         at[f"{tm:g}"] = {f"rmse_{_col(m)}_m": float(row[f"rmse_{_col(m)}_m"]) for m in methods}
         at[f"{tm:g}"]["crlb_bot_m"] = float(row["crlb_bot_m"])
+        at[f"{tm:g}"]["crlb_spl_m"] = float(row["crlb_spl_m"])
     minima = {}
     for m in methods:
         col = frame[f"rmse_{_col(m)}_m"]
@@ -226,10 +242,12 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     particle_steps = runs * t.size * n_particles * len(methods)
     data = {
         "scenario": sc.name, "title": sc.title, "runs": runs, "seed": seed,
-        "n_particles": n_particles, "cycles": int(t.size), "methods": list(methods),
+        "n_particles": n_particles, "level_sigma_db": level_sigma_db,
+        "cycles": int(t.size), "methods": list(methods),
         "grid": grid_name, "at": at, "minimum": minima, "paper": sc.paper,
         "final": {f"rmse_{_col(m)}_m": float(frame[f"rmse_{_col(m)}_m"].iloc[-1])
-                  for m in methods} | {"crlb_bot_m": float(crlb[-1])},
+                  for m in methods} | {"crlb_bot_m": float(crlb[-1]),
+                                       "crlb_spl_m": float(crlb_spl[-1])},
         "resampled_fraction": resampled, "table1": table_rows, "files": files,
         "elapsed_s": elapsed, "workers": workers,
         "particle_steps_per_s": particle_steps / elapsed,
@@ -251,7 +269,8 @@ def _table1(frame: pd.DataFrame, sc: IdmScenario) -> list[dict]:
         key = f"{tm:g}min_m"
         rows.append({"t_min": tm, "bot_m": float(row["rmse_bot_m"]),
                      "paper_bot_m": sc.paper[f"bot_{key}"], "spl_m": float(row["rmse_spl_m"]),
-                     "paper_spl_m": sc.paper[f"spl_{key}"], "crlb_bot_m": float(row["crlb_bot_m"])})
+                     "paper_spl_m": sc.paper[f"spl_{key}"], "crlb_bot_m": float(row["crlb_bot_m"]),
+                     "crlb_spl_m": float(row["crlb_spl_m"])})
     return rows
 
 
@@ -261,14 +280,16 @@ def _summary(data: dict, sc: IdmScenario, methods) -> str:
     lines = [f"{sc.name}: {sc.title}",
              f"{data['runs']} runs x {data['cycles']} cycles x {data['n_particles']} particles, "
              f"seed {data['seed']}, {data['workers']} workers, {data['elapsed_s']:.1f} s "
-             f"({data['particle_steps_per_s'] / 1e6:.2f} M particle-steps/s); grid {data['grid']}",
+             f"({data['particle_steps_per_s'] / 1e6:.2f} M particle-steps/s); grid {data['grid']}; "
+             f"filters' sigma_l {data['level_sigma_db']:g} dB",
              "position RMSE, m:"]
-    head = f"  {'t_min':>6} " + " ".join(f"{names[m]:>18}" for m in methods) + f" {'BOT CRLB':>10}"
+    head = (f"  {'t_min':>6} " + " ".join(f"{names[m]:>18}" for m in methods)
+            + f" {'BOT CRLB':>10} {'SPL CRLB':>10}")
     lines.append(head)
     for tm, vals in data["at"].items():
         lines.append(f"  {float(tm):>6g} " + " ".join(
             f"{vals[f'rmse_{_col(m)}_m']:>18.0f}" for m in methods)
-            + f" {vals['crlb_bot_m']:>10.0f}")
+            + f" {vals['crlb_bot_m']:>10.0f} {vals['crlb_spl_m']:>10.0f}")
     for m in methods:
         mn = data["minimum"][_col(m)]
         lines.append(f"  minimum {names[m]}: {mn['rmse_m']:.0f} m at {mn['t_min']:g} min")

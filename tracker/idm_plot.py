@@ -35,6 +35,9 @@ def rmse_figure(frame: pd.DataFrame, scenario, methods, *, runs: int) -> Figure:
         label, color, ls = _STYLE[m]
         ax.plot(t, frame[f"rmse_{_COL[m]}_m"], color=color, ls=ls, lw=1.6, label=label)
     ax.plot(t, frame["crlb_bot_m"], color="k", ls="--", lw=1.2, label="BOT CRLB (no process noise)")
+    if "crlb_spl_m" in frame:
+        ax.plot(t, frame["crlb_spl_m"], color="0.45", ls=":", lw=1.4,
+                label="BOT+SPL CRLB (no process noise)")
     paper = scenario.paper or {}
     for key, value in paper.items():
         parts = key.split("_")

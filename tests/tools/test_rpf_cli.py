@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
@@ -23,10 +24,15 @@ pytestmark = pytest.mark.bellhop
 
 
 @pytest.fixture(scope="module")
-def munk(tmp_path_factory):
+def munk_path(tmp_path_factory):
     path = tmp_path_factory.mktemp("rpf") / "munk-1000.nc"
     acoustics.write_grid(acoustics.build_grid(envdata.load_area("munk-1000")), path)
-    return acoustics.open_grid(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def munk(munk_path):
+    return acoustics.open_grid(munk_path)
 
 
 @pytest.fixture(scope="module")
@@ -115,24 +121,58 @@ def test_missing_level_column_band_class_and_depth_are_errors(munk, static_csv, 
         rpf.track(munk, m, method="ml", rng=rng)
 
 
-def test_cli_track_rpf_vp_writes_a_track(munk, static_csv, tmp_path, capsys):
+def test_cli_track_rpf_vp_writes_a_track(munk_path, static_csv, tmp_path, capsys):
     # the variance-preserving variant through the command line, on the real munk-1000 grid file
     from tools.cli import main
 
-    grid_path = tmp_path / "munk.nc"
-    acoustics.write_grid(munk, grid_path)
     out = tmp_path / "track.csv"
-    assert main(["track", "--grid", str(grid_path), "--measurements", str(static_csv),
+    assert main(["track", "--grid", str(munk_path), "--measurements", str(static_csv),
                  "--out", str(out), "--method", "rpf-vp", "--seed", "3"]) == 0
-    import pandas as pd
-
     df = pd.read_csv(out)
     assert tuple(df.columns) == TRACK_COLUMNS and (df["method"] == "rpf-vp").all()
     truth = get_scenario("idm-static").target_state(df["t_s"].to_numpy())
     err = np.hypot(df["x_m"] - truth[:, 0], df["y_m"] - truth[:, 1])
     assert err.iloc[-1] < 2000.0  # as for rpf: the SPL pins the range
     with pytest.raises(SystemExit) as exc:  # argparse rejects an unknown method
-        main(["track", "--grid", str(grid_path), "--measurements", str(static_csv),
+        main(["track", "--grid", str(munk_path), "--measurements", str(static_csv),
               "--out", str(tmp_path / "no.csv"), "--method", "rpf-vq"])
     assert exc.value.code == 2
     assert not (tmp_path / "no.csv").exists()
+
+
+def test_cli_experiment_idm_with_the_filters_level_sigma(munk_path, tmp_path, capsys):
+    import json
+
+    from tools.cli import main
+
+    out = tmp_path / "m"
+    assert main(["experiment", "idm", "idm-maneuvering", "--runs", "4", "--grid", str(munk_path),
+                 "--out", str(out), "--level-sigma-db", "4", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["level_sigma_db"] == 4.0
+    # the bound with levels is below the bearings-only bound after the turn (30 min: 54 m
+    # against 72 m), and both are in the CSV and the JSON
+    at = data["at"]["30"]
+    assert at["crlb_spl_m"] < at["crlb_bot_m"]
+    frame = pd.read_csv(out / "idm-maneuvering_rmse.csv")
+    assert {"crlb_bot_m", "crlb_spl_m"} <= set(frame.columns)
+    assert (out / "idm-maneuvering_rmse.png").exists()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["experiment", "idm", "idm-static", "--level-sigma-db", "-1"],
+     "error: --level-sigma-db: must be a positive number of dB, got -1"),
+    (["experiment", "idm", "idm-static", "--level-sigma-db", "nan"],
+     "error: --level-sigma-db: must be a positive number of dB, got nan"),
+    (["experiment", "gm", "gm-tv-30km", "--level-sigma-db", "4", "--grid", "x.nc"],
+     "error: --level-sigma-db: only the idm study has it (the gm tracker takes its level sd "
+     "from the SNR, eq. 11)"),
+])
+def test_cli_experiment_bad_level_sigma_is_one_line_and_writes_nothing(argv, message, tmp_path,
+                                                                        capsys):
+    from tools.cli import main
+
+    out = tmp_path / "o"
+    assert main(argv + ["--out", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == message
+    assert not out.exists()

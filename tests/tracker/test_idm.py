@@ -84,7 +84,7 @@ def test_spl_beats_bot_on_a_reduced_static_run(munk_grid, tmp_path):
     frame = pd.read_csv(tmp_path / "idm-static_rmse.csv")
     assert list(frame.columns) == ["t_s", "t_min", "rmse_bot_m", "median_bot_m", "rmse_spl_m",
                                    "median_spl_m", "rmse_spl_vp_m", "median_spl_vp_m",
-                                   "crlb_bot_m"]
+                                   "crlb_bot_m", "crlb_spl_m"]
     assert len(frame) == 151
     at = out["at"]
     for tm in ("63", "150"):
@@ -133,3 +133,29 @@ def test_experiment_is_repeatable_whatever_the_worker_count(munk_grid, tmp_path)
     fb = pd.read_csv(tmp_path / "b" / "idm-maneuvering_rmse.csv")
     pd.testing.assert_frame_equal(fa, fb)
     assert set(SCENARIOS) >= {"idm-maneuvering", "idm-parallel", "idm-static"}
+
+
+@pytest.mark.bellhop
+def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range(munk_grid):
+    from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
+    from tracker.tl_interp import LevelProfile
+
+    sc = get_scenario("idm-static")
+    t = sc.t_s
+    rel = sc.target_state(t) - sc.observer_state(t)
+    obs_vel = sc.observer_state(t)[:, 2:4]
+    p0 = prior_covariance(math.atan2(rel[0, 0], rel[0, 1]), range_mean_m=10_000.0,
+                          range_sd_m=2000.0, bearing_sd_rad=math.radians(1.5),
+                          speed_mean_mps=1.543, speed_sd_mps=1.029,
+                          course_sd_rad=math.pi / math.sqrt(12))
+    args = dict(bearing_sd_rad=math.radians(1.5), p0=p0)
+    bot = bot_crlb(t, rel, **args)
+    profile = tl_table(acoustics.open_grid(munk_grid), idm_experiment.CLASS,
+                       idm_experiment.BAND).level_profile(sc.obs_depth_m)
+    spl = bot_spl_crlb(t, rel, obs_vel, level_sd_db=4.0, k_profile=profile, **args)
+    assert np.all(spl <= bot * (1 + 1e-9))
+    assert spl[-1] < 0.5 * bot[-1]
+    flat = LevelProfile(range_m=profile.range_m, k_db=np.full(profile.range_m.size, -70.0))
+    speed_only = bot_spl_crlb(t, rel, obs_vel, level_sd_db=4.0, k_profile=flat, **args)
+    # a flat K(r) informs only on speed: better than bearings alone, worse than the real K(r)
+    assert np.all(speed_only <= bot * (1 + 1e-9)) and speed_only[-1] > spl[-1]
