@@ -82,7 +82,8 @@ class MLParams:
     triples: int = 8                   # bearing triples of the eq.-8 least squares
     offsets_n: int = 5                 # eq. 21 quadrature nodes per axis
     range_min_m: float = 100.0
-    polish_iters: int = 6             # Gauss-Newton steps on the exact eq. 25 after the search
+    polish_iters: int = 15            # Gauss-Newton steps on the exact eq. 25 after the search
+                                      # (stops early; 6 fell short along the range/speed valley)
 
     def __post_init__(self) -> None:
         if self.smooth_cycles < 1 or 2 * self.smooth_drop >= self.smooth_cycles:
@@ -535,7 +536,8 @@ class MLBatch:
         off = np.linspace(-1.0, 1.0, 7)
         for _ in range(p.refine_passes):
             kc = kb[:, None, None] + off[None, :, None] * dk[:, None, None]
-            vc = np.maximum(vb[:, None, None] + off[None, None, :] * dv[:, None, None], 0.05)
+            vc = np.clip(vb[:, None, None] + off[None, None, :] * dv[:, None, None],
+                         vv[:, :1, None], vv[:, -1:, None])     # the polish keeps this interval
             kc, vc = np.broadcast_arrays(kc, vc)
             jj, _ = cost(kc.reshape(len(rows), -1), vc.reshape(len(rows), -1))
             bi = np.argmin(jj, axis=1)
