@@ -10,13 +10,13 @@ the node offsets, and later tacks keep the scenario's changes from the first (th
 +2 m/s and +4 dB). ``center="scenario"`` adds the offsets to the scenario's own values instead
 (the scenario's tack then sits 1 sd below the class mean for the transport). All runs and all
 class hypotheses go through one batched tracker (rows = runs x classes), cycle by cycle; runs
-are split into chunks over worker processes.
+are split into chunks of `CHUNK_RUNS` runs over worker processes (same seed, same numbers,
+whatever the number of workers).
 """
 
 from __future__ import annotations
 
 import json
-import math
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -30,6 +30,9 @@ from tracker.mltma import MLBatch, MLParams, wrap180
 from tracker.ranging import class_infos
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
+
+#: Runs per chunk (one worker task, one random stream); 1331 runs make 14 chunks.
+CHUNK_RUNS = 100
 
 
 def design(cls, n: int):
@@ -89,7 +92,7 @@ def center_offsets(sc, cls, center: str) -> tuple[float, float]:
     return cls.speed_mean_mps - tk.speed_mps, cls.noise_mean_db - tk.noise_db
 
 
-def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed: int, params=None):
+def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
     from acoustics import open_grid
 
@@ -140,9 +143,11 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     shift_v, shift_p = center_offsets(sc, true_cls, center)
     dv, dp = dv + shift_v, dp + shift_p
     n_runs = len(dv)
-    n_chunks = max(workers * 2, math.ceil(n_runs / 400)) if n_runs > 1 else 1
-    chunks = np.array_split(np.arange(n_runs), min(n_chunks, n_runs))
-    args = [(str(grid_path), scenario, dv[c], dp[c], dk[c], seed + j, params)
+    # chunks of a fixed size, each with its own seed spawned from ``seed``: the numbers do not
+    # depend on the number of workers
+    chunks = [np.arange(i, min(i + CHUNK_RUNS, n_runs)) for i in range(0, n_runs, CHUNK_RUNS)]
+    seeds = np.random.SeedSequence(seed).spawn(len(chunks))
+    args = [(str(grid_path), scenario, dv[c], dp[c], dk[c], seeds[j], params)
             for j, c in enumerate(chunks)]
     bar = None
     if progress:
