@@ -126,11 +126,13 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
 
 
 def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, workers: int = 1,
-        progress: bool = False, params: MLParams | None = None, center: str = "class") -> dict:
+        progress: bool = False, params: MLParams | None = None, center: str = "class",
+        chunk_runs: int = CHUNK_RUNS) -> dict:
     """Run the n^3 experiment of a scenario; write rms.csv, summary.json and plots into out_dir.
 
     ``center``: ``"class"`` (default, the paper's eqs. 32-34) or ``"scenario"``, see
-    `center_offsets`. ``progress`` shows a tqdm bar of finished runs on stderr.
+    `center_offsets`. ``progress`` shows a tqdm bar of finished runs on stderr. Runs go in
+    chunks of ``chunk_runs``, each with its own random stream; the workers share them out.
     """
     from acoustics import open_grid
 
@@ -145,7 +147,9 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     n_runs = len(dv)
     # chunks of a fixed size, each with its own seed spawned from ``seed``: the numbers do not
     # depend on the number of workers
-    chunks = [np.arange(i, min(i + CHUNK_RUNS, n_runs)) for i in range(0, n_runs, CHUNK_RUNS)]
+    if int(chunk_runs) != chunk_runs or chunk_runs < 1:
+        raise ValueError(f"chunk_runs must be a positive integer, got {chunk_runs}")
+    chunks = [np.arange(i, min(i + chunk_runs, n_runs)) for i in range(0, n_runs, chunk_runs)]
     seeds = np.random.SeedSequence(seed).spawn(len(chunks))
     args = [(str(grid_path), scenario, dv[c], dp[c], dk[c], seeds[j], params)
             for j, c in enumerate(chunks)]

@@ -109,11 +109,11 @@ def test_rms_skips_runs_without_an_estimate():
 
 @pytest.mark.slow
 @pytest.mark.bellhop
-def test_numbers_do_not_depend_on_the_worker_count(ocean_grid_file, tmp_path, monkeypatch):
-    import tracker.gm_experiment as gm
-
-    monkeypatch.setattr(gm, "CHUNK_RUNS", 3)      # 8 runs in 3 chunks
-    one = run("gm-nps", grid_path=ocean_grid_file, n=2, out_dir=tmp_path / "1", seed=4, workers=1)
-    two = run("gm-nps", grid_path=ocean_grid_file, n=2, out_dir=tmp_path / "2", seed=4, workers=2)
+def test_numbers_do_not_depend_on_the_worker_count(ocean_grid_file, tmp_path):
+    # 8 runs in 3 chunks of 3, 3 and 2 runs
+    one = run("gm-nps", grid_path=ocean_grid_file, n=2, out_dir=tmp_path / "1", seed=4, workers=1,
+              chunk_runs=3)
+    two = run("gm-nps", grid_path=ocean_grid_file, n=2, out_dir=tmp_path / "2", seed=4, workers=2,
+              chunk_runs=3)
     assert one["steady_state"] == two["steady_state"]
     assert (tmp_path / "1" / "rms.csv").read_text() == (tmp_path / "2" / "rms.csv").read_text()
