@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from envdata.errors import InputError
@@ -35,9 +34,8 @@ def run_experiment(args) -> Report:
     if args.study == "idm":
         from tracker import idm_experiment
 
-        sigma = args.level_sigma_db
-        if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
-            raise InputError(f"--level-sigma-db: must be a positive number of dB, got {sigma:g}")
+        if args.level_sigma_db is not None:  # before a grid is built
+            idm_experiment.check_level_sigma(args.level_sigma_db)
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",

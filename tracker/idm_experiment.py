@@ -50,6 +50,17 @@ def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
     return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
 
 
+#: Column stem of each filter in the CSV and JSON (``rmse_STEM_m``, ``median_STEM_m``).
+COLUMN = {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}
+
+
+def check_level_sigma(level_sigma_db: float) -> None:
+    """ScenarioError unless the filters' sigma_l is a positive number of dB."""
+    if not (math.isfinite(level_sigma_db) and level_sigma_db > 0):
+        raise ScenarioError(f"--level-sigma-db: must be a positive number of dB, got "
+                            f"{level_sigma_db:g}")
+
+
 def _config(method: str, n_particles: int, level_sigma_db: float) -> rpf.RpfConfig:
     cfg = rpf.RpfConfig(n_particles=n_particles, level_sigma_db=level_sigma_db)
     if method == "rpf-vp":
@@ -91,8 +102,8 @@ def _chunk(args) -> dict[str, np.ndarray]:
     for method in methods_for(scenario):
         res = rpf.run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings,
                             level_db_meas=None if method == "rpf-bot" else levels,
-                            k_profiles=[profile] * t.size, cfg=_config(method, n_particles, level_sigma_db),
-                            rng=rng)
+                            k_profiles=[profile] * t.size,
+                            cfg=_config(method, n_particles, level_sigma_db), rng=rng)
         out[method] = np.hypot(res.mean[:, :, 0] - rel[None, :, 0],
                                res.mean[:, :, 1] - rel[None, :, 1])
         out[method + ":resampled"] = res.resampled.mean(axis=1)
@@ -146,9 +157,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     sc = get_scenario(scenario)
     if int(runs) != runs or runs < 1:
         raise ScenarioError(f"--runs: must be a positive integer, got {runs}")
-    if not (math.isfinite(level_sigma_db) and level_sigma_db > 0):
-        raise ScenarioError(f"--level-sigma-db: must be a positive number of dB, got "
-                            f"{level_sigma_db:g}")
+    check_level_sigma(level_sigma_db)
     out_dir = Path(out_dir)
     ds, grid_name = _find_grid(grid)
     table = tl_table(ds, CLASS, BAND)
@@ -191,7 +200,8 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     resampled = {m: float(np.mean(np.concatenate([r[m + ":resampled"] for r in results])))
                  for m in methods}
 
-    rel = sc.target_state(t) - sc.observer_state(t)
+    obs = sc.observer_state(t)
+    rel = sc.target_state(t) - obs
     cfg = rpf.RpfConfig(n_particles=n_particles)
     p0 = prior_covariance(float(rpf.bearing_rad(rel[0, 0], rel[0, 1])),
                           range_mean_m=cfg.range_mean_m, range_sd_m=cfg.range_sd_m,
@@ -200,7 +210,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
                           course_sd_rad=math.radians(cfg.course_sd_deg))
     crlb = bot_crlb(t, rel, bearing_sd_rad=math.radians(sc.bearing_sd_deg), p0=p0)
     # the same bound with the levels (data's sd, Ross SL known): how much the SPL can give
-    crlb_spl = bot_spl_crlb(t, rel, sc.observer_state(t)[:, 2:4],
+    crlb_spl = bot_spl_crlb(t, rel, obs[:, 2:4],
                             bearing_sd_rad=math.radians(sc.bearing_sd_deg),
                             level_sd_db=sc.level_sd_db, k_profile=profile, p0=p0)
     frame = pd.DataFrame({"t_s": t, "t_min": t / 60.0})
@@ -259,7 +269,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
 
 
 def _col(method: str) -> str:
-    return {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}[method]
+    return COLUMN[method]
 
 
 def _table1(frame: pd.DataFrame, sc: IdmScenario) -> list[dict]:

@@ -10,12 +10,12 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from envdata.files import atomic_path
+from tracker.idm_experiment import COLUMN
 
 _STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
           "rpf": ("BOT + SPL (RPF)", "tab:blue", "-"),
           "rpf-vp": ("BOT + SPL, variance-preserving kernel", "tab:purple", "-"),
           "rpf-sl": ("BOT + SPL, VP kernel, joint SL offset", "tab:green", "-")}
-_COL = {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}
 
 
 def save_figure(fig: Figure, path: str | os.PathLike) -> None:
@@ -33,7 +33,7 @@ def rmse_figure(frame: pd.DataFrame, scenario, methods, *, runs: int) -> Figure:
     t = frame["t_min"].to_numpy()
     for m in methods:
         label, color, ls = _STYLE[m]
-        ax.plot(t, frame[f"rmse_{_COL[m]}_m"], color=color, ls=ls, lw=1.6, label=label)
+        ax.plot(t, frame[f"rmse_{COLUMN[m]}_m"], color=color, ls=ls, lw=1.6, label=label)
     ax.plot(t, frame["crlb_bot_m"], color="k", ls="--", lw=1.2, label="BOT CRLB (no process noise)")
     if "crlb_spl_m" in frame:
         ax.plot(t, frame["crlb_spl_m"], color="0.45", ls=":", lw=1.4,
