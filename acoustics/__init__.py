@@ -3,7 +3,8 @@
 from acoustics.absorption import thorp_db_per_km
 from acoustics.errors import BellhopError, GridFileError
 from acoustics.grid import BuildStats, Model, build_grid, build_k, expected_source_hash, plan_runs
-from acoustics.io import check_grid, open_grid, write_grid
+from acoustics.io import open_grid, write_grid
+from acoustics.schema import check_grid
 from acoustics.kcurve import spectral_term_db
 from acoustics.urick import k_urick_db, spherical_tl_db
 

@@ -27,6 +27,7 @@ from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weigh
 from acoustics.runs import Run, RunStats, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
+from envdata.areafile import area_to_json
 
 GRID_FORMAT_VERSION = 1
 TMAKIT_VERSION = "0.1.0"
@@ -338,7 +339,7 @@ def _dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) ->
         "water_depth_m": float(area.water.depth_m),
         "created": _now(),
         "source_hash": digest,
-        "area_json": json.dumps(area.to_dict(), sort_keys=True),
+        "area_json": area_to_json(area),
     }
     if exe_info is not None:
         attrs["bellhop_version"] = exe_info["version"]

@@ -8,15 +8,8 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+from acoustics.schema import check_grid
 from envdata.files import atomic_path
-
-REQUIRED_DIMS = ("class", "band", "depth", "range")
-REQUIRED_VARS = {"tl_db": ("class", "band", "depth", "range"), "k_db": ("class", "band", "range"),
-                 "k_urick_db": ("class", "band", "range")}
-REQUIRED_COORDS = ("class", "band", "depth", "range", "band_low_hz", "band_high_hz", "band_center_hz",
-                   "source_depth_m")
-REQUIRED_ATTRS = ("Conventions", "area", "model", "observer_depth_m", "source_hash")
-
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever)."""
@@ -60,30 +53,12 @@ def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
 
 
 def open_grid(path: str | Path) -> xr.Dataset:
-    """Open a grid file, load it into memory and check it against the contract."""
+    """Open a grid file, load it into memory and check it against the contract.
+
+    The one way in: ``acoustics.schema.check_grid`` checks dimensions, variables, attributes
+    and their types, reads ``area_json`` back with ``envdata`` (validated like an area file)
+    and checks it against the coordinates, and that the tables hold finite values.
+    """
     ds = load_netcdf(path, GridFileError, "grid")
     check_grid(ds, str(path))
     return ds
-
-
-def check_grid(ds: xr.Dataset, source: str = "<grid>") -> None:
-    """Raise GridFileError unless ``ds`` has the dimensions, variables and attributes of DESIGN.md."""
-    for dim in REQUIRED_DIMS:
-        if dim not in ds.dims:
-            raise GridFileError(f"{source}: missing dimension {dim!r}")
-    for name, dims in REQUIRED_VARS.items():
-        if name not in ds.data_vars:
-            raise GridFileError(f"{source}: missing variable {name!r}")
-        if ds[name].dims != dims:
-            raise GridFileError(f"{source}: variable {name!r} has dimensions {ds[name].dims}, "
-                                f"expected {dims}")
-    for name in REQUIRED_COORDS:
-        if name not in ds.coords:
-            raise GridFileError(f"{source}: missing coordinate {name!r}")
-    for name in REQUIRED_ATTRS:
-        if name not in ds.attrs:
-            raise GridFileError(f"{source}: missing global attribute {name!r}")
-    if ds.sizes["range"] and not (np.all(np.diff(ds["range"].values) > 0) and ds["range"].values[0] > 0):
-        raise GridFileError(f"{source}: coordinate 'range' must be positive and increasing")
-    if ds.sizes["depth"] > 1 and not np.all(np.diff(ds["depth"].values) > 0):
-        raise GridFileError(f"{source}: coordinate 'depth' must be increasing")

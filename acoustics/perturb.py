@@ -43,7 +43,8 @@ from pathlib import Path
 
 import numpy as np
 
-from envdata.area import Area, Observer, Water, read_toml
+from envdata.area import Area, Observer, Water
+from envdata.tomlfile import read_toml
 from envdata.errors import AreaError, InputError
 from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile
 

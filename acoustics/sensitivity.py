@@ -576,7 +576,7 @@ def write_k_error(area_file: str | Path, values: dict[str, float], out: str | Pa
     import re
     import tomllib
 
-    from envdata.area import load_area
+    from envdata.areafile import load_area
 
     text = Path(area_file).read_text(encoding="utf-8")
     lines = text.splitlines(keepends=True)

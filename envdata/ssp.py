@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,7 +32,9 @@ class SoundSpeedProfile:
 
     depth_m: tuple[float, ...]
     speed_mps: tuple[float, ...]
-    kind: str = "table"  # "table", "munk" or "ts" (converted from temperature and salinity)
+    # where the table came from: "table", "munk" or "ts" (converted from temperature and
+    # salinity); provenance only, so two profiles with the same numbers are equal
+    kind: str = field(default="table", compare=False)
     interpolation: str = "C"  # BELLHOP SSP option: C linear, S cubic spline, N n2-linear, P pchip
 
     def __post_init__(self) -> None:

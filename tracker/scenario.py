@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from envdata.area import _Table, read_toml
+from envdata.tomlfile import TomlTable, read_toml
 from envdata.errors import AreaError
 
 
@@ -153,13 +153,13 @@ def load_scenario(name_or_path) -> Scenario:
         raise ScenarioError(str(exc)) from None
 
 
-def _tacks(t: _Table, key: str, source: str, where: str, *, noise: bool) -> tuple[Tack, ...]:
+def _tacks(t: TomlTable, key: str, source: str, where: str, *, noise: bool) -> tuple[Tack, ...]:
     raw = t._get(key, None, True)
     if not isinstance(raw, list) or not raw:
         raise ScenarioError(f"{source}: {where}: need at least one [[{where[1:-1]}.{key}]] entry")
     out = []
     for i, item in enumerate(raw):
-        tt = _Table(item, f"[[{where[1:-1]}.{key}]] #{i + 1}", source)
+        tt = TomlTable(item, f"[[{where[1:-1]}.{key}]] #{i + 1}", source)
         course = tt.number("course_deg")
         speed = tt.number("speed_mps")
         duration = tt.number("duration_s")
@@ -182,12 +182,12 @@ def _tacks(t: _Table, key: str, source: str, where: str, *, noise: bool) -> tupl
 
 
 def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
-    top = _Table(data, "top level", source)
+    top = TomlTable(data, "top level", source)
     for key in ("scenario", "observer", "target"):
         top._get(key, None, True)
     top.done()
 
-    t = _Table(data["scenario"], "[scenario]", source)
+    t = TomlTable(data["scenario"], "[scenario]", source)
     name = t.string("name")
     description = t.string("description", "")
     area = t.string("area", "ocean-deep")
@@ -201,7 +201,7 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
         raise ScenarioError(f"{source}: [scenario] bearing_sd_min_deg: must be in [0, 10] deg, "
                             f"got {sd_min}")
 
-    t = _Table(data["observer"], "[observer]", source)
+    t = TomlTable(data["observer"], "[observer]", source)
     ox, oy = t.number("x_m", 0.0), t.number("y_m", 0.0)
     odepth = t.number("depth_m")
     otacks = _tacks(t, "tacks", source, "[observer]", noise=False)
@@ -209,7 +209,7 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
     if not 0.0 < odepth <= 12000.0:
         raise ScenarioError(f"{source}: [observer] depth_m: must be in (0, 12000] m, got {odepth}")
 
-    t = _Table(data["target"], "[target]", source)
+    t = TomlTable(data["target"], "[target]", source)
     tdepth = t.number("depth_m")
     if t.has("detection_range_m") or t.has("relative_bearing_deg"):
         rng_m = t.number("detection_range_m")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import numpy as np
@@ -100,3 +101,54 @@ def test_netcdf_that_is_not_a_grid(tmp_path):
     xr.Dataset({"x": ("t", np.arange(3.0))}).to_netcdf(path)
     with pytest.raises(acoustics.GridFileError, match="missing dimension 'class'"):
         acoustics.open_grid(path)
+
+
+def _edited_area_json(ds, edit):
+    data = json.loads(ds.attrs["area_json"])
+    edit(data)
+    return ds.assign_attrs(area_json=json.dumps(data))
+
+
+def _nan(ds, name):
+    return ds.assign({name: ds[name] * np.nan})
+
+
+@pytest.mark.parametrize("label, change, match", [
+    ("area_json not JSON", lambda ds: ds.assign_attrs(area_json="{not json"),
+     r"area_json: not valid JSON"),
+    ("area_json a list", lambda ds: ds.assign_attrs(area_json="[1, 2]"),
+     r"area_json: must be a JSON object, got list"),
+    ("area_json missing", lambda ds: ds.drop_attrs(deep=False).assign_attrs(
+        {k: v for k, v in ds.attrs.items() if k != "area_json"}),
+     r"missing global attribute 'area_json'"),
+    ("class the grid lacks", lambda ds: _edited_area_json(
+        ds, lambda d: d["classes"][0].update(name="OTHER")),
+     r"area_json: class names OTHER, SHIP do not match the grid's SUB, SHIP"),
+    ("negative integration time", lambda ds: _edited_area_json(
+        ds, lambda d: d["sonar"].update(integration_time_s=-1.0)),
+     r"area_json: \[sonar\] integration_time_s: must be in \(0, 3600\] s, got -1.0"),
+    ("unknown key", lambda ds: _edited_area_json(ds, lambda d: d["sonar"].update(gain=3)),
+     r"area_json: \[sonar\]: unknown key 'gain'"),
+    ("observer elsewhere", lambda ds: ds.assign_attrs(observer_depth_m=55.0),
+     r"area_json: observer depth 100 m, but the grid's attribute observer_depth_m is 55 m"),
+    ("observer depth a string", lambda ds: ds.assign_attrs(observer_depth_m="deep"),
+     r"global attribute 'observer_depth_m' must be a number, got str"),
+    ("source hash a number", lambda ds: ds.assign_attrs(source_hash=42),
+     r"global attribute 'source_hash' must be a string"),
+    ("band edge moved", lambda ds: ds.assign_coords(
+        band_low_hz=("band", ds["band_low_hz"].values + 1.0, ds["band_low_hz"].attrs)),
+     r"area_json: band_low_hz \d+ Hz, but the grid's coordinate has \d+ Hz"),
+    ("all-NaN TL", lambda ds: _nan(ds, "tl_db"), r"variable 'tl_db' holds no finite value"),
+    ("all-NaN K", lambda ds: _nan(ds, "k_db"), r"variable 'k_db' holds no finite value"),
+])
+def test_grid_gate_refuses_inconsistent_grids(tiny_grid, tmp_path, label, change, match):
+    path = tmp_path / "bad.nc"
+    acoustics.write_grid(change(tiny_grid), path)
+    with pytest.raises(acoustics.GridFileError, match=f"^{re.escape(str(path))}: .*{match}"):
+        acoustics.open_grid(path)
+
+
+def test_area_json_reads_back_into_the_same_area(tiny_grid, tiny_area):
+    import envdata
+
+    assert envdata.area_from_json(tiny_grid.attrs["area_json"]) == tiny_area

@@ -142,3 +142,36 @@ def test_noise_band_level_integrates_the_spectrum():
     assert_allclose(noise.band_level_db(band), 57.0 + 30.0, rtol=0, atol=1e-9)  # flat: + 10 lg 1000 Hz
     single = envdata.Band(name="s", low_hz=2000.0, high_hz=2000.0)
     assert_allclose(envdata.Noise(spectrum_level_1khz_db=57.0).band_level_db(single), 52.0, rtol=0, atol=1e-9)
+
+
+AREA_JSON_SOURCES = ["ocean-deep", "munk-1000", "tests/data/tiny-munk.toml"]
+
+
+@pytest.mark.parametrize("name", AREA_JSON_SOURCES)
+def test_area_json_round_trip_gives_the_same_area(name):
+    area = envdata.load_area(name)
+    text = envdata.area_to_json(area)
+    again = envdata.area_from_json(text, "grid.nc")
+    assert again == area
+    assert envdata.area_to_json(again) == text  # and the same text: hashes stay put
+
+
+def test_area_json_of_a_ts_profile_keeps_its_speeds():
+    data = {**envdata.load_area("tests/data/tiny-munk.toml").to_dict()}
+    data["water"] = {"depth_m": 1000.0, "ssp_depth_m": [0.0, 500.0, 1000.0],
+                     "temperature_c": [15.0, 5.0, 3.0], "salinity_psu": [35.0, 34.8, 34.9]}
+    area = envdata.parse_area(data, "ts.toml")
+    again = envdata.area_from_json(envdata.area_to_json(area))
+    assert again == area and again.water.ssp.speed_mps == area.water.ssp.speed_mps
+
+
+def test_area_json_is_validated_like_an_area_file():
+    data = envdata.load_area("tests/data/tiny-munk.toml").to_dict()
+    data["bottom"]["speed_mps"] = -1600.0
+    import json
+
+    with pytest.raises(envdata.AreaError, match=r"^g.nc: area_json: \[bottom\] speed_mps: must be in "
+                                                r"\[1000, 6000\] m/s, got -1600.0$"):
+        envdata.area_from_json(json.dumps(data), "g.nc")
+    with pytest.raises(envdata.AreaError, match=r"^g.nc: area_json: not valid JSON"):
+        envdata.area_from_json("[" * 100_000, "g.nc")

@@ -1,0 +1,120 @@
+"""The grid contract of DESIGN.md ("Grid dataset"), checked: what ``open_grid`` lets in.
+
+A grid is refused (``GridFileError``, one line naming the file and what is wrong) when a
+dimension, variable, coordinate or attribute is missing or of the wrong type, when its
+``area_json`` is missing, unreadable or an area the TOML loader would refuse (the same message
+as for an area file), when that area disagrees with the grid's coordinates (class and band
+names, band edges, source depths, observer depth), and when ``tl_db`` or ``k_db`` holds no
+finite value.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+import xarray as xr
+
+from acoustics.errors import GridFileError
+from envdata.area import Area
+from envdata.areafile import area_from_json
+from envdata.errors import AreaError
+
+REQUIRED_DIMS = ("class", "band", "depth", "range")
+REQUIRED_VARS = {"tl_db": ("class", "band", "depth", "range"), "k_db": ("class", "band", "range"),
+                 "k_urick_db": ("class", "band", "range")}
+REQUIRED_COORDS = ("class", "band", "depth", "range", "band_low_hz", "band_high_hz", "band_center_hz",
+                   "source_depth_m")
+#: Global attributes and the type each must have.
+REQUIRED_ATTRS = {"Conventions": str, "area": str, "model": str, "observer_depth_m": numbers.Real,
+                  "source_hash": str, "area_json": str}
+
+
+def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
+    """Raise GridFileError unless ``ds`` is a grid of DESIGN.md; return the area it stores."""
+    for dim in REQUIRED_DIMS:
+        if dim not in ds.dims:
+            raise GridFileError(f"{source}: missing dimension {dim!r}")
+    for name, dims in REQUIRED_VARS.items():
+        if name not in ds.data_vars:
+            raise GridFileError(f"{source}: missing variable {name!r}")
+        if ds[name].dims != dims:
+            raise GridFileError(f"{source}: variable {name!r} has dimensions {ds[name].dims}, "
+                                f"expected {dims}")
+        if not np.issubdtype(ds[name].dtype, np.floating):
+            raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers, "
+                                f"got {ds[name].dtype}")
+    for name in REQUIRED_COORDS:
+        if name not in ds.coords:
+            raise GridFileError(f"{source}: missing coordinate {name!r}")
+    _check_attrs(ds, source)
+    _check_axes(ds, source)
+    try:
+        area = area_from_json(ds.attrs["area_json"], source)
+    except AreaError as exc:
+        raise GridFileError(str(exc)) from None
+    _check_consistent(ds, area, source)
+    for name in ("tl_db", "k_db"):
+        if not np.isfinite(ds[name].values).any():
+            raise GridFileError(f"{source}: variable {name!r} holds no finite value")
+    return area
+
+
+def _check_attrs(ds: xr.Dataset, source: str) -> None:
+    for name, kind in REQUIRED_ATTRS.items():
+        if name not in ds.attrs:
+            raise GridFileError(f"{source}: missing global attribute {name!r}")
+        value = ds.attrs[name]
+        if isinstance(value, np.ndarray) and value.size == 1:
+            value = value.item()  # netCDF stores a scalar attribute as a one-element array
+        if isinstance(value, np.generic):
+            value = value.item()
+        if isinstance(value, bool) or not isinstance(value, kind):
+            want = "a string" if kind is str else "a number"
+            raise GridFileError(f"{source}: global attribute {name!r} must be {want}, "
+                                f"got {type(value).__name__} {value!r:.60}")
+        if kind is numbers.Real and not math.isfinite(value):
+            raise GridFileError(f"{source}: global attribute {name!r} must be finite, got {value}")
+
+
+def _check_axes(ds: xr.Dataset, source: str) -> None:
+    rng = np.asarray(ds["range"].values)
+    depth = np.asarray(ds["depth"].values)
+    for name, values in (("range", rng), ("depth", depth)):
+        if not np.issubdtype(values.dtype, np.number) or not np.all(np.isfinite(values)):
+            raise GridFileError(f"{source}: coordinate {name!r} must hold finite numbers")
+    if rng.size and not (np.all(np.diff(rng) > 0) and rng[0] > 0):
+        raise GridFileError(f"{source}: coordinate 'range' must be positive and increasing")
+    if depth.size > 1 and not np.all(np.diff(depth) > 0):
+        raise GridFileError(f"{source}: coordinate 'depth' must be increasing")
+    if depth.size and depth[0] < 0:
+        raise GridFileError(f"{source}: coordinate 'depth' must be >= 0 m, got {depth[0]:g} m")
+
+
+def _check_consistent(ds: xr.Dataset, area: Area, source: str) -> None:
+    """The stored area against the grid's coordinates and attributes."""
+    where = f"{source}: area_json"
+    if str(ds.attrs["area"]) != area.name:
+        raise GridFileError(f"{where}: area {area.name!r}, but the grid's attribute area is "
+                            f"{ds.attrs['area']!r}")
+    for kind, coord, names in (("class", "class", [c.name for c in area.classes]),
+                               ("band", "band", [b.name for b in area.bands])):
+        grid_names = [str(v) for v in ds[coord].values]
+        if grid_names != names:
+            raise GridFileError(f"{where}: {kind} names {', '.join(names)} do not match the "
+                                f"grid's {', '.join(grid_names)}")
+    for coord, values, unit in (
+            ("band_low_hz", [b.low_hz for b in area.bands], "Hz"),
+            ("band_high_hz", [b.high_hz for b in area.bands], "Hz"),
+            ("source_depth_m", [c.depth_m for c in area.classes], "m")):
+        grid_values = np.asarray(ds[coord].values, dtype=float)
+        bad = ~np.isclose(grid_values, values, rtol=1e-9, atol=1e-9)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise GridFileError(f"{where}: {coord} {values[i]:g} {unit}, but the grid's "
+                                f"coordinate has {grid_values[i]:g} {unit}")
+    obs = float(np.asarray(ds.attrs["observer_depth_m"]).item())
+    if not math.isclose(obs, area.observer.depth_m, rel_tol=1e-9, abs_tol=1e-9):
+        raise GridFileError(f"{where}: observer depth {area.observer.depth_m:g} m, but the grid's "
+                            f"attribute observer_depth_m is {obs:g} m")

@@ -1,0 +1,208 @@
+"""Area files: the TOML format of DESIGN.md, built-in areas, and the ``area_json`` of grids.
+
+``parse_area`` turns a TOML document into a validated ``Area``; ``Area.to_dict`` is its inverse,
+so ``area_from_json(area_to_json(area)) == area``. A grid's ``area_json`` is read back here,
+validated exactly like an area file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from envdata.area import Absorption, Area, GridSpec, Observer, Propagation, TlMode, Water
+from envdata.bands import Band
+from envdata.bottom import Bottom
+from envdata.classes import F_MINUS_2_DB_PER_OCTAVE, SourceLevelModel, TargetClass
+from envdata.errors import AreaError
+from envdata.noise import Noise
+from envdata.sonar import Sonar
+from envdata.ssp import SoundSpeedProfile, munk_profile, ts_profile
+from envdata.tomlfile import TomlTable, read_toml
+
+
+def builtin_area_names() -> list[str]:
+    folder = resources.files("envdata") / "areas"
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def area_path(name_or_path: str | Path) -> Path:
+    """Resolve a built-in area name or a path to a TOML file."""
+    text = str(name_or_path)
+    if text in builtin_area_names():
+        return Path(str(resources.files("envdata") / "areas" / f"{text}.toml"))
+    path = Path(text)
+    if path.suffix != ".toml" and not path.exists():
+        raise AreaError(f"{text}: no built-in area of that name (built-in: "
+                        f"{', '.join(builtin_area_names())}) and no such file")
+    return path
+
+
+def load_area(name_or_path: str | Path) -> Area:
+    """Load a built-in area by name or an area TOML file; raises AreaError on bad input."""
+    data, source = read_toml(area_path(name_or_path))
+    return parse_area(data, source)
+
+
+def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
+    top = TomlTable(data, "top level", source)
+    for key in ("area", "water", "bottom", "noise", "observer", "sonar", "bands", "classes", "grid"):
+        top._get(key, None, True)
+    top._get("propagation", None, False)
+    top.done()
+
+    t = TomlTable(data["area"], "[area]", source)
+    name = t.string("name")
+    if not name.strip() or any(ch in name for ch in "/\\ "):
+        raise AreaError(f"{source}: [area] name: must be a non-empty identifier without spaces or "
+                        f"slashes, got {name!r}")
+    description = t.string("description", "")
+    latitude = t.number("latitude_deg", 45.0)
+    longitude = t.number("longitude_deg", -30.0)
+    if not -90.0 <= latitude <= 90.0:
+        raise AreaError(f"{source}: [area] latitude_deg: must be in [-90, 90] deg, got {latitude}")
+    t.done()
+
+    t = TomlTable(data["water"], "[water]", source)
+    depth = t.number("depth_m")
+    if not depth > 0:
+        raise AreaError(f"{source}: [water] depth_m: must be > 0 m, got {depth}")
+    interpolation = t.string("ssp_interpolation", "C", choices=("C", "S", "N", "P"))
+    if t.has("ssp"):
+        kind = t.string("ssp", choices=("munk",))
+        ssp = t.wrap(munk_profile, depth)
+        ssp = dataclasses.replace(ssp, interpolation=interpolation)
+    elif t.has("temperature_c") or t.has("salinity_psu"):
+        z = t.numbers("ssp_depth_m")
+        temp = t.numbers("temperature_c")
+        sal = t.numbers("salinity_psu")
+        _check_depths(z, source)
+        ssp = t.wrap(ts_profile, z, temp, sal, latitude_deg=latitude, longitude_deg=longitude)
+        ssp = t.wrap(dataclasses.replace, ssp, interpolation=interpolation)
+    else:
+        z = t.numbers("ssp_depth_m")
+        c = t.numbers("ssp_speed_mps")
+        _check_depths(z, source)
+        ssp = t.wrap(SoundSpeedProfile, depth_m=tuple(z), speed_mps=tuple(c), interpolation=interpolation)
+    t.done()
+    water = t.wrap(Water, depth_m=depth, ssp=ssp)
+
+    t = TomlTable(data["bottom"], "[bottom]", source)
+    bottom = t.wrap(Bottom, speed_mps=t.number("speed_mps"), density_gcc=t.number("density_gcc"),
+                    attenuation_db_per_wavelength=t.number("attenuation_db_per_wavelength", 0.0),
+                    shear_speed_mps=t.number("shear_speed_mps", 0.0))
+    t.done()
+
+    t = TomlTable(data["noise"], "[noise]", source)
+    noise = t.wrap(Noise, spectrum_level_1khz_db=t.number("spectrum_level_1khz_db"),
+                   slope_db_per_octave=t.number("slope_db_per_octave", -5.0))
+    t.done()
+
+    t = TomlTable(data["observer"], "[observer]", source)
+    observer = Observer(depth_m=t.number("depth_m"))
+    t.done()
+
+    t = TomlTable(data["sonar"], "[sonar]", source)
+    sonar = t.wrap(Sonar, beamwidth_deg=t.number("beamwidth_deg"),
+                   directivity_index_db=t.number("directivity_index_db"),
+                   integration_time_s=t.number("integration_time_s"),
+                   detection_threshold=t.number("detection_threshold"),
+                   receiver_gain_db=t.number("receiver_gain_db", 0.0))
+    t.done()
+
+    bands = []
+    for i, item in enumerate(_array_of_tables(data["bands"], "[[bands]]", source)):
+        t = TomlTable(item, f"[[bands]] #{i + 1}", source)
+        bands.append(t.wrap(Band, name=t.string("name"), low_hz=t.number("low_hz"),
+                            high_hz=t.number("high_hz")))
+        t.done()
+
+    classes = []
+    for i, item in enumerate(_array_of_tables(data["classes"], "[[classes]]", source)):
+        t = TomlTable(item, f"[[classes]] #{i + 1}", source)
+        model = t.string("source_level_model", "p0", choices=tuple(m.value for m in SourceLevelModel))
+        classes.append(t.wrap(
+            TargetClass, name=t.string("name"), depth_m=t.number("depth_m"),
+            speed_mean_mps=t.number("speed_mean_mps"), speed_sd_mps=t.number("speed_sd_mps"),
+            noise_mean_db=t.number("noise_mean_db", required=model == "p0"),
+            noise_sd_db=t.number("noise_sd_db", 0.0), k_error_sd_db=t.number("k_error_sd_db", 2.0),
+            source_slope_db_per_octave=t.number("source_slope_db_per_octave", F_MINUS_2_DB_PER_OCTAVE),
+            source_level_model=SourceLevelModel(model)))
+        t.done()
+
+    t = TomlTable(data["grid"], "[grid]", source)
+    grid = t.wrap(GridSpec, range_max_m=t.number("range_max_m"), range_step_m=t.number("range_step_m"),
+                  depth_step_m=t.number("depth_step_m"))
+    t.done()
+
+    defaults = Propagation()
+    if "propagation" in data:
+        t = TomlTable(data["propagation"], "[propagation]", source)
+        propagation = t.wrap(
+            Propagation,
+            mode=TlMode(t.string("mode", defaults.mode.value, choices=tuple(m.value for m in TlMode))),
+            beam_type=t.string("beam_type", defaults.beam_type),
+            n_beams=t.integer("n_beams", defaults.n_beams),
+            angle_min_deg=t.number("angle_min_deg", defaults.angle_min_deg),
+            angle_max_deg=t.number("angle_max_deg", defaults.angle_max_deg),
+            freqs_per_band=t.integer("freqs_per_band", defaults.freqs_per_band),
+            frequency_shortcut=t.boolean("frequency_shortcut", defaults.frequency_shortcut),
+            absorption=Absorption(t.string("absorption", defaults.absorption.value,
+                                           choices=tuple(a.value for a in Absorption))),
+            tl_max_db=t.number("tl_max_db", defaults.tl_max_db))
+        t.done()
+    else:
+        propagation = defaults
+
+    return _wrap_area(source, name=name, description=description, water=water, bottom=bottom,
+                      noise=noise, observer=observer, sonar=sonar, bands=tuple(bands),
+                      classes=tuple(classes), grid=grid, propagation=propagation,
+                      latitude_deg=latitude, longitude_deg=longitude)
+
+
+def _wrap_area(source: str, **kwargs) -> Area:
+    try:
+        return Area(**kwargs)
+    except AreaError as exc:
+        raise AreaError(f"{source}: {exc}") from None
+
+
+def _array_of_tables(value: Any, where: str, source: str) -> list:
+    if not isinstance(value, list) or not value:
+        raise AreaError(f"{source}: {where}: need at least one entry (an array of tables)")
+    return value
+
+
+def _check_depths(z: list[float], source: str) -> None:
+    if any(v < 0 for v in z):
+        raise AreaError(f"{source}: [water] ssp_depth_m: depths must be >= 0 m, "
+                        f"got {min(z)} m")
+
+
+def area_to_json(area: Area) -> str:
+    """The area as the JSON text grids store in their ``area_json`` attribute."""
+    return json.dumps(area.to_dict(), sort_keys=True)
+
+
+def area_from_json(text: str, source: str = "<grid>") -> Area:
+    """Read an ``area_json`` text back into an ``Area``, validated exactly like an area file.
+
+    Raises
+    ------
+    AreaError
+        Not JSON, not an object, or an area the TOML loader would refuse; the message names
+        ``source`` and ``area_json``.
+    """
+    where = f"{source}: area_json"
+    if not isinstance(text, str):
+        raise AreaError(f"{where}: must be a string of JSON, got {type(text).__name__}")
+    try:
+        data = json.loads(text)
+    except (ValueError, RecursionError) as exc:
+        raise AreaError(f"{where}: not valid JSON ({exc})") from None
+    if not isinstance(data, dict):
+        raise AreaError(f"{where}: must be a JSON object, got {type(data).__name__}")
+    return parse_area(data, where)
