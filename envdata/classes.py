@@ -17,8 +17,22 @@ class SourceLevelModel(StrEnum):
     ROSS = "ross"  # SL(v) = 170 + 53 lg(v / 5.14 m/s) at the band centre (Iglesis & de Montella eq. 12)
 
 
+#: Ross source level (Iglesis & de Montella eq. 12): SL = ROSS_LEVEL_DB + ROSS_SLOPE_DB_PER_DECADE
+#: lg(v / ROSS_REFERENCE_SPEED_MPS), dB re 1 uPa^2/Hz at 1 m at the band centre.
+ROSS_LEVEL_DB = 170.0
+ROSS_SLOPE_DB_PER_DECADE = 53.0
+ROSS_REFERENCE_SPEED_MPS = 5.14  # 10 kn
+#: Speeds below this are taken as it, so that a stopped target has a finite level, m/s.
+ROSS_MIN_SPEED_MPS = 0.01
+
+
 def ross_source_level_db(speed_mps):
     """Ross source level, dB re 1 uPa^2/Hz at 1 m, at the band centre.
+
+    Parameters
+    ----------
+    speed_mps : array_like
+        Target speed, m/s; below `ROSS_MIN_SPEED_MPS` the level of that speed (finite at 0).
 
     References
     ----------
@@ -26,7 +40,8 @@ def ross_source_level_db(speed_mps):
     """
     import numpy as np
 
-    return 170.0 + 53.0 * np.log10(np.asarray(speed_mps, dtype=float) / 5.14)
+    v = np.maximum(np.asarray(speed_mps, dtype=float), ROSS_MIN_SPEED_MPS)
+    return ROSS_LEVEL_DB + ROSS_SLOPE_DB_PER_DECADE * np.log10(v / ROSS_REFERENCE_SPEED_MPS)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

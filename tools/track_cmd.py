@@ -27,25 +27,14 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 def run_track(args) -> Report:
     from acoustics import open_grid
-    from tracker.errors import MeasurementFileError
     from tracker.measurements import read_measurements
-    from tracker.track import write_track
+    from tracker.track import track
+    from tracker.trackfile import write_track
 
     grid = open_grid(args.grid)
-    names = [str(c) for c in grid["class"].values]
-    if args.cls_name is not None and args.cls_name not in names:
-        raise MeasurementFileError(f"{args.grid}: --class {args.cls_name!r} is not a class of "
-                                   f"the grid ({', '.join(names)})")
     m = read_measurements(args.measurements, [str(b) for b in grid["band"].values])
-    if args.method == "ml":
-        from tracker import mltma
-
-        df = mltma.track(grid, m, cls_name=args.cls_name, band=args.band)
-    else:
-        from tracker import rpf
-
-        df = rpf.track(grid, m, method=args.method, rng=np.random.default_rng(args.seed),
-                       cls_name=args.cls_name, band=args.band)
+    df = track(grid, m, method=args.method, rng=np.random.default_rng(args.seed),
+               cls_name=args.cls_name, band=args.band)
     write_track(args.out, df)
     last = df.groupby("class").tail(1)
     lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"]

@@ -83,7 +83,7 @@ def bot_spl_crlb(t_s, rel_state, obs_vel_mps, *, bearing_sd_rad: float, level_sd
         Observer velocity (east, north) at those times, m/s.
     level_sd_db : float
         sd of the measured level, dB (the data's, not the filter's sigma_l).
-    k_profile : tracker.tl_interp.LevelProfile
+    k_profile : tracker.tables.LevelProfile
         K(r) at the observer depth, dB.
 
     Returns

@@ -27,7 +27,7 @@ import pandas as pd
 
 from envdata.files import atomic_path
 from tracker.mltma import MLBatch, MLParams, wrap180
-from tracker.ranging import class_infos
+from tracker.tables import GridTables
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -96,14 +96,14 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
     from acoustics import open_grid
 
-    grid = open_grid(grid_path)
+    tables = GridTables.from_grid(open_grid(grid_path), str(grid_path))
     sc = load_scenario(scenario)
     rng = np.random.default_rng(seed)
-    sim = simulate_batch(sc, grid, rng, dv_mps=dv, dp0_db=dp, dk_db=dk)
+    sim = simulate_batch(sc, tables, rng, dv_mps=dv, dp0_db=dp, dk_db=dk)
     e, t = sim.bearing_deg.shape
-    n_cls = len(grid["class"])
+    n_cls = len(tables.classes)
     ci = np.repeat(np.arange(n_cls)[None, :], e, axis=0).ravel()   # rows: run-major
-    batch = MLBatch(grid, ci, t, params)
+    batch = MLBatch(tables, ci, t, params)
     vx = np.gradient(sim.obs_x_m, sim.t_s)
     vy = np.gradient(sim.obs_y_m, sim.t_s)
     err = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
@@ -139,7 +139,7 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     t_start = time.perf_counter()
     grid = open_grid(grid_path)
     sc = load_scenario(scenario)
-    classes = class_infos(grid)
+    classes = GridTables.from_grid(grid, str(grid_path)).classes
     true_cls = next(c for c in classes if c.name == sc.target_class)
     dv, dp, dk, w = design(true_cls, n)
     shift_v, shift_p = center_offsets(sc, true_cls, center)

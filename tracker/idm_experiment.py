@@ -24,11 +24,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 from tracker.idm_scenarios import IdmScenario, ScenarioError, get_scenario
-from tracker.tl_interp import tl_table
+from tracker.tables import GridTables
 
 log = logging.getLogger(__name__)
 
@@ -80,7 +81,7 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
     rel = scenario.target_state(t) - scenario.observer_state(t)
     tgt = scenario.target_state(t)
     true_b = rpf.bearing_rad(rel[:, 0], rel[:, 1])
-    true_l = (rpf.ross_source_level_db(np.hypot(tgt[:, 2], tgt[:, 3])) + scenario.sl_offset_db
+    true_l = (ross_source_level_db(np.hypot(tgt[:, 2], tgt[:, 3])) + scenario.sl_offset_db
               + k_profile(np.hypot(rel[:, 0], rel[:, 1])))
     b = true_b[None] + math.radians(scenario.bearing_sd_deg) * rng.standard_normal((runs, t.size))
     lv = true_l[None] + scenario.level_sd_db * rng.standard_normal((runs, t.size))
@@ -90,7 +91,7 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
 def _chunk(args) -> dict[str, np.ndarray]:
     """One chunk of runs: simulate, filter with every method, return position errors (m)."""
     scenario, range_m, k_db, runs, seed_seq, n_particles, level_sigma_db = args
-    from tracker.tl_interp import LevelProfile
+    from tracker.tables import LevelProfile
 
     profile = LevelProfile(range_m=range_m, k_db=k_db)
     rng = np.random.default_rng(seed_seq)
@@ -160,11 +161,13 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     check_level_sigma(level_sigma_db)
     out_dir = Path(out_dir)
     ds, grid_name = _find_grid(grid)
-    table = tl_table(ds, CLASS, BAND)
-    if abs(table.source_depth_m - sc.target_depth_m) > 1e-6:
-        raise ScenarioError(f"{grid_name}: class {CLASS!r} radiates at {table.source_depth_m:g} m, "
-                        f"the scenario's target is at {sc.target_depth_m:g} m")
-    profile = table.level_profile(sc.obs_depth_m)
+    tables = GridTables.from_grid(ds, grid_name)
+    ic, ib = tables.class_index(CLASS), tables.band_index(BAND)
+    source_depth_m = tables.classes[ic].depth_m
+    if abs(source_depth_m - sc.target_depth_m) > 1e-6:
+        raise ScenarioError(f"{grid_name}: class {CLASS!r} radiates at {source_depth_m:g} m, "
+                            f"the scenario's target is at {sc.target_depth_m:g} m")
+    profile = tables.level_profile(ic, ib, sc.obs_depth_m)
     t = sc.t_s
     n_chunks = math.ceil(runs / CHUNK_RUNS)
     seeds = np.random.SeedSequence(seed).spawn(n_chunks)

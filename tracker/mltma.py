@@ -44,9 +44,9 @@ import xarray as xr
 
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
-from tracker.ranging import (KAtDepth, class_infos, indicator_snr, level_range, level_sd_db,
-                             offset_nodes, sonar_info, bearing_sd_deg)
-from tracker.track import TRACK_COLUMNS
+from tracker.ranging import bearing_sd_deg, indicator_snr, level_range, level_sd_db, offset_nodes
+from tracker.tables import GridTables
+from tracker.trackfile import TRACK_COLUMNS
 
 log = logging.getLogger(__name__)
 
@@ -170,7 +170,7 @@ class MLBatch:
 
     Parameters
     ----------
-    grid : xr.Dataset
+    grid : xr.Dataset or GridTables
         Propagation grid (k_db and the area's classes, sonar, noise).
     class_index : array of int, shape (B,)
         Class hypothesis (index into the grid's class axis) of each row.
@@ -179,18 +179,24 @@ class MLBatch:
     params : MLParams
     """
 
-    def __init__(self, grid: xr.Dataset, class_index, capacity: int,
+    def __init__(self, grid: xr.Dataset | GridTables, class_index, capacity: int,
                  params: MLParams | None = None):
         self.p = params or MLParams()
-        self.classes = class_infos(grid)
-        self.sonar = sonar_info(grid)
-        self.range_axis = grid["range"].values.astype(float)
-        self.k_at = KAtDepth(grid)                            # K(r) at the cycle's depth
-        self.k_db = self.k_at.k_db                            # (C, M, R) at the grid's depth
+        self.tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+        self.classes = self.tables.classes
+        self.sonar = self.tables.area.sonar
+        self.bandwidth_hz = self.tables.bandwidth_hz
+        self.range_axis = self.tables.range_m
+        self.k_db = self.tables.k_db()                        # (C, M, R) at the grid's depth
         self.ci = np.asarray(class_index, dtype=int)
         b = len(self.ci)
         self.B, self.M, self.T = b, self.k_db.shape[1], int(capacity)
         cls = self.classes
+        for c in {cls[i] for i in self.ci}:
+            if c.noise_mean_db is None:
+                raise MeasurementFileError(f"{self.tables.source}: class {c.name!r} has no "
+                                           f"noise_mean_db; the ML tracker needs P0 "
+                                           f"(source_level_model = 'p0')")
         self.mV = np.array([cls[i].speed_mean_mps for i in self.ci])
         self.sV = np.array([cls[i].speed_sd_mps for i in self.ci])
         self.p0 = np.array([cls[i].noise_mean_db for i in self.ci])
@@ -220,7 +226,7 @@ class MLBatch:
         """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates.
 
         K(r) is taken at ``obs_depth_m`` (TL linear in depth; default the grid's observer
-        depth), `tracker.ranging.KAtDepth`.
+        depth), `tracker.tables.GridTables.k_db`.
         """
         p, n, b = self.p, self.n, self.B
         if n >= self.T:
@@ -231,7 +237,7 @@ class MLBatch:
         level = np.broadcast_to(np.asarray(level_db, dtype=float), (b, self.M))
         snr = np.broadcast_to(np.asarray(snr_db, dtype=float), (b, self.M))
         det = np.isfinite(level)
-        df = np.array(self.sonar.bandwidth_hz)
+        df = self.bandwidth_hz
         tt = self.sonar.integration_time_s
         # step 4: sigma_dW (eq. 11); without a measured SNR, q at the detection threshold
         q_thr = self.sonar.detection_threshold / np.sqrt(df * tt)
@@ -260,7 +266,7 @@ class MLBatch:
         # step 5 (eqs. 20-21) per class
         r_opt = np.full(b, np.nan)
         r_sd = np.full(b, np.nan)
-        k_now = self.k_at(obs_depth_m)
+        k_now = self.tables.k_db(obs_depth_m)
         for c in np.unique(self.ci):
             rows = np.flatnonzero(self.ci == c)
             off, wts = self.offsets[c]
@@ -709,17 +715,13 @@ class MLTracker:
     ...     rows = trk.update_from(m, i)                # one DataFrame row per class
     """
 
-    def __init__(self, grid: xr.Dataset, *, capacity: int, class_names=None,
-                 params: MLParams | None = None, band_names=None):
-        names = [str(c) for c in grid["class"].values]
-        chosen = names if class_names is None else list(class_names)
-        for c in chosen:
-            if c not in names:
-                raise MeasurementFileError(f"class {c!r} is not a class of the grid "
-                                           f"({', '.join(names)})")
+    def __init__(self, grid: xr.Dataset | GridTables, *, capacity: int, class_names=None,
+                 params: MLParams | None = None):
+        tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+        chosen = tables.class_names if class_names is None else tuple(class_names)
         self.class_names = tuple(chosen)
-        self.grid_bands = [str(b) for b in grid["band"].values]
-        self.batch = MLBatch(grid, [names.index(c) for c in chosen], capacity, params)
+        self.grid_bands = list(tables.band_names)
+        self.batch = MLBatch(tables, [tables.class_index(c) for c in chosen], capacity, params)
         self._skipped = 0
         self._prev = None
 
@@ -779,26 +781,23 @@ def _frame(t_s, class_names, out) -> pd.DataFrame:
                          "method": "ml"}).loc[:, list(TRACK_COLUMNS)]
 
 
-def track(grid: xr.Dataset, measurements: Measurements, *, cls_name: str | None = None,
-          band: str | None = None, params: MLParams | None = None) -> pd.DataFrame:
+def track_measurements(tables: GridTables, measurements: Measurements, *,
+                       cls_name: str | None = None, band: str | None = None,
+                       params: MLParams | None = None) -> pd.DataFrame:
     """Run the ML tracker over a whole measurement file; one row per cycle per class.
+
+    The measurements are checked against the grid by ``tracker.track.track``, the way in.
 
     Parameters
     ----------
-    grid : xr.Dataset
+    tables : GridTables
     measurements : Measurements
-        Bands must be bands of the grid. Cycles with a NaN bearing are skipped (said once).
+        Cycles with a NaN bearing are skipped (said once).
     cls_name : str, optional
         Only this class hypothesis (default: every class of the grid).
     band : str, optional
         Use only this band's levels.
     """
-    grid_bands = [str(b) for b in grid["band"].values]
-    for name in measurements.band_names:
-        if name not in grid_bands:
-            raise MeasurementFileError(f"{measurements.source}: column 'level_db_{name}': band "
-                                       f"{name!r} is not a band of the grid "
-                                       f"({', '.join(grid_bands)})")
     if band is not None and band not in measurements.band_names:
         raise MeasurementFileError(f"{measurements.source}: --band {band!r}: no level_db_{band} "
                                    f"column (bands: {', '.join(measurements.band_names)})")
@@ -809,22 +808,13 @@ def track(grid: xr.Dataset, measurements: Measurements, *, cls_name: str | None 
                          obs_depth_m=m.obs_depth_m, bearing_deg=m.bearing_deg,
                          bearing_sigma_deg=m.bearing_sigma_deg, band_names=(band,),
                          level_db=m.level_db[:, j:j + 1], snr_db=m.snr_db[:, j:j + 1])
-    k_at = KAtDepth(grid)
-    bad = np.flatnonzero(k_at.outside(m.obs_depth_m))
-    if bad.size:
-        i, z = int(bad[0]), k_at.depth_axis_m
-        raise MeasurementFileError(f"{m.source}: row {i + 1}, column obs_depth_m: "
-                                   f"{m.obs_depth_m[i]:g} m is outside the grid's depth axis "
-                                   f"[{z[0]:g}, {z[-1]:g}] m")
     good = np.flatnonzero(np.isfinite(m.bearing_deg))
     if len(good) < len(m):
         log.warning("%s: %d cycle(s) without a bearing skipped (first at t = %g s)", m.source,
                     len(m) - len(good), m.t_s[np.flatnonzero(~np.isfinite(m.bearing_deg))[0]])
-    if len(good) == 0:
-        raise MeasurementFileError(f"{m.source}: column bearing_deg: no cycle has a bearing")
     m = m.take(good)
     vx, vy = m.obs_velocity_mps()
-    trk = MLTracker(grid, capacity=len(m), class_names=None if cls_name is None else [cls_name],
+    trk = MLTracker(tables, capacity=len(m), class_names=None if cls_name is None else [cls_name],
                     params=params)
     frames = [trk.update_from(m, i, obs_vel=(vx[i], vy[i])) for i in range(len(m))]
     return pd.concat(frames, ignore_index=True)

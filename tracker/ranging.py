@@ -1,91 +1,13 @@
 """Error models and level-based ML ranging (Grinenkov & Mashoshin eqs. 2, 11, 20, 21).
 
 Everything here is vectorised over a leading batch axis (class hypotheses, Monte Carlo runs),
-so that one code path serves the one-cycle tracker API and the 1331-run experiment.
+so that one code path serves the one-cycle tracker API and the 1331-run experiment. The tables
+they use come from ``tracker.tables``.
 """
 
 from __future__ import annotations
 
-import json
-import math
-from dataclasses import dataclass
-
 import numpy as np
-import xarray as xr
-
-from tracker.errors import MeasurementFileError
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class ClassInfo:
-    """A class hypothesis as the tracker needs it (Table 1 statistics)."""
-
-    name: str
-    speed_mean_mps: float
-    speed_sd_mps: float
-    noise_mean_db: float   # P0, dB re 1 uPa (1 Hz, 1 kHz, 1 m)
-    noise_sd_db: float
-    k_error_sd_db: float
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class SonarInfo:
-    """Receiver and environment figures from the grid's area (eqs. 2, 11, 12)."""
-
-    beamwidth_deg: float
-    directivity_index_db: float
-    integration_time_s: float
-    detection_threshold: float
-    receiver_gain_db: float
-    noise_band_db: tuple[float, ...]   # sea-noise band level per band, dB re 1 uPa
-    bandwidth_hz: tuple[float, ...]    # per band, Hz (1 Hz for a single frequency)
-
-
-def grid_area(grid: xr.Dataset) -> dict:
-    """The area description stored in a grid (attribute ``area_json``)."""
-    text = grid.attrs.get("area_json")
-    if not text:
-        raise MeasurementFileError("grid: no area_json attribute; rebuild the grid with "
-                                   "tmakit grids build")
-    return json.loads(text)
-
-
-def class_infos(grid: xr.Dataset) -> tuple[ClassInfo, ...]:
-    """Class hypotheses of the grid, in grid order."""
-    area = grid_area(grid)
-    by_name = {c["name"]: c for c in area["classes"]}
-    out = []
-    for name in grid["class"].values:
-        c = by_name[str(name)]
-        if c.get("noise_mean_db") is None:
-            raise MeasurementFileError(f"grid: class {name!r} has no noise_mean_db; the ML "
-                                       f"tracker needs P0 (source_level_model = 'p0')")
-        out.append(ClassInfo(name=str(name), speed_mean_mps=float(c["speed_mean_mps"]),
-                             speed_sd_mps=float(c["speed_sd_mps"]),
-                             noise_mean_db=float(c["noise_mean_db"]),
-                             noise_sd_db=float(c["noise_sd_db"]),
-                             k_error_sd_db=float(c["k_error_sd_db"])))
-    return tuple(out)
-
-
-def sonar_info(grid: xr.Dataset) -> SonarInfo:
-    """Sonar and sea-noise figures of the grid's area."""
-    from envdata.bands import Band
-    from envdata.noise import Noise
-
-    area = grid_area(grid)
-    s = area["sonar"]
-    noise = Noise(**area["noise"])
-    bands = {b["name"]: Band(**b) for b in area["bands"]}
-    names = [str(b) for b in grid["band"].values]
-    return SonarInfo(beamwidth_deg=float(s["beamwidth_deg"]),
-                     directivity_index_db=float(s["directivity_index_db"]),
-                     integration_time_s=float(s["integration_time_s"]),
-                     detection_threshold=float(s["detection_threshold"]),
-                     receiver_gain_db=float(s.get("receiver_gain_db", 0.0)),
-                     noise_band_db=tuple(noise.band_level_db(bands[n]) for n in names),
-                     bandwidth_hz=tuple(1.0 if bands[n].is_single_frequency
-                                        else bands[n].width_hz for n in names))
 
 
 def bearing_sd_deg(beamwidth_deg, q_ind):
@@ -183,69 +105,3 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     none = ~det.any(axis=1)
     r_opt = np.where(none, np.nan, r_opt)
     return r_opt, np.where(none, np.nan, np.sqrt(var))
-
-
-class KAtDepth:
-    """K(r) of every class and band at a receiver depth, ``k_db`` corrected by the grid's TL.
-
-    DESIGN.md: TL and K(r) are taken at the row's observer depth. The grid's ``k_db`` holds
-    K = S - TL at the grid's observer depth (attribute ``observer_depth_m``); at depth d,
-
-        K(d, r) = k_db(r) + TL(d_grid, r) - TL(d, r),
-
-    with TL linear in depth over ``tl_db(class, band, depth, range)`` (so K(d_grid) equals
-    ``k_db`` to float rounding). A grid without ``tl_db`` or without the attribute (a K-only
-    grid of ``acoustics.build_k``) has K at one depth only and is used as is.
-
-    Parameters
-    ----------
-    grid : xr.Dataset
-    """
-
-    def __init__(self, grid: xr.Dataset):
-        self.k_db = np.asarray(grid["k_db"].transpose("class", "band", "range").values, dtype=float)
-        obs = float(grid.attrs.get("observer_depth_m", math.nan))
-        self.depth_axis_m = None
-        self._cache: dict[float, np.ndarray] = {}
-        if "tl_db" in grid and math.isfinite(obs):
-            self.depth_axis_m = np.asarray(grid["depth"].values, dtype=float)
-            self.tl_db = np.asarray(grid["tl_db"].transpose("class", "band", "depth", "range").values,
-                                    dtype=float)                       # (C, M, D, R)
-            self.grid_depth_m = obs
-            self._tl_grid = self._tl(obs)
-
-    def _tl(self, depth_m: float) -> np.ndarray:
-        z = self.depth_axis_m
-        if z.size == 1:
-            return self.tl_db[:, :, 0]
-        j = int(np.clip(np.searchsorted(z, depth_m, side="right") - 1, 0, z.size - 2))
-        f = (depth_m - z[j]) / (z[j + 1] - z[j])
-        return (1.0 - f) * self.tl_db[:, :, j] + f * self.tl_db[:, :, j + 1]
-
-    def outside(self, depth_m) -> np.ndarray:
-        """Mask of depths outside the grid's depth axis (all False for a K-only grid)."""
-        d = np.asarray(depth_m, dtype=float)
-        if self.depth_axis_m is None:
-            return np.zeros(d.shape, dtype=bool)
-        return ~((d >= self.depth_axis_m[0]) & (d <= self.depth_axis_m[-1]))
-
-    def __call__(self, depth_m: float | None) -> np.ndarray:
-        """K(r) at a receiver depth, dB, shape (C, M, R); None means the grid's observer depth.
-
-        Raises
-        ------
-        MeasurementFileError
-            The depth is outside the grid's depth axis.
-        """
-        if depth_m is None or self.depth_axis_m is None:
-            return self.k_db
-        d = float(depth_m)
-        if d == self.grid_depth_m:
-            return self.k_db
-        if d not in self._cache:
-            if self.outside(d):
-                z = self.depth_axis_m
-                raise MeasurementFileError(f"observer depth {d:g} m is outside the grid's depth "
-                                           f"axis [{z[0]:g}, {z[-1]:g}] m")
-            self._cache[d] = self.k_db + self._tl_grid - self._tl(d)
-        return self._cache[d]

@@ -18,7 +18,7 @@ each component is contiguous):
 
 The SPL of a particle is h_l = SL(v) - TL (eqs. 11-16): SL(v) = 170 + 53 lg(v / 5.14 m/s)
 (eq. 12, Ross) with v the particle's own target speed, TL read from the grid by linear
-interpolation in depth and range (eq. 13, `tracker.tl_interp`).
+interpolation in depth and range (eq. 13, `tracker.tables`).
 
 References
 ----------
@@ -37,12 +37,10 @@ from enum import StrEnum
 
 import numpy as np
 
+from envdata.classes import ross_source_level_db
+
 log = logging.getLogger(__name__)
 
-#: Reference speed of the Ross model, m/s (10 kn), eq. 12.
-ROSS_REFERENCE_SPEED_MPS = 5.14
-#: Speeds below this are held at it in SL(v), m/s (SL(0) would be -inf).
-MIN_SPEED_MPS = 0.01
 KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
@@ -294,12 +292,6 @@ def bearing_loglik(state: np.ndarray, bearing_meas_rad, sigma_rad: float,
     return resid
 
 
-def ross_source_level_db(speed_mps):
-    """SL(v) = 170 + 53 lg(v / 5.14 m/s), dB re 1 uPa^2/Hz at 1 m (eq. 12); v >= 0.01 m/s."""
-    v = np.maximum(np.asarray(speed_mps, dtype=float), MIN_SPEED_MPS)
-    return 170.0 + 53.0 * np.log10(v / ROSS_REFERENCE_SPEED_MPS)
-
-
 def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *, source_level_model="ross",
                        p0_db: float = math.nan) -> np.ndarray:
     """h_l of eq. 16: SL of each particle's target speed plus K(r) = S - TL(r), dB.
@@ -312,7 +304,7 @@ def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *, source_leve
     obs_vel_mps : array_like, shape (2,)
         Observer velocity (east, north), m/s.
     k_profile : callable
-        K(r) at the observer depth, dB (`tracker.tl_interp.LevelProfile`).
+        K(r) at the observer depth, dB (`tracker.tables.LevelProfile`).
     """
     r = np.hypot(state[0], state[1])
     if source_level_model == "ross":
@@ -683,15 +675,17 @@ def _particle_sds(state: np.ndarray, w: np.ndarray, obs_vel) -> np.ndarray:
 # From a measurement CSV (``tmakit track --method rpf|rpf-bot``)
 
 
-def track(grid, measurements, *, method: str, rng: np.random.Generator,
-          cls_name: str | None = None, band: str | None = None,
-          config: RpfConfig | None = None):
+def track_measurements(tables, measurements, *, method: str, rng: np.random.Generator,
+                       cls_name: str | None = None, band: str | None = None,
+                       config: RpfConfig | None = None):
     """Track one target from a measurement CSV with the RPF; one row per cycle per class.
+
+    The measurements are checked against the grid by ``tracker.track.track``, the way in.
 
     Parameters
     ----------
-    grid : xarray.Dataset
-        A propagation grid (`acoustics.open_grid`).
+    tables : tracker.tables.GridTables
+        The propagation grid's tables.
     measurements : tracker.measurements.Measurements
         Bearings and band levels. ``rpf`` needs the ``level_db_NAME`` column of the band; a
         blank level uses the bearing alone that cycle, a blank bearing the level alone.
@@ -711,22 +705,21 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     Returns
     -------
     pandas.DataFrame
-        Columns ``tracker.track.TRACK_COLUMNS``; absolute target position, its course and
+        Columns ``tracker.trackfile.TRACK_COLUMNS``; absolute target position, its course and
         speed, sd of range, course and speed from the particles; ``tack`` is 1.
 
     Raises
     ------
     MeasurementFileError
-        No level column for the band (rpf), no bearing at all, an observer depth outside the
-        grid's depth axis.
+        No level column for the band (rpf).
     GridFileError
-        A class or band not in the grid.
+        A class with source level model "p0" but no noise_mean_db.
     """
     import pandas as pd
 
     from acoustics.errors import GridFileError
+    from envdata.classes import SourceLevelModel
     from tracker.errors import MeasurementFileError
-    from tracker.tl_interp import tl_table
 
     m = measurements
     try:
@@ -735,15 +728,6 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
         raise MeasurementFileError(f"--method: {method!r} is not an RPF method (rpf, rpf-bot, "
                                    f"rpf-vp)") from None
     spl = method is not Method.RPF_BOT
-    grid_name = str(grid.attrs.get("area", "<grid>"))
-    classes = [str(c) for c in grid["class"].values]
-    bands = [str(b) for b in grid["band"].values]
-    if cls_name is not None and cls_name not in classes:
-        raise GridFileError(f"grid of area {grid_name}: class {cls_name!r} is not in the grid "
-                            f"(classes: {', '.join(classes)})")
-    if band is not None and band not in bands:
-        raise GridFileError(f"grid of area {grid_name}: band {band!r} is not in the grid "
-                            f"(bands: {', '.join(bands)})")
     cfg = config or RpfConfig()
     if method is Method.RPF_VP:
         cfg = _replace(cfg, shrink=True)
@@ -751,6 +735,7 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     if sig.size and np.all(np.isfinite(sig)):
         cfg = _replace(cfg, bearing_sigma_deg=float(np.median(sig)))
     levels = None
+    bands = tables.band_names
     if spl:
         if band is None:
             usable = [b for b in bands if b in m.band_names]
@@ -765,11 +750,7 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
                                        f"method rpf for band {band!r}")
         levels = np.asarray(m.level_db[:, m.band_index(band)], dtype=float)
     bearings = np.radians(np.asarray(m.bearing_deg, dtype=float))
-    valid = np.flatnonzero(np.isfinite(bearings))
-    if valid.size == 0:
-        raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row; the "
-                                   f"filter starts from the first bearing")
-    first = int(valid[0])
+    first = int(np.flatnonzero(np.isfinite(bearings))[0])
     if first > 0:
         log.warning("%s: rows 1-%d have no bearing; the filter starts at row %d",
                     m.source, first, first + 1)
@@ -785,15 +766,8 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
     vx, vy = m.obs_velocity_mps()
     obs = np.stack([m.obs_x_m, m.obs_y_m, vx, vy], axis=-1)[rows]
     depth = np.asarray(m.obs_depth_m, dtype=float)[rows]
-    depth_axis = np.asarray(grid["depth"].values, dtype=float)
-    bad = np.flatnonzero((depth < depth_axis[0]) | (depth > depth_axis[-1]))
-    if bad.size:
-        i = int(bad[0])
-        raise MeasurementFileError(
-            f"{m.source}: row {first + i + 1}, column obs_depth_m: {depth[i]:g} m is outside "
-            f"the grid's depth axis [{depth_axis[0]:g}, {depth_axis[-1]:g}] m")
 
-    hypotheses = [cls_name] if cls_name is not None else classes
+    hypotheses = [cls_name] if cls_name is not None else list(tables.class_names)
     if method is Method.RPF_BOT:
         hypotheses = hypotheses[:1]  # bearings alone do not depend on the class
     frames = []
@@ -801,16 +775,18 @@ def track(grid, measurements, *, method: str, rng: np.random.Generator,
         profiles = [None] * t.size
         model, p0, p0_sd = "ross", math.nan, 0.0
         if spl:
-            table = tl_table(grid, name, band)
-            model = table.source_level_model
-            if model != "ross" and not math.isfinite(table.noise_mean_db):
-                raise GridFileError(f"grid of area {grid_name}: class {name!r} has source level "
-                                    f"model {model!r} but no noise_mean_db")
-            p0, p0_sd = table.noise_mean_db, table.noise_sd_db
+            ic, ib = tables.class_index(name), tables.band_index(band)
+            target = tables.classes[ic]
+            model = str(target.source_level_model)
+            if target.source_level_model is SourceLevelModel.P0:
+                if target.noise_mean_db is None:
+                    raise GridFileError(f"{tables.source}: class {name!r} has source level "
+                                        f"model {model!r} but no noise_mean_db")
+                p0, p0_sd = target.noise_mean_db, target.noise_sd_db
             cache = {}
             for k, d in enumerate(depth):
                 if d not in cache:
-                    cache[d] = table.level_profile(float(d))
+                    cache[d] = tables.level_profile(ic, ib, float(d))
                 profiles[k] = cache[d]
         res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
                         level_db_meas=None if levels is None else levels[rows][None],

@@ -9,7 +9,7 @@ data that stay in the core's cache:
 3. bearing log-likelihood (eq. 32; residual in (-pi, pi] as the atan2 of the particle position
    rotated by -theta) added to the log-weights;
 4. SPL log-likelihood (eq. 33, h_l = SL(v) + K(r) of eqs. 12-16, or the constant P0; K by the
-   `tl_interp.LevelProfile` rule) when the cycle has a level;
+   `tables.LevelProfile` rule) when the cycle has a level;
 5. logsumexp normalisation (eq. 19), N_eff (eq. 20), weighted mean and covariance (eqs. 29-30);
 6. when N_eff < N_thr: multinomial resampling (cumulative sum + sorted uniforms), optional
    shrinkage toward the mean, regularization x = x' + h D eps with the Epanechnikov kernel
@@ -36,12 +36,13 @@ import math
 import numpy as np
 from numba import njit
 
+from envdata.classes import (ROSS_LEVEL_DB, ROSS_MIN_SPEED_MPS, ROSS_REFERENCE_SPEED_MPS,
+                             ROSS_SLOPE_DB_PER_DECADE)
+from tracker.tables import BEYOND_GRID_PENALTY_DB
+
 #: LLVM fast-math flags: reassociation, FMA contraction, reciprocal, no signed zeros. Not
 #: "nnan"/"ninf": NaN marks a missing measurement and is tested for.
 FASTMATH = {"nsz", "arcp", "contract", "reassoc"}
-_ROSS_REFERENCE_SPEED_MPS = 5.14  # rpf.ROSS_REFERENCE_SPEED_MPS (eq. 12)
-_MIN_SPEED_MPS = 0.01             # rpf.MIN_SPEED_MPS
-_BEYOND_GRID_PENALTY_DB = 1000.0  # tl_interp.BEYOND_GRID_PENALTY_DB
 _TWO_POW_M53 = 1.0 / 9007199254740992.0
 
 
@@ -375,7 +376,7 @@ def bearing_loglik_particle(x, y, cos_z, sin_z, half_inv_var):
 
 @njit(fastmath=FASTMATH, error_model="numpy")
 def k_at(r, xp, fp, m):
-    """K(r) of `tl_interp.LevelProfile`: ``np.interp`` on the first ``m`` points of (xp, fp)
+    """K(r) of `tables.LevelProfile`: ``np.interp`` on the first ``m`` points of (xp, fp)
     (end values held), less the beyond-grid penalty past the last range."""
     x0 = xp[0]
     xl = xp[m - 1]
@@ -383,7 +384,7 @@ def k_at(r, xp, fp, m):
         return fp[0]
     if r >= xl:
         if r > xl:
-            return fp[m - 1] - _BEYOND_GRID_PENALTY_DB
+            return fp[m - 1] - BEYOND_GRID_PENALTY_DB
         return fp[m - 1]
     # first guess as if the axis were uniform, then walk to xp[j] <= r < xp[j + 1]
     j = int((r - x0) / (xl - x0) * (m - 1))
@@ -405,8 +406,8 @@ def level_loglik_particle(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_
     if ross:
         tvx = vx + ovx
         tvy = vy + ovy
-        v = max(math.sqrt(tvx * tvx + tvy * tvy), _MIN_SPEED_MPS)
-        sl = 170.0 + 53.0 * math.log10(v / _ROSS_REFERENCE_SPEED_MPS)
+        v = max(math.sqrt(tvx * tvx + tvy * tvy), ROSS_MIN_SPEED_MPS)
+        sl = ROSS_LEVEL_DB + ROSS_SLOPE_DB_PER_DECADE * math.log10(v / ROSS_REFERENCE_SPEED_MPS)
     else:
         sl = p0_db
     d = level_db - (sl + k_at(r, xp, fp, m) + offset_db)

@@ -23,8 +23,9 @@ import xarray as xr
 from envdata.files import atomic_path
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
-from tracker.ranging import KAtDepth, bearing_sd_deg, class_infos, level_sd_db, sonar_info
+from tracker.ranging import bearing_sd_deg, level_sd_db
 from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
+from tracker.tables import GridTables
 
 TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
                  "tack")
@@ -54,30 +55,17 @@ class SimBatch:
     band_names: tuple[str, ...]
 
 
-def k_interp(k_db: np.ndarray, range_axis_m: np.ndarray, range_m: np.ndarray) -> np.ndarray:
-    """K_k(r), dB, linearly interpolated on the grid's range axis (clamped at its ends).
-
-    k_db (M, R); range_m any shape S -> result S + (M,).
-    """
-    r = np.clip(range_m, range_axis_m[0], range_axis_m[-1])
-    step = range_axis_m[1] - range_axis_m[0]
-    f = (r - range_axis_m[0]) / step
-    i = np.clip(np.floor(f).astype(int), 0, len(range_axis_m) - 2)
-    a = (f - i)[..., None]
-    return k_db.T[i] * (1.0 - a) + k_db.T[i + 1] * a
-
-
-def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
+def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.Generator, *,
                    dv_mps=0.0, dp0_db=0.0, dk_db=None) -> SimBatch:
     """Simulate E runs of a scenario.
 
     Parameters
     ----------
     sc : Scenario
-    grid : xr.Dataset
+    grid : xr.Dataset or GridTables
         Propagation grid of the scenario's area; its K(r) of the scenario's class at the
-        scenario's observer depth (`tracker.ranging.KAtDepth`) is the "actual" transfer
-        characteristic.
+        scenario's observer depth (`tracker.tables.GridTables.k_db`) is the "actual" transfer
+        characteristic, linear in range and held at the ends of the range axis.
     rng : numpy.random.Generator
         Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
     dv_mps, dp0_db : array_like, shape (E,) or scalar
@@ -87,12 +75,13 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
         Transfer-characteristic error dK of eq. 31, dB; drawn once per run from the class's
         k_error_sd_db when None.
     """
-    classes = {c.name: c for c in class_infos(grid)}
-    if sc.target_class not in classes:
+    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+    if sc.target_class not in tables.class_names:
         raise MeasurementFileError(f"{sc.source}: [scenario] target_class: {sc.target_class!r} "
-                                   f"is not a class of the grid ({', '.join(classes)})")
-    cls = classes[sc.target_class]
-    sonar = sonar_info(grid)
+                                   f"is not a class of the grid ({', '.join(tables.class_names)})")
+    ic = tables.class_index(sc.target_class)
+    cls = tables.classes[ic]
+    sonar = tables.area.sonar
     dv = np.atleast_1d(np.asarray(dv_mps, dtype=float))
     dp = np.atleast_1d(np.asarray(dp0_db, dtype=float))
     e = max(len(dv), len(dp), 1 if dk_db is None else len(np.atleast_1d(dk_db)))
@@ -115,20 +104,16 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
     dx, dy = x - ox, y - oy
     r = np.hypot(dx, dy)
     b_true = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
-    k_at = KAtDepth(grid)
-    if k_at.outside(sc.obs_depth_m):
-        z = k_at.depth_axis_m
+    if tables.outside_depth(sc.obs_depth_m):
+        lo, hi = tables.depth_range_m
         raise ScenarioError(f"{sc.source}: [observer] depth_m: {sc.obs_depth_m:g} m is outside "
-                            f"the grid's depth axis [{z[0]:g}, {z[-1]:g}] m")
-    ic = [str(c) for c in grid["class"].values].index(sc.target_class)
-    kc = k_at(sc.obs_depth_m)[ic]                                       # (M, R) at obs depth
-    raxis = grid["range"].values
-    k = k_interp(kc, raxis, r)                                          # (E, T, M)
+                            f"the grid's depth axis [{lo:g}, {hi:g}] m")
+    k = tables.k_at(ic, r, sc.obs_depth_m)                             # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
-    noise = np.array(sonar.noise_band_db) - sonar.directivity_index_db
+    noise = tables.noise_band_db - sonar.directivity_index_db
     snr_db = w_true - sonar.receiver_gain_db - noise
     q = 10.0 ** (snr_db / 10.0)
-    df = np.array(sonar.bandwidth_hz)
+    df = tables.bandwidth_hz
     q_ind = q * np.sqrt(df * sonar.integration_time_s)
     det = q_ind >= sonar.detection_threshold
     sd_w = level_sd_db(q, df, sonar.integration_time_s)
@@ -145,7 +130,7 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator, *,
                     course_deg=c, speed_mps=v, noise_db=p0, tack=tack, range_m=r,
                     bearing_true_deg=b_true, bearing_deg=bearing, bearing_sigma_deg=sd_p,
                     level_true_db=w_true, level_db=level, snr_db=snr_db,
-                    band_names=tuple(str(b) for b in grid["band"].values))
+                    band_names=tables.band_names)
 
 
 def measurements_of(sim: SimBatch, run: int = 0, source: str = "simulated") -> Measurements:
@@ -182,13 +167,13 @@ def write_simulation(out_dir: str | os.PathLike, m: Measurements, truth: pd.Data
     return {"measurements": str(out / "measurements.csv"), "truth": str(out / "truth.csv")}
 
 
-def max_detection_range_m(grid: xr.Dataset, cls_name: str, p0_db: float) -> float:
+def max_detection_range_m(grid: xr.Dataset | GridTables, cls_name: str, p0_db: float) -> float:
     """Largest grid range at which any band of a class at noise P0 is detected, m."""
-    sonar = sonar_info(grid)
-    k = grid["k_db"].sel({"class": cls_name}).values
-    snr = p0_db + k - (np.array(sonar.noise_band_db) - sonar.directivity_index_db)[:, None]
-    q_ind = 10.0 ** (snr / 10.0) * np.sqrt(np.array(sonar.bandwidth_hz)[:, None]
-                                           * sonar.integration_time_s)
+    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+    sonar = tables.area.sonar
+    k = tables.k_db()[tables.class_index(cls_name)]
+    snr = p0_db + k - (tables.noise_band_db - sonar.directivity_index_db)[:, None]
+    q_ind = 10.0 ** (snr / 10.0) * np.sqrt(tables.bandwidth_hz[:, None] * sonar.integration_time_s)
     det = (q_ind >= sonar.detection_threshold).any(axis=0)
-    rr = grid["range"].values
+    rr = tables.range_m
     return float(rr[det].max()) if det.any() else math.nan

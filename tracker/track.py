@@ -1,51 +1,94 @@
-"""Track CSV: the trackers' output, one row per cycle per class hypothesis (DESIGN.md)."""
+"""One way to track a target from a measurement file: ``track(grid, measurements, method=...)``.
+
+It checks the measurements against the grid once (bands, class and band choices, observer depths,
+bearings) and hands the estimator validated input: the maximum-likelihood motion analysis of
+Grinenkov & Mashoshin (``ml``) or the regularized particle filters of Iglesis & de Montella
+(``rpf`` bearings and SPL, ``rpf-bot`` bearings only, ``rpf-vp`` bearings and SPL with the
+variance-preserving regularization).
+"""
 
 from __future__ import annotations
 
-import os
+from enum import StrEnum
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 
-from envdata.files import atomic_path
+from envdata.errors import InputError
+from tracker.measurements import Measurements
+from tracker.errors import MeasurementFileError
+from tracker.tables import GridTables
 
-TRACK_COLUMNS = ("t_s", "class", "x_m", "y_m", "range_m", "bearing_deg", "course_deg", "speed_mps",
-                 "range_sd_m", "course_sd_deg", "speed_sd_mps", "tack", "method")
-_TEXT_COLUMNS = ("class", "method")
+
+class Method(StrEnum):
+    ML = "ml"
+    RPF = "rpf"
+    RPF_BOT = "rpf-bot"
+    RPF_VP = "rpf-vp"
 
 
-def check_track(df: pd.DataFrame, where: str = "track") -> pd.DataFrame:
-    """Check a track table has exactly the columns of TRACK_COLUMNS; return them in order.
+def track(grid: xr.Dataset | GridTables, measurements: Measurements, *, method: Method | str = "ml",
+          rng: np.random.Generator | None = None, cls_name: str | None = None,
+          band: str | None = None, ml_params=None, rpf_config=None) -> pd.DataFrame:
+    """Track one target; one row per cycle per class hypothesis (DESIGN.md "Track CSV").
+
+    Parameters
+    ----------
+    grid : xr.Dataset or GridTables
+        The propagation grid (``acoustics.open_grid``).
+    measurements : Measurements
+        Bearings and band levels (``tracker.measurements.read_measurements``).
+    method : {"ml", "rpf", "rpf-bot", "rpf-vp"}
+        The estimator.
+    rng : numpy.random.Generator, optional
+        The particle filters' generator (same seed, same track); required by them.
+    cls_name : str, optional
+        Only this class hypothesis (default every class of the grid).
+    band : str, optional
+        ``ml``: use only this band's levels; ``rpf``: the band whose level is the SPL (default
+        the first grid band with a level column).
+    ml_params : tracker.mltma.MLParams, optional
+    rpf_config : tracker.rpf.RpfConfig, optional
 
     Raises
     ------
-    ValueError
-        A missing column or a non-numeric column that should hold numbers. These are
-        programming errors of a tracker, not bad user input.
+    MeasurementFileError
+        A level column for a band the grid lacks, an observer depth outside the grid's depth
+        axis, no bearing in any row; for ``rpf``, no level column for the band.
+    GridFileError
+        ``cls_name`` or ``band`` is not in the grid.
     """
-    missing = [c for c in TRACK_COLUMNS if c not in df.columns]
-    if missing:
-        raise ValueError(f"{where}: track table lacks column {missing[0]!r} "
-                         f"(needs {', '.join(TRACK_COLUMNS)})")
-    out = df.loc[:, list(TRACK_COLUMNS)].copy()
-    for col in TRACK_COLUMNS:
-        if col in _TEXT_COLUMNS:
-            out[col] = out[col].astype(str)
-        elif col == "tack":
-            out[col] = out[col].astype(int)
-        elif not np.issubdtype(out[col].dtype, np.number):
-            raise ValueError(f"{where}: track column {col!r} must be numeric, got {out[col].dtype}")
-    return out
+    try:
+        method = Method(method)
+    except ValueError:
+        raise InputError(f"--method: {method!r} is not a tracker ({', '.join(Method)})") from None
+    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+    m = measurements
+    if cls_name is not None:
+        tables.class_index(cls_name)
+    if band is not None:
+        tables.band_index(band)
+    for name in m.band_names:
+        if name not in tables.band_names:
+            raise MeasurementFileError(f"{m.source}: column 'level_db_{name}': band {name!r} is "
+                                       f"not a band of the grid ({', '.join(tables.band_names)})")
+    bad = np.flatnonzero(tables.outside_depth(m.obs_depth_m))
+    if bad.size:
+        i = int(bad[0])
+        lo, hi = tables.depth_range_m
+        raise MeasurementFileError(f"{m.source}: row {i + 1}, column obs_depth_m: "
+                                   f"{m.obs_depth_m[i]:g} m is outside the grid's depth axis "
+                                   f"[{lo:g}, {hi:g}] m")
+    if not np.isfinite(m.bearing_deg).any():
+        raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row")
+    if method is Method.ML:
+        from tracker import mltma
 
+        return mltma.track_measurements(tables, m, cls_name=cls_name, band=band, params=ml_params)
+    from tracker import rpf
 
-def write_track(path: str | os.PathLike, df: pd.DataFrame) -> None:
-    """Write a track CSV atomically after checking its columns (TRACK_COLUMNS order)."""
-    out = check_track(df, str(path))
-    with atomic_path(path) as tmp:
-        out.to_csv(tmp, index=False, na_rep="", float_format="%.9g")
-
-
-def read_track(path: str | os.PathLike) -> pd.DataFrame:
-    """Read a track CSV written by write_track."""
-    df = pd.read_csv(path, keep_default_na=True, dtype={"class": str, "method": str})
-    return check_track(df, str(path))
+    if rng is None:
+        raise InputError(f"--method {method}: the particle filters need a random generator (--seed)")
+    return rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
+                                  band=band, config=rpf_config)

@@ -48,11 +48,6 @@ def test_single_frequency_band_has_no_bandwidth_term():
     assert spectral_term_db(ross, band) == 0.0  # Ross level is given at the band centre itself
 
 
-def test_ross_source_level_eq12():
-    assert_allclose(envdata.ross_source_level_db(5.14), 170.0, rtol=0, atol=1e-9)
-    assert_allclose(envdata.ross_source_level_db(10.28), 170.0 + 53 * math.log10(2), rtol=0, atol=1e-9)
-
-
 @given(st.floats(100.0, 200_000.0), st.floats(1.0, 10_000.0))
 def test_urick_with_zero_anomaly_falls_with_range(r1, dr):
     beta = float(thorp_db_per_km(FB1.center_hz))

@@ -1,4 +1,5 @@
-"""``tracker.rpf.track`` from a measurement CSV (what ``tmakit track --method rpf|rpf-bot`` calls)."""
+"""``tracker.track`` with the particle filters, from a measurement CSV (what ``tmakit track --method
+rpf|rpf-bot`` calls)."""
 
 from __future__ import annotations
 
@@ -17,8 +18,9 @@ from tracker.errors import MeasurementFileError
 from tracker.idm_experiment import simulate
 from tracker.idm_scenarios import get_scenario
 from tracker.measurements import Measurements, read_measurements, write_measurements
-from tracker.tl_interp import tl_table
-from tracker.track import TRACK_COLUMNS, write_track
+from tracker.tables import GridTables
+from tracker.track import track
+from tracker.trackfile import TRACK_COLUMNS, write_track
 
 pytestmark = pytest.mark.bellhop
 
@@ -39,7 +41,8 @@ def munk(munk_path):
 def static_csv(munk, tmp_path_factory):
     """60 cycles of the static-observer scenario written as a measurement CSV."""
     sc = get_scenario("idm-static")
-    prof = tl_table(munk, "ship", "F50").level_profile(300.0)
+    tables = GridTables.from_grid(munk)
+    prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
     b, lv = simulate(sc, prof, 1, np.random.default_rng(4))
     n = 61
     m = Measurements(source="sim", t_s=sc.t_s[:n], obs_x_m=np.zeros(n), obs_y_m=np.zeros(n),
@@ -57,12 +60,12 @@ def _read(path, munk):
 
 def test_track_rpf_gives_track_rows_and_is_repeatable(munk, static_csv, tmp_path):
     m = _read(static_csv, munk)
-    df = rpf.track(munk, m, method="rpf", rng=np.random.default_rng(1),
-                   config=rpf.RpfConfig(n_particles=1000))
+    df = track(munk, m, method="rpf", rng=np.random.default_rng(1),
+               rpf_config=rpf.RpfConfig(n_particles=1000))
     assert tuple(df.columns) == TRACK_COLUMNS
     assert len(df) == len(m) and (df["method"] == "rpf").all() and (df["class"] == "ship").all()
-    again = rpf.track(munk, m, method="rpf", rng=np.random.default_rng(1),
-                      config=rpf.RpfConfig(n_particles=1000))
+    again = track(munk, m, method="rpf", rng=np.random.default_rng(1),
+                  rpf_config=rpf.RpfConfig(n_particles=1000))
     assert_allclose(again["x_m"], df["x_m"], rtol=0, atol=0)
     sc = get_scenario("idm-static")
     truth = sc.target_state(m.t_s)
@@ -81,11 +84,11 @@ def test_nan_levels_use_the_bearing_alone(munk, static_csv, tmp_path):
                       obs_depth_m=m.obs_depth_m, bearing_deg=m.bearing_deg,
                       bearing_sigma_deg=m.bearing_sigma_deg, band_names=m.band_names,
                       level_db=levels, snr_db=m.snr_db)
-    df = rpf.track(munk, m2, method="rpf", rng=np.random.default_rng(2),
-                   config=rpf.RpfConfig(n_particles=500))
+    df = track(munk, m2, method="rpf", rng=np.random.default_rng(2),
+               rpf_config=rpf.RpfConfig(n_particles=500))
     assert np.isfinite(df[["x_m", "y_m", "range_sd_m"]].to_numpy()).all()
-    bot = rpf.track(munk, m2, method="rpf-bot", rng=np.random.default_rng(2),
-                    config=rpf.RpfConfig(n_particles=500))
+    bot = track(munk, m2, method="rpf-bot", rng=np.random.default_rng(2),
+                rpf_config=rpf.RpfConfig(n_particles=500))
     assert (bot["method"] == "rpf-bot").all() and len(bot) == len(m2)
 
 
@@ -99,26 +102,26 @@ def test_missing_level_column_band_class_and_depth_are_errors(munk, static_csv, 
     rng = np.random.default_rng(0)
     with pytest.raises(MeasurementFileError, match=r"nolevels.csv: method rpf needs a level "
                                                    r"column level_db_NAME"):
-        rpf.track(munk, no_levels, method="rpf", rng=rng)
+        track(munk, no_levels, method="rpf", rng=rng)
     with pytest.raises(GridFileError, match=r"band 'F100' is not in the grid \(bands: F50\)"):
-        rpf.track(munk, m, method="rpf", rng=rng, band="F100")
+        track(munk, m, method="rpf", rng=rng, band="F100")
     with pytest.raises(GridFileError, match=r"class 'sub' is not in the grid"):
-        rpf.track(munk, m, method="rpf", rng=rng, cls_name="sub")
+        track(munk, m, method="rpf", rng=rng, cls_name="sub")
     deep = Measurements(source="deep.csv", t_s=m.t_s, obs_x_m=m.obs_x_m, obs_y_m=m.obs_y_m,
                         obs_depth_m=np.where(np.arange(len(m)) == 3, 1200.0, 300.0),
                         bearing_deg=m.bearing_deg, bearing_sigma_deg=m.bearing_sigma_deg,
                         band_names=m.band_names, level_db=m.level_db, snr_db=m.snr_db)
     with pytest.raises(MeasurementFileError, match=r"deep.csv: row 4, column obs_depth_m: 1200 m "
                                                    r"is outside the grid's depth axis \[0, 1000\]"):
-        rpf.track(munk, deep, method="rpf", rng=rng)
+        track(munk, deep, method="rpf", rng=rng)
     nob = Measurements(source="nob.csv", t_s=m.t_s, obs_x_m=m.obs_x_m, obs_y_m=m.obs_y_m,
                        obs_depth_m=m.obs_depth_m, bearing_deg=np.full(len(m), math.nan),
                        bearing_sigma_deg=m.bearing_sigma_deg, band_names=m.band_names,
                        level_db=m.level_db, snr_db=m.snr_db)
     with pytest.raises(MeasurementFileError, match=r"nob.csv: column bearing_deg: no bearing"):
-        rpf.track(munk, nob, method="rpf-bot", rng=rng)
+        track(munk, nob, method="rpf-bot", rng=rng)
     with pytest.raises(MeasurementFileError, match=r"--method: 'ml' is not an RPF method"):
-        rpf.track(munk, m, method="ml", rng=rng)
+        rpf.track_measurements(GridTables.from_grid(munk), m, method="ml", rng=rng)
 
 
 def test_cli_track_rpf_vp_writes_a_track(munk_path, static_csv, tmp_path, capsys):

@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from tools.cli import main
-from tracker.track import TRACK_COLUMNS
+from tracker.trackfile import TRACK_COLUMNS
 
 BAD = Path(__file__).parent.parent / "data" / "malformed"
 

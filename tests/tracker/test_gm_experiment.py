@@ -18,10 +18,10 @@ def ocean_grid_file(tmp_path_factory):
 
 
 def test_design_weights_eqs_32_34():
-    from tracker.ranging import ClassInfo
+    from envdata import TargetClass
 
-    cls = ClassInfo(name="TV", speed_mean_mps=7.5, speed_sd_mps=1.0, noise_mean_db=133.0,
-                    noise_sd_db=2.5, k_error_sd_db=1.5)
+    cls = TargetClass(name="TV", depth_m=8.0, speed_mean_mps=7.5, speed_sd_mps=1.0,
+                      noise_mean_db=133.0, noise_sd_db=2.5, k_error_sd_db=1.5)
     dv, dp, dk, w = design(cls, 11)
     assert len(dv) == 1331 and dv.max() == pytest.approx(2.0) and dp.min() == pytest.approx(-5.0)
     assert w.max() == pytest.approx(1.0) and w.argmax() == 665  # the centre node
@@ -67,11 +67,11 @@ def test_tv_110km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
 
 def test_design_centre_is_the_class_distribution():
     from tracker.gm_experiment import center_offsets
-    from tracker.ranging import ClassInfo
+    from envdata import TargetClass
     from tracker.scenario import load_scenario
 
-    cls = ClassInfo(name="TV", speed_mean_mps=7.5, speed_sd_mps=1.0, noise_mean_db=133.02,
-                    noise_sd_db=2.5, k_error_sd_db=1.5)
+    cls = TargetClass(name="TV", depth_m=8.0, speed_mean_mps=7.5, speed_sd_mps=1.0,
+                      noise_mean_db=133.02, noise_sd_db=2.5, k_error_sd_db=1.5)
     sc = load_scenario("gm-tv-30km")
     # eqs. 32-34 weight by the class PDFs: the first tack (6.5 m/s, 131.02 dB) moves to the
     # class means; the second keeps its +2 m/s, +4 dB change

@@ -14,7 +14,7 @@ import acoustics
 import envdata
 from tracker import idm_experiment, rpf
 from tracker.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
-from tracker.tl_interp import tl_table
+from tracker.tables import GridTables
 
 
 @pytest.fixture(scope="module")
@@ -64,12 +64,13 @@ def test_unknown_scenario_and_bad_runs_are_errors(tmp_path, munk_grid):
 @pytest.mark.bellhop
 def test_simulated_measurements_have_the_papers_noise(munk_grid, rng):
     sc = get_scenario("idm-static")
-    prof = tl_table(acoustics.open_grid(munk_grid), "ship", "F50").level_profile(300.0)
+    tables = GridTables.from_grid(acoustics.open_grid(munk_grid))
+    prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
     b, lv = idm_experiment.simulate(sc, prof, 2000, rng)
     rel = sc.target_state(sc.t_s) - sc.observer_state(sc.t_s)
     resid = rpf.wrap_rad(b - rpf.bearing_rad(rel[:, 0], rel[:, 1])[None])
     assert_allclose(np.degrees(resid).std(), 1.5, rtol=0.01)
-    true_level = rpf.ross_source_level_db(5 * 1852 / 3600) + prof(np.hypot(rel[:, 0], rel[:, 1]))
+    true_level = envdata.ross_source_level_db(5 * 1852 / 3600) + prof(np.hypot(rel[:, 0], rel[:, 1]))
     assert_allclose((lv - true_level[None]).std(), 4.0, rtol=0.01)
     assert_allclose((lv - true_level[None]).mean(), 0.0, atol=0.02)
 
@@ -138,7 +139,7 @@ def test_experiment_is_repeatable_whatever_the_worker_count(munk_grid, tmp_path)
 @pytest.mark.bellhop
 def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range(munk_grid):
     from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
-    from tracker.tl_interp import LevelProfile
+    from tracker.tables import LevelProfile
 
     sc = get_scenario("idm-static")
     t = sc.t_s
@@ -150,8 +151,9 @@ def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range
                           course_sd_rad=math.pi / math.sqrt(12))
     args = dict(bearing_sd_rad=math.radians(1.5), p0=p0)
     bot = bot_crlb(t, rel, **args)
-    profile = tl_table(acoustics.open_grid(munk_grid), idm_experiment.CLASS,
-                       idm_experiment.BAND).level_profile(sc.obs_depth_m)
+    tables = GridTables.from_grid(acoustics.open_grid(munk_grid))
+    profile = tables.level_profile(tables.class_index(idm_experiment.CLASS),
+                                   tables.band_index(idm_experiment.BAND), sc.obs_depth_m)
     spl = bot_spl_crlb(t, rel, obs_vel, level_sd_db=4.0, k_profile=profile, **args)
     assert np.all(spl <= bot * (1 + 1e-9))
     assert spl[-1] < 0.5 * bot[-1]

@@ -8,7 +8,7 @@ from numpy.testing import assert_allclose
 
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, read_measurements, write_measurements
-from tracker.track import TRACK_COLUMNS, read_track, write_track
+from tracker.trackfile import TRACK_COLUMNS, read_track, write_track
 
 BAD = Path(__file__).parent.parent / "data" / "malformed" / "measurements"
 

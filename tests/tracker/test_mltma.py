@@ -12,7 +12,8 @@ from numpy.testing import assert_allclose
 import envdata
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
-from tracker.mltma import course_from_relative_deg, relative_course_deg, track, trimmed_mean
+from tracker.mltma import course_from_relative_deg, relative_course_deg, trimmed_mean
+from tracker.track import track
 
 
 def _geometry(n=61, dt=10.0, tx=20000.0, ty=15000.0, k=300.0, v=6.5):
@@ -98,11 +99,11 @@ def test_nan_bearing_cycles_are_skipped(caplog):
 @pytest.mark.bellhop
 def test_level_range_uses_k_at_the_rows_observer_depth(tiny_grid):
     from tracker.mltma import MLBatch
-    from tracker.ranging import KAtDepth
+    from tracker.tables import GridTables
 
     ic = list(tiny_grid["class"].values).index("SHIP")
     raxis = tiny_grid["range"].values
-    k300 = KAtDepth(tiny_grid)(300.0)[ic]
+    k300 = GridTables.from_grid(tiny_grid).k_db(300.0)[ic]
     j = int(np.argmin(np.abs(raxis - 3000.0)))
     r_true = raxis[j]
     p0 = 133.0                                      # the class mean: a perfect prior
@@ -220,7 +221,7 @@ def test_fast_eq25_search_matches_exhaustive_search(rng):
         cls = batch.classes[ci]
         off, wts = offset_nodes(cls.noise_sd_db, cls.k_error_sd_db)
         from tracker.ranging import level_sd_db
-        sd_w = level_sd_db(np.full((1, 3), 100.0), np.array(batch.sonar.bandwidth_hz),
+        sd_w = level_sd_db(np.full((1, 3), 100.0), batch.bandwidth_hz,
                            batch.sonar.integration_time_s)
         r_opt, r_sd = level_range(lev[n][None, :], np.ones((1, 3), bool), sd_w, batch.p0[:1],
                                   batch.k_db[ci], batch.range_axis, offsets_db=off, weights=wts)

@@ -191,13 +191,6 @@ def test_bearing_is_clockwise_from_north_and_residual_wraps():
     assert_allclose(ll[0, 0], -0.5 * 2.0 ** 2, rtol=1e-9)  # 2 deg apart, not 358
 
 
-def test_ross_source_level_eq12():
-    # the paper's reference: 170 dB at 5.14 m/s (10 kn); 53 dB per decade of speed
-    assert_allclose(rpf.ross_source_level_db(5.14), 170.0, atol=1e-9)
-    assert_allclose(rpf.ross_source_level_db(51.4), 223.0, atol=1e-9)
-    assert np.isfinite(rpf.ross_source_level_db(0.0))
-
-
 def test_predicted_level_uses_each_particles_target_speed():
     state = np.zeros((4, 1, 2))
     state[0] = [3000.0, 4000.0]  # ranges 3000 and 4000 m

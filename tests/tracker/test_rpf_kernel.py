@@ -15,7 +15,7 @@ from tracker import rpf
 from tracker import rpf_kernel as kern
 from tracker.idm_experiment import simulate
 from tracker.idm_scenarios import get_scenario
-from tracker.tl_interp import BEYOND_GRID_PENALTY_DB, LevelProfile
+from tracker.tables import BEYOND_GRID_PENALTY_DB, LevelProfile
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision
 

@@ -7,9 +7,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 from acoustics.kcurve import spectral_term_db
-from tracker.ranging import KAtDepth, bearing_sd_deg, sonar_info
+from tracker.ranging import bearing_sd_deg
 from tracker.scenario import ScenarioError, load_scenario
 from tracker.simulate import simulate_batch
+from tracker.tables import GridTables
 
 SCENARIO = """[scenario]
 name = "tiny"
@@ -41,7 +42,7 @@ def _scenario(tmp_path, depth=300.0, noise=95.0):
 
 @pytest.mark.bellhop
 def test_k_at_depth_is_spectral_term_minus_tl(tiny_grid, tiny_area):
-    k_at = KAtDepth(tiny_grid)
+    k_at = GridTables.from_grid(tiny_grid).k_db
     # at the grid's observer depth it is the grid's k_db (to float rounding)
     assert_allclose(k_at(tiny_area.observer.depth_m), tiny_grid["k_db"].values, atol=1e-9)
     assert_allclose(k_at(None), tiny_grid["k_db"].values, atol=1e-9)
@@ -54,7 +55,7 @@ def test_k_at_depth_is_spectral_term_minus_tl(tiny_grid, tiny_area):
     # between nodes: linear in depth
     assert_allclose(k_at(325.0), 0.5 * (k_at(300.0) + k_at(350.0)), atol=1e-9)
     assert not np.allclose(k300, tiny_grid["k_db"].values, atol=0.5)  # the depth matters here
-    with pytest.raises(ValueError, match="observer depth 1200 m is outside"):
+    with pytest.raises(ValueError, match="receiver depth 1200 m is outside"):
         k_at(1200.0)
 
 
@@ -62,9 +63,10 @@ def test_k_at_depth_is_spectral_term_minus_tl(tiny_grid, tiny_area):
 def test_simulated_levels_use_k_at_the_observer_depth(tiny_grid, tmp_path, rng):
     sc = _scenario(tmp_path, depth=300.0)
     sim = simulate_batch(sc, tiny_grid, rng, dk_db=0.0)
-    sonar = sonar_info(tiny_grid)
+    tables = GridTables.from_grid(tiny_grid)
+    sonar = tables.area.sonar
     ic = list(tiny_grid["class"].values).index("SHIP")
-    k = KAtDepth(tiny_grid)(300.0)[ic]                                  # (M, R)
+    k = tables.k_db(300.0)[ic]                                          # (M, R)
     raxis = tiny_grid["range"].values
     expect = np.stack([np.interp(sim.range_m[0], raxis, k[j]) for j in range(k.shape[0])], -1)
     # W = P0 + K(r) + dK + H (eq. 12, 31) with K at the scenario's 300 m observer depth
@@ -75,10 +77,10 @@ def test_simulated_levels_use_k_at_the_observer_depth(tiny_grid, tmp_path, rng):
 def test_simulated_bearing_sd_is_eq2_of_the_highest_detected_band(tiny_grid, tmp_path, rng):
     sc = _scenario(tmp_path, depth=100.0, noise=110.0)   # FB1 alone, or FB1 and F500
     sim = simulate_batch(sc, tiny_grid, rng, dk_db=np.linspace(-6.0, 6.0, 8))
-    sonar = sonar_info(tiny_grid)
+    tables = GridTables.from_grid(tiny_grid)
+    sonar = tables.area.sonar
     det = np.isfinite(sim.level_db)                                      # (E, T, M)
-    q_ind = 10.0 ** (sim.snr_db / 10.0) * np.sqrt(np.array(sonar.bandwidth_hz)
-                                                  * sonar.integration_time_s)
+    q_ind = 10.0 ** (sim.snr_db / 10.0) * np.sqrt(tables.bandwidth_hz * sonar.integration_time_s)
     m = det.shape[-1]
     any_det = det.any(-1)
     assert any_det.sum() > 10
