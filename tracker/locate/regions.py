@@ -2,8 +2,8 @@
 
 With bearing errors uniform in [-D_alpha, D_alpha] the crossing of two bearings lies in the
 quadrilateral bounded by the extreme bearing lines alpha +- D_alpha (the paper's Fig. 7), whose
-diagonals follow eqs. 25-28 (`error_region`); a fix from n bearings lies in the intersection of
-the n wedges (`error_polygon`).
+diagonals follow eqs. 25-28 (`error_region`). For n bearings the target lies in the
+intersection of the n wedges alpha_k +- D_alpha (`error_polygon`).
 """
 
 from __future__ import annotations
