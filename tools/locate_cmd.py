@@ -190,7 +190,8 @@ def run_locate(args) -> Report:
                                     rng=np.random.default_rng(args.seed), method=result.method,
                                     max_u=args.max_u)
     if args.plot:
-        from tracker.locate_plot import locate_figure, save_figure
+        from acoustics.figures import save_figure
+        from tracker.locate.plot import locate_figure
 
         save_figure(locate_figure(bearings, result, region, mc), args.plot)
 
@@ -270,7 +271,8 @@ def run_plan(args) -> Report:
         with atomic_path(args.out) as tmp:
             frame.to_csv(tmp, index=False, float_format="%.12g", na_rep="")
     if args.plot:
-        from tracker.locate_plot import plan_figure, save_figure
+        from acoustics.figures import save_figure
+        from tracker.locate.plot import plan_figure
 
         save_figure(plan_figure(route, region, mc), args.plot)
 

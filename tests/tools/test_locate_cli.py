@@ -37,7 +37,7 @@ def test_locate_json_gives_the_fix_u_and_the_papers_region(capsys):
     assert_allclose(data["determinant"], 3.0 / np.sqrt(200.0), rtol=1e-6)  # eq. 10
     reg = data["region"]
     assert reg["kind"] == "quadrilateral"
-    # the paper's numbers times 1000 m (see tests/tracker/test_locate.py for the tolerances)
+    # the paper's numbers times 1000 m (tolerances: see tests/tracker/locate/test_regions.py)
     assert_allclose(reg["d13_eq25_m"], 493.6, atol=0.1)
     assert_allclose(reg["d24_m"], 4699.2, atol=1.0)
     assert_allclose(reg["area_diagonals_m2"], 1.16e6, atol=1e3)

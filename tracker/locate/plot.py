@@ -1,38 +1,26 @@
 """Plots for stationary target location: analogues of Schmidt et al.'s Figs. 1, 3, 4, 8 and 9.
 
-Figures are built on the Agg canvas directly (no pyplot state) and written atomically.
+Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state); write them
+with `acoustics.figures.save_figure`.
 """
 
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from envdata.files import atomic_path
-from tracker.locate import (
-    Bearings,
-    ErrorPolygon,
-    ErrorRegion,
-    LocateResult,
-    MonteCarlo,
-    Route,
-    conditioning_vs_course,
-    pair_conditioning,
-)
+from acoustics.figures import new_figure
+from tracker.locate.bearings import Bearings
+from tracker.locate.fixes import LocateResult
+from tracker.locate.geometry import pair_conditioning
+from tracker.locate.montecarlo import MonteCarlo
+from tracker.locate.regions import ErrorPolygon, ErrorRegion
+from tracker.locate.route import Route, conditioning_vs_course
 
 #: VT / R1 values drawn in the Fig. 1 analogue (the route's own value is added).
 FIG1_LEG_OVER_RANGE = (0.05, 0.1, 0.2, 0.3)
-
-
-def save_figure(fig: Figure, path: str | os.PathLike) -> None:
-    """Write ``fig`` as PNG to ``path`` through a temporary file, renamed on success."""
-    FigureCanvasAgg(fig)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
 
 
 def _closed(vertices: np.ndarray) -> np.ndarray:
@@ -127,7 +115,7 @@ def locate_figure(bearings: Bearings, result: LocateResult,
     """Figure for a fix: geometry and error region (Fig. 8), magnified with trials (Fig. 9),
     and, for more than two bearings, u and 1/|P| of consecutive pairs (Fig. 4)."""
     n_panels = 3 if len(bearings) > 2 else 2
-    fig = Figure(figsize=(5.0 * n_panels, 4.8), layout="constrained")
+    fig = new_figure(figsize=(5.0 * n_panels, 4.8), layout="constrained")
     axes = fig.subplots(1, n_panels)
     _fig8(axes[0], bearings.obs_x_m, bearings.obs_y_m, result.x_m, result.y_m, region,
           bearings.bearing_deg)
@@ -142,7 +130,7 @@ def locate_figure(bearings: Bearings, result: LocateResult,
 
 def plan_figure(route: Route, region: ErrorRegion | None, mc: MonteCarlo | None) -> Figure:
     """Figure for a planned route: Figs. 1, 3, 4, 8 and 9 of the paper."""
-    fig = Figure(figsize=(15.0, 9.0), layout="constrained")
+    fig = new_figure(figsize=(15.0, 9.0), layout="constrained")
     axes = fig.subplots(2, 3).ravel()
     # Fig. 1: u against the first leg's course for several VT/R1
     alpha1 = float(route.bearing_deg[0])
