@@ -22,13 +22,19 @@ def new_figure(**kwargs) -> Figure:
     return fig
 
 
-def save_figure(fig: Figure, path: str | os.PathLike, *, dpi: int = 110) -> Path:
-    """Write ``fig`` as PNG to ``path`` through a temporary file renamed on success.
+def save_figure(fig: Figure, path: str | os.PathLike, *, dpi: int = 110,
+                atomic: bool = True) -> Path:
+    """Write ``fig`` as PNG to ``path``; returns the path written.
 
-    Returns the path written. A failed save leaves ``path`` as it was.
+    With ``atomic`` (the default) through a temporary file renamed on success, so a failed save
+    leaves ``path`` as it was; without, straight to ``path`` (for a caller that renames several
+    files together).
     """
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
+    if not atomic:
+        fig.savefig(path, format="png", dpi=dpi)
+        return Path(path)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=dpi)
     return Path(path)

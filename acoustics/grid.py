@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import shutil
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -28,6 +29,7 @@ from acoustics.runs import Run, RunStats, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
 from envdata.areafile import area_to_json
+from envdata.limits import check_memory
 
 GRID_FORMAT_VERSION = 1
 TMAKIT_VERSION = "0.1.0"
@@ -175,6 +177,18 @@ def _fkey(freq_hz: float) -> float:
     return round(float(freq_hz), 6)
 
 
+def grid_size_bytes(area: Area) -> float:
+    """Memory a grid build of ``area`` needs at its peak, bytes (an estimate).
+
+    The float32 TL table (class x band x depth x range) twice (built, then encoded for
+    netCDF), and a few float64 / complex64 fields of depth x range per run in flight.
+    """
+    n_depth = math.ceil(area.water.depth_m / area.grid.depth_step_m) + 1
+    n_range = round(area.grid.range_max_m / area.grid.range_step_m)
+    cells = float(n_depth) * n_range
+    return 8.0 * len(area.classes) * len(area.bands) * cells + 48.0 * cells
+
+
 def source_hash(area: Area, model: Model, bellhop_sha256: str | None) -> str:
     """Hash of everything that determines the grid's numbers."""
     payload = {"area": area.to_dict(), "model": str(model), "format": GRID_FORMAT_VERSION,
@@ -211,6 +225,7 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
         Filled with run counts and timings.
     """
     model = Model(model)
+    check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     stats = stats if stats is not None else BuildStats()
     depth = area.depth_m()
     rng = area.grid.range_m()

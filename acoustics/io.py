@@ -9,7 +9,7 @@ import xarray as xr
 
 from acoustics.errors import GridFileError
 from acoustics.schema import check_grid
-from envdata.files import atomic_path
+from envdata.files import atomic_path, check_input_file
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever)."""
@@ -27,13 +27,12 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
 
 def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Dataset:
     """Open a netCDF file and load it into memory; every way it can be unreadable raises ``error``."""
-    path = Path(path)
-    if not path.exists():
-        raise error(f"{path}: {what} file not found")
-    if path.is_dir():
-        raise error(f"{path}: is a directory, not a {what} file")
-    with open(path, "rb") as fh:
-        magic = fh.read(8)
+    path = check_input_file(path, f"{what} file", error)
+    try:
+        with open(path, "rb") as fh:
+            magic = fh.read(8)
+    except OSError as exc:
+        raise error(f"{path}: cannot read the {what} file: {exc.strerror or exc}") from None
     if not magic:
         raise error(f"{path}: empty file, not a netCDF {what}")
     if not (magic.startswith(b"\x89HDF") or magic.startswith(b"CDF")):

@@ -23,6 +23,8 @@ from envdata.sonar import Sonar
 from envdata.ssp import SoundSpeedProfile
 
 DEFAULT_AREA = "ocean-deep"
+#: Most depths a grid's depth axis may have (a finer step is a typing or unit mistake).
+MAX_DEPTHS = 100_000
 
 
 class TlMode(StrEnum):
@@ -98,6 +100,9 @@ class Propagation:
     frequency_shortcut: bool = True  # incoherent: one run per band, other frequencies via absorption
     absorption: Absorption = Absorption.THORP
     tl_max_db: float = 200.0  # zero pressure (shadow) is capped here, never inf
+    # a BELLHOP run still running after this is killed, s; None: generous, scaled to the run's
+    # beams x receivers (acoustics.bellhop.runner.default_timeout_s)
+    run_timeout_s: float | None = None
 
     def __post_init__(self) -> None:
         if self.beam_type not in ("G", "g", "B", "R", "C"):
@@ -111,6 +116,10 @@ class Propagation:
             raise AreaError(f"[propagation] freqs_per_band: must be in [1, 101], got {self.freqs_per_band}")
         if not (math.isfinite(self.tl_max_db) and 50.0 <= self.tl_max_db <= 400.0):
             raise AreaError(f"[propagation] tl_max_db: must be in [50, 400] dB, got {self.tl_max_db}")
+        if self.run_timeout_s is not None and not (math.isfinite(self.run_timeout_s)
+                                                   and 0.0 < self.run_timeout_s <= 30 * 86400.0):
+            raise AreaError(f"[propagation] run_timeout_s: must be in (0, 2592000] s (30 days), "
+                            f"got {self.run_timeout_s}")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -149,6 +158,9 @@ class Area:
         if self.grid.depth_step_m > self.water.depth_m:
             raise AreaError(f"[grid] depth_step_m: {self.grid.depth_step_m} m exceeds the water depth "
                             f"{self.water.depth_m} m")
+        if self.water.depth_m / self.grid.depth_step_m > MAX_DEPTHS:
+            raise AreaError(f"[grid] depth_step_m: {self.grid.depth_step_m} m gives more than "
+                            f"{MAX_DEPTHS} depths to {self.water.depth_m} m")
 
     def band(self, name: str) -> Band:
         for band in self.bands:
@@ -196,7 +208,9 @@ class Area:
             "bands": [dataclasses.asdict(band) for band in self.bands],
             "classes": classes,
             "grid": dataclasses.asdict(self.grid),
-            "propagation": _plain(dataclasses.asdict(self.propagation)),
+            "propagation": {key: value for key, value in
+                            _plain(dataclasses.asdict(self.propagation)).items()
+                            if value is not None},  # TOML has no null: an unset limit is absent
         }
 
 

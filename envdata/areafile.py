@@ -18,6 +18,7 @@ from envdata.bands import Band
 from envdata.bottom import Bottom
 from envdata.classes import F_MINUS_2_DB_PER_OCTAVE, SourceLevelModel, TargetClass
 from envdata.errors import AreaError
+from envdata.names import check_name
 from envdata.noise import Noise
 from envdata.sonar import Sonar
 from envdata.ssp import SoundSpeedProfile, munk_profile, ts_profile
@@ -55,10 +56,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
     top.done()
 
     t = TomlTable(data["area"], "[area]", source)
-    name = t.string("name")
-    if not name.strip() or any(ch in name for ch in "/\\ "):
-        raise AreaError(f"{source}: [area] name: must be a non-empty identifier without spaces or "
-                        f"slashes, got {name!r}")
+    name = check_name(t.string("name"), f"{source}: [area] name")
     description = t.string("description", "")
     latitude = t.number("latitude_deg", 45.0)
     longitude = t.number("longitude_deg", -30.0)
@@ -72,7 +70,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
         raise AreaError(f"{source}: [water] depth_m: must be > 0 m, got {depth}")
     interpolation = t.string("ssp_interpolation", "C", choices=("C", "S", "N", "P"))
     if t.has("ssp"):
-        kind = t.string("ssp", choices=("munk",))
+        t.string("ssp", choices=("munk",))  # the one named profile
         ssp = t.wrap(munk_profile, depth)
         ssp = dataclasses.replace(ssp, interpolation=interpolation)
     elif t.has("temperature_c") or t.has("salinity_psu"):
@@ -152,7 +150,8 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
             frequency_shortcut=t.boolean("frequency_shortcut", defaults.frequency_shortcut),
             absorption=Absorption(t.string("absorption", defaults.absorption.value,
                                            choices=tuple(a.value for a in Absorption))),
-            tl_max_db=t.number("tl_max_db", defaults.tl_max_db))
+            tl_max_db=t.number("tl_max_db", defaults.tl_max_db),
+            run_timeout_s=t.number("run_timeout_s", required=False))
         t.done()
     else:
         propagation = defaults

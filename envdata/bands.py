@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from envdata.errors import AreaError
+from envdata.names import check_name
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -17,6 +18,7 @@ class Band:
     high_hz: float
 
     def __post_init__(self) -> None:
+        check_name(self.name, "band name")
         if not (math.isfinite(self.low_hz) and math.isfinite(self.high_hz)):
             raise AreaError(f"band {self.name!r}: bounds must be finite, "
                             f"got {self.low_hz} Hz, {self.high_hz} Hz")

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from envdata.errors import AreaError
+from envdata.names import check_name
 
 # A spectrum falling as f^-2 falls by 20 lg 2 = 6.02 dB per octave (the spectrum behind eq. 13).
 F_MINUS_2_DB_PER_OCTAVE = -20.0 * math.log10(2.0)
@@ -60,8 +61,7 @@ class TargetClass:
 
     def __post_init__(self) -> None:
         where = f"class {self.name!r}"
-        if not self.name or not self.name.strip():
-            raise AreaError("class name must not be empty")
+        check_name(self.name, "class name")
         for field_name, value, lo in (("depth_m", self.depth_m, 0.0),
                                       ("speed_mean_mps", self.speed_mean_mps, 0.0)):
             if not (math.isfinite(value) and value > lo):

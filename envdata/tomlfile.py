@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from envdata.errors import AreaError
+from envdata.files import read_input_bytes
 
 
 class TomlTable:
@@ -105,11 +106,7 @@ def read_toml(path: str | Path, what: str = "area file") -> tuple[dict[str, Any]
     """Read a TOML file, turning every way it can be unreadable into an AreaError."""
     path = Path(path)
     source = str(path)
-    if not path.exists():
-        raise AreaError(f"{source}: {what} not found")
-    if path.is_dir():
-        raise AreaError(f"{source}: is a directory, not an {what}")
-    raw = path.read_bytes()
+    raw = read_input_bytes(path, what, AreaError)
     if not raw.strip():
         raise AreaError(f"{source}: empty {what}")
     if b"\x00" in raw:
@@ -122,5 +119,7 @@ def read_toml(path: str | Path, what: str = "area file") -> tuple[dict[str, Any]
         return tomllib.loads(text), source
     except tomllib.TOMLDecodeError as exc:
         raise AreaError(f"{source}: TOML syntax error: {exc}") from None
+    except RecursionError:
+        raise AreaError(f"{source}: TOML nested too deeply to read") from None
 
 

@@ -1,7 +1,8 @@
 """The ``tmakit`` command line: argparse subcommands, each calling one library function.
 
 Bad input ends a command with exit status 2 and one ``error: ...`` line on stderr (no traceback);
-results go to files and a summary (or, with ``--json``, one JSON object) to stdout.
+results go to files and a summary (or, with ``--json``, one JSON object) to stdout. ``main`` is
+the one place that turns failures into that line (DESIGN.md "Errors").
 """
 
 from __future__ import annotations
@@ -9,11 +10,16 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import math
+import os
+import signal
 import sys
 from collections.abc import Sequence
 
+from acoustics.bellhop.runner import kill_running
 from acoustics.errors import BellhopError
 from envdata.errors import InputError
+from envdata.limits import LIMIT_VARIABLE
 from tools import (areas_cmd, demo_cmd, doctor_cmd, experiment_cmd, grids_cmd, locate_cmd, sensitivity_cmd,
                    simulate_cmd, track_cmd)
 
@@ -25,7 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="tmakit", parents=[_common_options(argparse.SUPPRESS)],
         description="Propagation tables and passive-sonar target motion analysis.")
-    parser.set_defaults(json=False, progress=False, verbose=0)
+    parser.set_defaults(json=False, progress=False, verbose=0, max_gib=None)
     # subcommands take the same options anywhere on the line; SUPPRESS keeps a subparser from
     # resetting what an earlier position already set
     common = _common_options(argparse.SUPPRESS)
@@ -42,28 +48,93 @@ def _common_options(default) -> argparse.ArgumentParser:
     common.add_argument("--progress", action="store_true", default=default,
                         help="show progress bars even when stderr is not a terminal")
     common.add_argument("-v", "--verbose", action="count", default=default, help="more log output")
+    common.add_argument("--max-gib", type=float, default=default, metavar="GIB",
+                        help="memory a piece of work may take, GiB (default: half the machine's)")
     return common
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what batch systems send) as an interrupt, so the same clean-up runs."""
+
+
+def _on_sigterm(signum, frame) -> None:
+    raise Terminated()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; return its exit status.
+
+    Every failure a user can cause by what they pass ends here as one ``error: ...`` line on
+    stderr and status 2: bad input (``InputError``: files, values, sizes), a BELLHOP failure
+    or time-out, and an operating-system error on an input or output. SIGINT and SIGTERM end
+    with 130 and 143, after killing the BELLHOP runs under way; finished work that a rerun
+    resumes is kept, and no half-written output is left.
+    """
+    for stream in (sys.stdout, sys.stderr):
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")  # odd bytes in a path never crash a print
     parser = build_parser()
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING - 10 * min(args.verbose, 2), stream=sys.stderr,
                         format="%(levelname)s %(name)s: %(message)s")
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if _main_thread() else None
+    limit_before = os.environ.get(LIMIT_VARIABLE)
     try:
+        if args.max_gib is not None:
+            if not (math.isfinite(args.max_gib) and args.max_gib > 0):
+                raise InputError(f"--max-gib: must be a positive number of GiB, got {args.max_gib}")
+            os.environ[LIMIT_VARIABLE] = repr(args.max_gib)
         report = args.func(args)
-    except (InputError, BellhopError) as exc:
-        message = " ".join(str(exc).split("\n")[0].split()) if isinstance(exc, InputError) else str(exc)
-        print(f"error: {message}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
+        if args.json:
+            print(json.dumps(report.data, default=_jsonable))
+        else:
+            print(report.summary)
+        sys.stdout.flush()
+    except KeyboardInterrupt as exc:
+        kill_running()
+        signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
         print("error: interrupted; finished work is kept and a rerun resumes it", file=sys.stderr)
-        return 130
-    if args.json:
-        print(json.dumps(report.data, default=_jsonable))
-    else:
-        print(report.summary)
+        return 128 + int(signum)
+    except BrokenPipeError:
+        # the reader of our output went away (``tmakit ... | head``): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + int(signal.SIGPIPE)
+    except (InputError, BellhopError) as exc:
+        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"error: {_one_line(_os_message(exc))}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("error: out of memory; the work is larger than this machine (see --max-gib)",
+              file=sys.stderr)
+        return 2
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+        if limit_before is None:
+            os.environ.pop(LIMIT_VARIABLE, None)
+        else:
+            os.environ[LIMIT_VARIABLE] = limit_before
     return 0
+
+
+def _main_thread() -> bool:
+    import threading
+
+    return threading.current_thread() is threading.main_thread()
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split("\n")[0].split()) or "failed"
+
+
+def _os_message(exc: OSError) -> str:
+    """``path: reason`` of an operating-system error on a file tmakit was given."""
+    reason = (exc.strerror or str(exc)).rstrip(".")
+    reason = reason[:1].lower() + reason[1:]
+    names = [str(n) for n in (exc.filename, exc.filename2) if n is not None]
+    return f"{' -> '.join(names)}: {reason}" if names else reason
 
 
 def _jsonable(value):

@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from envdata.files import atomic_path
+from envdata.files import atomic_paths
+from tools.outputs import Kind, check_output_file
 from tools.report import Report
 from tracker import locate as loc
 from tracker.errors import LocateError
@@ -84,6 +85,8 @@ def _add_region_options(p: argparse.ArgumentParser) -> None:
                         f"{DEFAULT_TRIALS_WITH_PLOT} with --plot, else none)")
     p.add_argument("--seed", type=int, default=None, help="random seed for the Monte Carlo")
     p.add_argument("--plot", metavar="PNG", help="draw the analogues of the paper's figures")
+    p.add_argument("--force", action="store_true",
+                   help="replace --out/--plot even if they are not tmakit's kind of file")
 
 
 def _trials(args) -> int:
@@ -166,6 +169,8 @@ def run_locate(args) -> Report:
                           "'tmakit locate plan ...' to plan a route")
     _check_d_alpha(args)
     n_trials = _trials(args)
+    if args.plot:
+        check_output_file(args.plot, Kind.PNG, force=args.force)
     bearings = loc.read_bearings_csv(args.bearings)
     result = loc.locate(bearings, method=args.method, max_u=args.max_u)
     n = len(bearings)
@@ -228,6 +233,11 @@ def run_plan(args) -> Report:
     """``tmakit locate plan``: the route for K legs, its conditioning and error region."""
     _check_d_alpha(args)
     n_trials = _trials(args)
+    outputs = []
+    if args.out:
+        outputs.append(check_output_file(args.out, Kind.ROUTE_CSV, force=args.force))
+    if args.plot:
+        outputs.append(check_output_file(args.plot, Kind.PNG, force=args.force))
     rng = np.random.default_rng(args.seed)
     route = loc.plan_route(
         target_x_m=args.target_x_m, target_y_m=args.target_y_m, start_x_m=args.start_x_m,
@@ -267,14 +277,19 @@ def run_plan(args) -> Report:
     frame["d24_m"] = [math.nan] + d24
     frame["area_m2"] = [math.nan] + area
 
-    if args.out:
-        with atomic_path(args.out) as tmp:
-            frame.to_csv(tmp, index=False, float_format="%.12g", na_rep="")
+    fig = None
     if args.plot:
-        from acoustics.figures import save_figure
         from tracker.locate.plot import plan_figure
 
-        save_figure(plan_figure(route, region, mc), args.plot)
+        fig = plan_figure(route, region, mc)
+    with atomic_paths(outputs) as temps:  # the route and its plot: both or neither
+        temps = list(temps)
+        if args.out:
+            frame.to_csv(temps.pop(0), index=False, float_format="%.12g", na_rep="")
+        if fig is not None:
+            from acoustics.figures import save_figure
+
+            save_figure(fig, temps.pop(0), atomic=False)
 
     mc_data = _mc_data(mc, region)
     rows = frame.replace({math.nan: None}).to_dict(orient="records")

@@ -6,6 +6,7 @@ import argparse
 
 import numpy as np
 
+from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report
 
 
@@ -18,6 +19,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--grid", required=True, metavar="FILE", help="propagation grid (netCDF)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--force", action="store_true",
+                   help="replace existing files in DIR even if they are not tmakit's CSVs")
     p.set_defaults(func=run_simulate)
 
 
@@ -26,6 +29,9 @@ def run_simulate(args) -> Report:
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate, write_simulation
 
+    out = check_output_dir(args.out)
+    check_output_file(out / "measurements.csv", Kind.MEASUREMENT_CSV, force=args.force)
+    check_output_file(out / "truth.csv", Kind.TRUTH_CSV, force=args.force)
     sc = load_scenario(args.scenario)
     grid = open_grid(args.grid)
     m, truth = simulate(sc, grid, np.random.default_rng(args.seed))

@@ -6,6 +6,7 @@ import argparse
 
 import numpy as np
 
+from tools.outputs import Kind, check_output_file
 from tools.report import Report
 
 
@@ -22,6 +23,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed of the particle filters")
     p.add_argument("--class", dest="cls_name", metavar="NAME", help="only this class hypothesis")
     p.add_argument("--band", metavar="NAME", help="only this band's levels")
+    p.add_argument("--force", action="store_true",
+                   help="replace --out even if it is not a track CSV")
     p.set_defaults(func=run_track)
 
 
@@ -31,6 +34,7 @@ def run_track(args) -> Report:
     from tracker.track import track
     from tracker.trackfile import write_track
 
+    check_output_file(args.out, Kind.TRACK_CSV, force=args.force)
     grid = open_grid(args.grid)
     m = read_measurements(args.measurements, [str(b) for b in grid["band"].values])
     df = track(grid, m, method=args.method, rng=np.random.default_rng(args.seed),

@@ -15,11 +15,11 @@ import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from envdata.files import atomic_path
+from envdata.files import atomic_path, read_input_bytes
+from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from tracker.errors import MeasurementFileError
 
 REQUIRED_COLUMNS = ("t_s", "obs_x_m", "obs_y_m", "obs_depth_m", "bearing_deg")
@@ -100,6 +100,7 @@ class Measurements:
                 i = int(bad[0])
                 raise MeasurementFileError(f"{self.source}: row {i + 1}, column {name}: "
                                            f"{value[i]} {_UNITS[name]} is not a finite number")
+        check_bounds(self.source, t_s=self.t_s, obs_x_m=self.obs_x_m, obs_y_m=self.obs_y_m)
         bad = np.flatnonzero(np.diff(self.t_s) <= 0.0)
         if bad.size:
             i = int(bad[0]) + 1
@@ -145,14 +146,26 @@ class Measurements:
         return pd.DataFrame(cols)
 
 
+def check_bounds(source: str, *, t_s, obs_x_m, obs_y_m) -> None:
+    """Refuse times beyond 100 years and positions beyond 20 000 km (unit or typing mistakes).
+
+    Raises
+    ------
+    MeasurementFileError
+        Naming the file, the row (1-based), the column and the value.
+    """
+    for name, values, limit, text in (("t_s", t_s, MAX_TIME_S, "beyond 100 years"),
+                                      ("obs_x_m", obs_x_m, MAX_POSITION_M, "beyond 20000 km"),
+                                      ("obs_y_m", obs_y_m, MAX_POSITION_M, "beyond 20000 km")):
+        bad = np.flatnonzero(~(np.abs(np.asarray(values, dtype=float)) <= limit))
+        if bad.size:
+            i = int(bad[0])
+            raise MeasurementFileError(f"{source}: row {i + 1}, column {name}: {values[i]:g} "
+                                       f"{_UNITS[name]} is {text}")
+
+
 def _read_text(src: str, path) -> str:
-    try:
-        raw = Path(path).read_bytes()
-    except IsADirectoryError:
-        raise MeasurementFileError(f"{src}: is a directory, not a measurement CSV") from None
-    except OSError as exc:
-        raise MeasurementFileError(f"{src}: cannot read the measurement file: "
-                                   f"{exc.strerror or exc}") from None
+    raw = read_input_bytes(path, "measurement CSV", MeasurementFileError)
     if b"\x00" in raw:
         raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
     try:
@@ -314,8 +327,15 @@ def read_measurements(path: str | os.PathLike,
                         snr_db=np.array(snrs, dtype=float).reshape(n_row, nb))
 
 
-def write_measurements(path: str | os.PathLike, m: Measurements) -> None:
-    """Write measurements as a measurement CSV (atomically; blanks for NaN)."""
+def write_measurements(path: str | os.PathLike, m: Measurements, *, atomic: bool = True) -> None:
+    """Write measurements as a measurement CSV (blanks for NaN).
+
+    With ``atomic`` (the default) through a temporary file renamed on success; without, straight
+    to ``path`` (for a caller that renames several files together).
+    """
     df = m.to_frame()
+    if not atomic:
+        df.to_csv(path, index=False, na_rep="", float_format="%.10g")
+        return
     with atomic_path(path) as tmp:
         df.to_csv(tmp, index=False, na_rep="", float_format="%.10g")

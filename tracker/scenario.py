@@ -44,6 +44,8 @@ import numpy as np
 
 from envdata.tomlfile import TomlTable, read_toml
 from envdata.errors import AreaError
+from envdata.limits import MAX_POSITION_M, MAX_TIME_S
+from envdata.names import check_name
 
 
 class ScenarioError(AreaError):
@@ -188,7 +190,7 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
     top.done()
 
     t = TomlTable(data["scenario"], "[scenario]", source)
-    name = t.string("name")
+    name = t.wrap(check_name, t.string("name"), "[scenario] name")
     description = t.string("description", "")
     area = t.string("area", "ocean-deep")
     cycle = t.number("cycle_s", 10.0)
@@ -228,6 +230,15 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
     t.done()
     if not 0.0 <= tdepth <= 12000.0:
         raise ScenarioError(f"{source}: [target] depth_m: must be in [0, 12000] m, got {tdepth}")
+    for where, tacks in (("[observer] tacks", otacks), ("[target] tacks", ttacks)):
+        total = sum(tk.duration_s for tk in tacks)
+        if not total <= MAX_TIME_S:
+            raise ScenarioError(f"{source}: {where}: {total:g} s in all is beyond 100 years")
+    for where, value in (("[observer] x_m", ox), ("[observer] y_m", oy), ("[target] x_m", tx),
+                         ("[target] y_m", ty)):
+        if not abs(value) <= MAX_POSITION_M:
+            raise ScenarioError(f"{source}: {where}: {value:g} m is beyond "
+                                f"{MAX_POSITION_M / 1000:g} km of the origin")
     return Scenario(name=name, description=description, area=area, cycle_s=cycle,
                     target_class=cls, obs_x_m=ox, obs_y_m=oy, obs_depth_m=odepth,
                     obs_tacks=otacks, target_depth_m=tdepth, target_x_m=tx, target_y_m=ty,

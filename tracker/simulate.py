@@ -20,7 +20,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from envdata.files import atomic_path
+from envdata.files import atomic_paths
+from envdata.limits import check_memory
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
 from tracker.ranging import bearing_sd_deg, level_sd_db
@@ -89,6 +90,10 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.G
     dp = np.broadcast_to(dp, (e,))
     dk = (rng.normal(0.0, cls.k_error_sd_db, e) if dk_db is None
           else np.broadcast_to(np.atleast_1d(np.asarray(dk_db, dtype=float)), (e,)))
+    n_cycles = math.floor(sc.duration_s / sc.cycle_s + 1e-9) + 1
+    # about 12 arrays of (E, T) and 6 of (E, T, M) doubles live at once
+    check_memory(8.0 * e * n_cycles * (12 + 6 * len(tables.bands)),
+                 f"{sc.source}: simulating {e} run(s) of {n_cycles} cycles")
     t = sc.times_s()
     ox, oy, _, _ = observer_track(sc, t)
     # target path per run: offsets change every tack's speed
@@ -159,12 +164,13 @@ def simulate(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator):
 
 
 def write_simulation(out_dir: str | os.PathLike, m: Measurements, truth: pd.DataFrame) -> dict:
-    """Write measurements.csv and truth.csv into out_dir (atomically)."""
+    """Write measurements.csv and truth.csv into out_dir: both or, on any failure, neither."""
     out = Path(out_dir)
-    write_measurements(out / "measurements.csv", m)
-    with atomic_path(out / "truth.csv") as tmp:
-        truth.loc[:, list(TRUTH_COLUMNS)].to_csv(tmp, index=False, float_format="%.6f")
-    return {"measurements": str(out / "measurements.csv"), "truth": str(out / "truth.csv")}
+    files = {"measurements": out / "measurements.csv", "truth": out / "truth.csv"}
+    with atomic_paths(list(files.values())) as (tmp_m, tmp_t):
+        write_measurements(tmp_m, m, atomic=False)
+        truth.loc[:, list(TRUTH_COLUMNS)].to_csv(tmp_t, index=False, float_format="%.6f")
+    return {key: str(path) for key, path in files.items()}
 
 
 def max_detection_range_m(grid: xr.Dataset | GridTables, cls_name: str, p0_db: float) -> float:

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,12 +25,50 @@ class RunResult:
     prt_text: str
 
 
+#: Default run limit: this many times BELLHOP's expected time, but at least `MIN_TIMEOUT_S`.
+TIMEOUT_FACTOR = 50.0
+MIN_TIMEOUT_S = 300.0
+#: BELLHOP's cost per beam and receiver, s (measured: bench/bench_grids.py).
+SECONDS_PER_BEAM_RECEIVER = 1.5e-9
+#: Beams assumed for BELLHOP's automatic count (n_beams = 0), which grows with range x frequency.
+AUTOMATIC_BEAMS = 100_000
+
+_running: set[subprocess.Popen] = set()
+_running_lock = threading.Lock()
+
+
+def default_timeout_s(n_beams: int, n_receivers: int) -> float:
+    """A generous limit for one run: `TIMEOUT_FACTOR` times its expected time, s."""
+    beams = n_beams if n_beams > 0 else AUTOMATIC_BEAMS
+    return max(MIN_TIMEOUT_S, TIMEOUT_FACTOR * SECONDS_PER_BEAM_RECEIVER * beams * n_receivers)
+
+
+def kill_running() -> int:
+    """Kill every BELLHOP process this process started that still runs; how many there were.
+
+    Called when a command is interrupted, so that worker threads do not wait for their runs.
+    """
+    with _running_lock:
+        procs = list(_running)
+    for proc in procs:
+        _kill(proc)
+    return len(procs)
+
+
+def _kill(proc: subprocess.Popen) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)  # its own session: BELLHOP and anything it started
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
 def run_env(env: str, *, exe: str | Path | None = None, keep_dir: str | Path | None = None,
             timeout_s: float | None = None) -> RunResult:
     """Run BELLHOP on the .env text ``env`` in a temporary directory and read its .shd file.
 
     With ``keep_dir`` the files are written there and kept (to debug); otherwise nothing is
-    left behind. Raises BellhopError quoting BELLHOP's own message from the .prt file.
+    left behind. A run that outlives ``timeout_s`` seconds is killed. Raises BellhopError
+    quoting BELLHOP's own message from the .prt file, or saying it was killed.
     """
     exe_path = Path(exe) if exe is not None else find_bellhop().path
     if keep_dir is not None:
@@ -42,7 +83,8 @@ def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None) -> RunRe
     command = (str(exe), BASE)
     start = time.perf_counter()
     try:
-        proc = subprocess.run(command, cwd=folder, capture_output=True, timeout=timeout_s)
+        proc = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                start_new_session=True)
     except FileNotFoundError:
         raise BellhopError(f"BELLHOP executable {exe} not found", command=command) from None
     except PermissionError:
@@ -50,14 +92,30 @@ def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None) -> RunRe
     except OSError as exc:
         raise BellhopError(f"BELLHOP executable {exe} cannot run: {exc.strerror}",
                            command=command) from None
-    except subprocess.TimeoutExpired:
-        raise BellhopError(f"BELLHOP did not finish within {timeout_s} s", command=command) from None
+    with _running_lock:
+        _running.add(proc)
+    try:
+        try:
+            stdout, stderr = proc.communicate(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            _kill(proc)
+            proc.communicate()
+            raise BellhopError(f"BELLHOP did not finish within {timeout_s:g} s and was killed "
+                               f"([propagation] run_timeout_s sets the limit)",
+                               command=command) from None
+        except BaseException:  # interrupted: leave no BELLHOP behind
+            _kill(proc)
+            raise
+    finally:
+        with _running_lock:
+            _running.discard(proc)
     seconds = time.perf_counter() - start
+    done = subprocess.CompletedProcess(command, proc.returncode, stdout, stderr)
     prt_path = folder / f"{BASE}.prt"
     prt = prt_path.read_text(errors="replace") if prt_path.exists() else ""
     shd_path = folder / f"{BASE}.shd"
     if proc.returncode != 0 or "FATAL ERROR" in prt or not shd_path.exists():
-        raise BellhopError(f"BELLHOP failed (exit {proc.returncode}): {bellhop_message(prt, proc)}",
+        raise BellhopError(f"BELLHOP failed (exit {proc.returncode}): {bellhop_message(prt, done)}",
                            prt_text=prt, command=command, returncode=proc.returncode)
     return RunResult(field=read_shd(shd_path), seconds=seconds, prt_text=prt)
 

@@ -27,9 +27,24 @@ class ShadeField:
     pressure: np.ndarray         # complex64 (NSz, NRz, NRr) for the first frequency and bearing
 
 
+#: Largest count a shade-file header may give for any axis (a larger one is a damaged file).
+MAX_COUNT = 50_000_000
+
+
 def read_shd(path: str | Path) -> ShadeField:
+    """Read the first frequency and bearing of a shade file.
+
+    Raises
+    ------
+    BellhopError
+        An empty, truncated or inconsistent file: a record length or an axis count that is not
+        positive, an axis that does not fit its record, or fewer bytes than the header promises.
+    """
     path = Path(path)
-    raw = path.read_bytes()
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise BellhopError(f"{path}: cannot read the shade file: {exc.strerror or exc}") from None
     if len(raw) < 4:
         raise BellhopError(f"{path}: shade file is empty or truncated ({len(raw)} bytes)")
     lrecl = int(np.frombuffer(raw, "<i4", 1, 0)[0])
@@ -38,7 +53,18 @@ def read_shd(path: str | Path) -> ShadeField:
         raise BellhopError(f"{path}: shade file header is truncated ({len(raw)} bytes, record {rec})")
     title = raw[4:84].decode("ascii", "replace").strip()
     header = np.frombuffer(raw, "<i4", 7, 2 * rec)
-    nfreq, ntheta, _nsx, _nsy, nsz, nrz, nrr = (int(v) for v in header)
+    counts = dict(zip(("Nfreq", "Ntheta", "NSx", "NSy", "NSz", "NRz", "NRr"), (int(v) for v in header)))
+    for name, value in counts.items():
+        if not 1 <= value <= MAX_COUNT:
+            raise BellhopError(f"{path}: shade file header is inconsistent: {name} = {value}")
+    nfreq, nsz, nrz, nrr = counts["Nfreq"], counts["NSz"], counts["NRz"], counts["NRr"]
+    # each axis is one record: frequencies float64, the others float32; a pressure record
+    # holds NRr complex64 values
+    for name, nbytes in (("Nfreq", 8 * nfreq), ("Ntheta", 4 * counts["Ntheta"]), ("NSz", 4 * nsz),
+                         ("NRz", 4 * nrz), ("NRr", 8 * nrr)):
+        if nbytes > rec:
+            raise BellhopError(f"{path}: shade file header is inconsistent: {name} = "
+                               f"{counts[name]} does not fit a record of {rec} bytes")
     freqs = np.frombuffer(raw, "<f8", nfreq, 3 * rec)
     sz = np.frombuffer(raw, "<f4", nsz, 7 * rec).astype(float)
     rz = np.frombuffer(raw, "<f4", nrz, 8 * rec).astype(float)
@@ -49,8 +75,7 @@ def read_shd(path: str | Path) -> ShadeField:
         raise BellhopError(f"{path}: shade file is truncated: {len(raw)} bytes, need {need}")
     block = np.frombuffer(raw, np.uint8, nrec * rec, 10 * rec).reshape(nrec, rec)
     p = block[:, : 8 * nrr].copy().view("<c8").reshape(nsz, nrz, nrr)
-    del ntheta
-    return ShadeField(title=title, freq_hz=float(freqs[0]) if nfreq else float("nan"),
+    return ShadeField(title=title, freq_hz=float(freqs[0]),
                       source_depth_m=sz, receiver_depth_m=rz, range_m=rr, pressure=p)
 
 

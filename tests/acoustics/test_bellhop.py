@@ -118,3 +118,70 @@ def test_installed_executable_is_found_and_identified():
     exe = find_bellhop()
     assert exe.path.is_file()
     assert len(exe.sha256) == 64
+
+
+def _process_running(pattern: str) -> bool:
+    import subprocess
+
+    return subprocess.run(["pgrep", "-f", pattern], capture_output=True).returncode == 0
+
+
+def test_a_hung_bellhop_is_killed_at_its_limit(tmp_path):
+    import time
+
+    # a "BELLHOP" that never ends, and a child of it that would hold the output pipes open
+    marker = f"tmakit-hang-{tmp_path.name}"
+    hang = tmp_path / "hung-bellhop.sh"
+    hang.write_text(f"#!/bin/sh\nsleep 1000 # {marker}\n")
+    hang.chmod(0o755)
+    start = time.perf_counter()
+    with pytest.raises(BellhopError, match=r"BELLHOP did not finish within 1.5 s and was killed"):
+        run_env("'x'\n", exe=hang, timeout_s=1.5)
+    assert time.perf_counter() - start < 20.0
+    time.sleep(0.2)
+    assert not _process_running(marker)
+
+
+def test_default_limit_grows_with_beams_and_receivers():
+    from acoustics.bellhop.runner import MIN_TIMEOUT_S, default_timeout_s
+
+    assert default_timeout_s(1500, 1000) == MIN_TIMEOUT_S  # small runs: the floor
+    big = default_timeout_s(10_000, 5_000_000)
+    assert big > MIN_TIMEOUT_S and default_timeout_s(20_000, 5_000_000) == pytest.approx(2 * big)
+    assert default_timeout_s(0, 5_000_000) > big  # BELLHOP's automatic count: assume many
+
+
+@pytest.fixture(scope="module")
+def real_shd(tmp_path_factory):
+    area = isovelocity_area(1000.0)
+    spec = RunSpec(title="shd", freq_hz=100.0, source_depth_m=(20.0,), receiver_depth_m=(10.0, 50.0),
+                   range_m=(100.0, 200.0, 300.0), n_beams=50)
+    folder = tmp_path_factory.mktemp("shd")
+    run_env(env_text(area, spec), keep_dir=folder)
+    return (folder / "tmakit.shd").read_bytes()
+
+
+@pytest.mark.parametrize("field, value, match", [
+    (2, 0, r"header is inconsistent: Nfreq = 0"),
+    (6, -3, r"header is inconsistent: NSz = -3"),
+    (7, 10 ** 6, r"header is inconsistent: NRz = 1000000 does not fit a record"),
+    (6, 20, r"shade file is truncated: \d+ bytes, need \d+"),
+    (8, 2 ** 31 - 1, r"header is inconsistent: NRr = 2147483647"),
+])
+def test_shd_with_inconsistent_header_counts_is_a_bellhop_error(real_shd, tmp_path, field, value, match):
+    raw = bytearray(real_shd)
+    lrecl = int(np.frombuffer(bytes(raw[:4]), "<i4")[0])
+    header = 2 * 4 * lrecl  # record 3: Nfreq, Ntheta, NSx, NSy, NSz, NRz, NRr
+    offset = header + 4 * (field - 2)
+    raw[offset:offset + 4] = np.int32(value).tobytes()
+    bad = tmp_path / "bad.shd"
+    bad.write_bytes(bytes(raw))
+    assert read_shd(_write(tmp_path, real_shd)).pressure.shape == (1, 2, 3)  # the unedited file reads
+    with pytest.raises(BellhopError, match=match):
+        read_shd(bad)
+
+
+def _write(folder, raw):
+    path = folder / "good.shd"
+    path.write_bytes(raw)
+    return path

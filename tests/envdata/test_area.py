@@ -37,6 +37,11 @@ AREA_CASES = {
     "grid-step.toml": r"\[grid\] range_step_m: must be > 0 m, got 0.0",
     "empty.toml": r"empty area file",
     "binary.toml": r"binary file, not a TOML area file",
+    "nested-deep.toml": r"TOML nested too deeply to read",
+    "name-newline.toml": r"\[area\] name: must be letters, digits, '\.', '_' or '-'",
+    "name-quote.toml": r"\[area\] name: must be letters, digits",
+    "band-name-space.toml": r"band name: must be letters, digits, .*got 'FB 1'",
+    "run-timeout-negative.toml": r"\[propagation\] run_timeout_s: must be in \(0, 2592000\] s \(30 days\), got -5.0",
 }
 
 

@@ -174,7 +174,7 @@ def test_bad_bearing_files_end_with_one_error_line(capsys, tmp_path, name, metho
 
 @pytest.mark.parametrize(("argv", "fragment"), [
     (["locate"], "give --bearings CSV"),
-    (["locate", "--bearings", "no/such/file.csv"], "no/such/file.csv: cannot read"),
+    (["locate", "--bearings", "no/such/file.csv"], "no/such/file.csv: bearings file not found"),
     (["locate", "--bearings", str(PAPER_PAIR), "--d-alpha-deg", "50"],
      "--d-alpha-deg: the bearing error bound must be in (0, 45) deg, got 50.0 deg"),
     (["locate", "--bearings", str(PAPER_PAIR), "--trials", "-1"],

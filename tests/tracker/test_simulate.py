@@ -1,6 +1,5 @@
 """The measurement simulator (section 4 steps 1-6) on the tiny BELLHOP grid."""
 
-import dataclasses
 
 import numpy as np
 import pytest

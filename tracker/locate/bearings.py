@@ -11,10 +11,11 @@ import csv
 import io
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
+from envdata.files import read_input_bytes
+from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from tracker.errors import LocateError, MeasurementFileError
 from tracker.measurements import parse_number
 
@@ -64,6 +65,14 @@ class Bearings:
                 i = int(bad[0])
                 raise LocateError(f"{self.source}: column {name}, row {i + 1}: "
                                   f"{value[i]} {_UNITS[name]} is not a finite number")
+        for name, limit, text in (("t_s", MAX_TIME_S, "beyond 100 years"),
+                                  ("obs_x_m", MAX_POSITION_M, "beyond 20000 km"),
+                                  ("obs_y_m", MAX_POSITION_M, "beyond 20000 km")):
+            bad = np.flatnonzero(~(np.abs(arrays[name]) <= limit))
+            if bad.size:
+                i = int(bad[0])
+                raise LocateError(f"{self.source}: column {name}, row {i + 1}: "
+                                  f"{arrays[name][i]:g} {_UNITS[name]} is {text}")
         bad = np.flatnonzero((arrays["bearing_deg"] < 0.0) | (arrays["bearing_deg"] >= 360.0))
         if bad.size:
             i = int(bad[0])
@@ -119,11 +128,7 @@ def read_bearings_csv(path: str | os.PathLike) -> Bearings:
         row and the file's line number), the column and the value with its unit.
     """
     src = str(path)
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as exc:
-        raise MeasurementFileError(f"{src}: cannot read the bearings file: "
-                                   f"{exc.strerror or exc}") from None
+    raw = read_input_bytes(path, "bearings file", MeasurementFileError)
     if b"\x00" in raw:
         raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
     try:

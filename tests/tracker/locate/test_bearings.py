@@ -67,5 +67,5 @@ def test_malformed_bearing_files_raise(name, error, match):
 
 
 def test_missing_bearing_file_raises():
-    with pytest.raises(MeasurementFileError, match=r"no_such\.csv: cannot read"):
+    with pytest.raises(MeasurementFileError, match=r"no_such\.csv: bearings file not found"):
         loc.read_bearings_csv(MALFORMED / "no_such.csv")

@@ -1,0 +1,206 @@
+"""Hostile inputs and outputs through the real command line (DESIGN.md "Errors").
+
+Each case: exit status 2, exactly one line on stderr starting ``error:`` (no traceback), and
+nothing written or replaced.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import acoustics
+from tests.conftest import DATA, MALFORMED
+from tools import cli
+
+TINY = str(DATA / "tiny-munk.toml")
+
+
+def run_cli(capsys, *argv) -> str:
+    """Run ``tmakit argv`` in this process; assert the clean-error contract; return the line."""
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    assert status == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err
+    return lines[0]
+
+
+def listing(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+# ------------------------------------------------------------------ inputs
+
+
+@pytest.mark.parametrize("name, match", [
+    ("nested-deep.toml", "TOML nested too deeply to read"),
+    ("name-newline.toml", r"\[area\] name: must be letters, digits, '.', '_' or '-'"),
+    ("name-quote.toml", r"\[area\] name: must be letters, digits"),
+    ("band-name-space.toml", r"band name: must be letters, digits, .* got 'FB 1'"),
+    ("run-timeout-negative.toml", r"\[propagation\] run_timeout_s: must be in \(0, 2592000\] s"),
+])
+def test_malformed_area_files_through_the_command_line(capsys, tmp_path, name, match):
+    import re
+
+    line = run_cli(capsys, "grids", "build", MALFORMED / "area" / name, "--out", tmp_path / "g.nc")
+    assert re.search(match, line), line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_grid_too_large_for_the_machine_is_refused_before_it_starts(capsys, tmp_path):
+    line = run_cli(capsys, "grids", "build", DATA / "huge-grid.toml",
+                   "--out", tmp_path / "g.nc")
+    assert "would need" in line and "GiB of memory, more than the limit" in line
+    assert "--max-gib" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_max_gib_lowers_the_limit(capsys, tmp_path, monkeypatch):
+    monkeypatch.delenv("TMAKIT_MAX_GIB", raising=False)
+    line = run_cli(capsys, "--max-gib", "0.000001", "grids", "build", TINY, "--out", tmp_path / "g.nc")
+    assert "more than the limit of 1e-06 GiB (--max-gib" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device", "directory"])
+def test_inputs_that_are_not_regular_files(capsys, tmp_path, kind):
+    if kind == "fifo":
+        path = tmp_path / "area.toml"
+        os.mkfifo(path)  # reading it would block forever
+    elif kind == "device":
+        path = Path("/dev/zero")  # reading it would never end
+    else:
+        path = tmp_path / "folder.toml"
+        path.mkdir()
+    for argv, what in ((["grids", "build", path], "area file"),
+                       (["grids", "show", path], "grid file"),
+                       (["locate", "--bearings", path], "bearings file")):
+        line = run_cli(capsys, *argv)
+        assert line.startswith(f"error: {path}: ") and what in line, line
+
+
+def test_measurement_csv_that_is_a_fifo(capsys, tmp_path, tiny_grid_file):
+    fifo = tmp_path / "m.csv"
+    os.mkfifo(fifo)
+    line = run_cli(capsys, "track", "--grid", tiny_grid_file, "--measurements", fifo,
+                   "--out", tmp_path / "t.csv")
+    assert "is not a regular file" in line and "measurement CSV" in line
+    assert not (tmp_path / "t.csv").exists()
+
+
+@pytest.mark.parametrize("name, match", [
+    ("position_1e300.csv", r"row 2, column obs_x_m: 1e\+300 m is beyond 20000 km"),
+    ("time_1e300.csv", r"row 2, column t_s: 1e\+300 s is beyond 100 years"),
+])
+def test_measurements_far_beyond_the_physical(capsys, tmp_path, tiny_grid_file, name, match):
+    import re
+
+    line = run_cli(capsys, "track", "--grid", tiny_grid_file,
+                   "--measurements", MALFORMED / "measurements" / name, "--out", tmp_path / "t.csv")
+    assert re.search(match, line), line
+    assert not (tmp_path / "t.csv").exists()
+
+
+@pytest.mark.parametrize("name, match", [
+    ("cycles_too_many.toml", r"simulating 1 run\(s\) of 864000001 cycles would need [0-9.]+ GiB"),
+    ("position_far.toml", r"\[target\] x_m: 1e\+300 m is beyond 20000 km of the origin"),
+    ("name_slash.toml", r"\[scenario\] name: must be letters, digits"),
+])
+def test_scenarios_beyond_the_machine_or_the_physical(capsys, tmp_path, tiny_grid_file, name, match):
+    import re
+
+    out = tmp_path / "sim"
+    line = run_cli(capsys, "simulate", MALFORMED / "scenario" / name, "--grid", tiny_grid_file,
+                   "--out", out)
+    assert re.search(match, line), line
+    assert not out.exists() or list(out.iterdir()) == []
+
+
+def _grid_with(tiny_grid, tmp_path, **attrs) -> Path:
+    path = tmp_path / "bad.nc"
+    acoustics.write_grid(tiny_grid.assign_attrs(**attrs), path)
+    return path
+
+
+@pytest.mark.parametrize("attrs, match", [
+    ({"area_json": "{oops"}, "area_json: not valid JSON"),
+    ({"observer_depth_m": "deep"}, "global attribute 'observer_depth_m' must be a number"),
+])
+def test_damaged_grids_are_refused_by_every_command(capsys, tmp_path, tiny_grid, attrs, match):
+    bad = _grid_with(tiny_grid, tmp_path, **attrs)
+    for argv in (["grids", "show", bad], ["grids", "plot", bad, "--out", tmp_path / "p.png"],
+                 ["simulate", "gm-tv-30km", "--grid", bad, "--out", tmp_path / "sim"],
+                 ["track", "--grid", bad, "--measurements", MALFORMED / "measurements" / "empty.csv",
+                  "--out", tmp_path / "t.csv"]):
+        line = run_cli(capsys, *argv)
+        assert match in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.nc"]
+
+
+def test_grid_whose_area_names_other_classes(capsys, tmp_path, tiny_grid):
+    data = json.loads(tiny_grid.attrs["area_json"])
+    data["classes"][1]["name"] = "TANKER"
+    bad = _grid_with(tiny_grid, tmp_path, area_json=json.dumps(data))
+    line = run_cli(capsys, "grids", "show", bad)
+    assert "class names SUB, TANKER do not match the grid's SUB, SHIP" in line
+
+
+def test_grid_with_a_negative_integration_time(capsys, tmp_path, tiny_grid):
+    data = json.loads(tiny_grid.attrs["area_json"])
+    data["sonar"]["integration_time_s"] = -10.0
+    bad = _grid_with(tiny_grid, tmp_path, area_json=json.dumps(data))
+    line = run_cli(capsys, "grids", "show", bad)
+    assert "[sonar] integration_time_s: must be in (0, 3600] s, got -10.0" in line
+
+
+def test_all_nan_grid(capsys, tmp_path, tiny_grid):
+    path = tmp_path / "nan.nc"
+    acoustics.write_grid(tiny_grid.assign(k_db=tiny_grid["k_db"] * float("nan")), path)
+    line = run_cli(capsys, "grids", "show", path)
+    assert "variable 'k_db' holds no finite value" in line
+
+
+# ------------------------------------------------------------------ outputs
+
+
+def test_track_out_that_is_a_directory_or_under_a_file(capsys, tmp_path, tiny_grid_file):
+    meas = tmp_path / "m.csv"
+    meas.write_text("t_s,obs_x_m,obs_y_m,obs_depth_m,bearing_deg\n0,0,0,100,10\n10,50,0,100,11\n")
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    line = run_cli(capsys, "track", "--grid", tiny_grid_file, "--measurements", meas, "--out", folder)
+    assert f"{folder}: is a directory" in line
+    line = run_cli(capsys, "track", "--grid", tiny_grid_file, "--measurements", meas,
+                   "--out", meas / "t.csv")
+    assert f"{meas} is a file, not a folder" in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["folder", "m.csv"]
+
+
+def test_simulate_writes_both_files_or_neither(capsys, tmp_path, tiny_grid_file):
+    out = tmp_path / "sim"
+    out.mkdir()
+    (out / "truth.csv").mkdir()  # truth.csv cannot be written
+    line = run_cli(capsys, "simulate", "gm-tv-30km", "--grid", tiny_grid_file, "--out", out)
+    assert "truth.csv: is a directory" in line
+    assert sorted(p.name for p in out.iterdir()) == ["truth.csv"]
+
+
+def test_output_path_that_is_not_utf8(tmp_path, tiny_grid_file):
+    # a name in Latin-1 bytes: the shell passes it as is
+    bad = os.fsencode(tmp_path) + b"/caf\xe9.csv"
+    meas = tmp_path / "m.csv"
+    meas.write_text("t_s,obs_x_m,obs_y_m,obs_depth_m,bearing_deg\n0,0,0,100,10\n10,50,0,100,11\n")
+    proc = subprocess.run([sys.executable, "-m", "tools.cli", "track", "--grid", str(tiny_grid_file),
+                           "--measurements", str(meas), "--out", bad],
+                          capture_output=True, timeout=300)
+    err = proc.stderr.decode("utf-8", "replace")
+    assert proc.returncode == 2, err
+    assert err.strip().count("\n") == 0 and "output path is not valid UTF-8" in err
+    assert sorted(os.listdir(tmp_path)) == ["m.csv"]
