@@ -28,7 +28,7 @@ from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
-from tracker.idm_scenarios import IdmScenario, ScenarioError, get_scenario
+from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
 from tracker.tables import GridTables
 
 log = logging.getLogger(__name__)
@@ -229,7 +229,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     json_path = out_dir / f"{scenario}.json"
     with atomic_path(csv_path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.6g")
-    from tracker.idm_plot import rmse_figure, save_figure
+    from tracker.studies.idm_plot import rmse_figure, save_figure
 
     save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path)
 
