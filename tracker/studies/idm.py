@@ -28,6 +28,7 @@ from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
+from tracker.studies.idm_columns import COLUMN
 from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
 from tracker.tables import GridTables
 
@@ -49,10 +50,6 @@ def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
     where the scenario has one."""
     base = ("rpf-bot", "rpf", "rpf-vp")
     return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
-
-
-#: Column stem of each filter in the CSV and JSON (``rmse_STEM_m``, ``median_STEM_m``).
-COLUMN = {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}
 
 
 def check_level_sigma(level_sigma_db: float) -> None:

@@ -10,7 +10,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from envdata.files import atomic_path
-from tracker.studies.idm import COLUMN
+from tracker.studies.idm_columns import COLUMN
 
 _STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
           "rpf": ("BOT + SPL (RPF)", "tab:blue", "-"),
