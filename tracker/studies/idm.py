@@ -226,9 +226,10 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     json_path = out_dir / f"{scenario}.json"
     with atomic_path(csv_path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.6g")
-    from tracker.studies.idm_plot import rmse_figure, save_figure
+    from acoustics.figures import save_figure
+    from tracker.studies.idm_plot import DPI, rmse_figure
 
-    save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path)
+    save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path, dpi=DPI)
 
     at = {}
     for tm in sc.report_times_min:
