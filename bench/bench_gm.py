@@ -16,7 +16,7 @@ import numpy as np
 
 def main() -> None:
     import acoustics
-    from tracker.gm_experiment import run
+    from tracker.studies.gm import run
     from tracker.mltma import MLTracker
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate

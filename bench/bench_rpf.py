@@ -94,7 +94,7 @@ def say(name: str, value, unit: str = "") -> None:
 
 def _scenario():
     from tracker import rpf
-    from tracker.idm_scenarios import get_scenario
+    from tracker.studies.idm_scenarios import get_scenario
 
     sc = get_scenario("idm-static")
     t = sc.t_s
@@ -158,7 +158,7 @@ def bench_stonesoup(python: str, n: int = 5000) -> float | None:
 def bench_full(runs: int = 1000, workers: int = 2) -> tuple[float, float, float]:
     """Wall time (s), peak memory (GiB, largest process) and particle-steps/s of a full study."""
     code = (f"import sys; sys.path.insert(0, {str(REPO)!r}); from pathlib import Path; "
-            f"from tracker import idm_experiment as e; import json; "
+            f"from tracker.studies import idm as e; import json; "
             f"d = e.run('idm-static', runs={runs}, out_dir=Path(sys.argv[1]), seed=1, "
             f"workers={workers}, grid=sys.argv[2]); "
             f"print(json.dumps({{'elapsed_s': d['elapsed_s'], "

@@ -32,7 +32,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 def run_experiment(args) -> Report:
     if args.study == "idm":
-        from tracker import idm_experiment
+        from tracker.studies import idm as idm_experiment
 
         if args.level_sigma_db is not None:  # before a grid is built
             idm_experiment.check_level_sigma(args.level_sigma_db)
@@ -47,7 +47,7 @@ def run_experiment(args) -> Report:
                                                  if args.level_sigma_db is None
                                                  else args.level_sigma_db))
         return Report(res.get("summary", ""), res)
-    from tracker import gm_experiment
+    from tracker.studies import gm as gm_experiment
 
     if args.level_sigma_db is not None:
         raise InputError("--level-sigma-db: only the idm study has it (the gm tracker takes "

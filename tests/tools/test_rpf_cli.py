@@ -15,8 +15,8 @@ import envdata
 from acoustics.errors import GridFileError
 from tracker import rpf
 from tracker.errors import MeasurementFileError
-from tracker.idm_experiment import simulate
-from tracker.idm_scenarios import get_scenario
+from tracker.studies.idm import simulate
+from tracker.studies.idm_scenarios import get_scenario
 from tracker.measurements import Measurements, read_measurements, write_measurements
 from tracker.tables import GridTables
 from tracker.track import track

@@ -13,8 +13,8 @@ from scipy import stats
 
 from tracker import rpf
 from tracker import rpf_kernel as kern
-from tracker.idm_experiment import simulate
-from tracker.idm_scenarios import get_scenario
+from tracker.studies.idm import simulate
+from tracker.studies.idm_scenarios import get_scenario
 from tracker.tables import BEYOND_GRID_PENALTY_DB, LevelProfile
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision

@@ -12,8 +12,9 @@ from numpy.testing import assert_allclose
 
 import acoustics
 import envdata
-from tracker import idm_experiment, rpf
-from tracker.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
+from tracker import rpf
+from tracker.studies import idm
+from tracker.studies.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
 from tracker.tables import GridTables
 
 
@@ -57,7 +58,7 @@ def test_unknown_scenario_and_bad_runs_are_errors(tmp_path, munk_grid):
                                             r"idm-maneuvering"):
         get_scenario("idm-nope")
     with pytest.raises(ScenarioError, match=r"--runs: must be a positive integer, got 0"):
-        idm_experiment.run("idm-static", runs=0, out_dir=tmp_path, seed=1, grid=munk_grid)
+        idm.run("idm-static", runs=0, out_dir=tmp_path, seed=1, grid=munk_grid)
     assert not any(tmp_path.iterdir())
 
 
@@ -66,7 +67,7 @@ def test_simulated_measurements_have_the_papers_noise(munk_grid, rng):
     sc = get_scenario("idm-static")
     tables = GridTables.from_grid(acoustics.open_grid(munk_grid))
     prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
-    b, lv = idm_experiment.simulate(sc, prof, 2000, rng)
+    b, lv = idm.simulate(sc, prof, 2000, rng)
     rel = sc.target_state(sc.t_s) - sc.observer_state(sc.t_s)
     resid = rpf.wrap_rad(b - rpf.bearing_rad(rel[:, 0], rel[:, 1])[None])
     assert_allclose(np.degrees(resid).std(), 1.5, rtol=0.01)
@@ -80,8 +81,8 @@ def test_simulated_measurements_have_the_papers_noise(munk_grid, rng):
 def test_spl_beats_bot_on_a_reduced_static_run(munk_grid, tmp_path):
     # 12 runs x 1000 particles instead of 1000 x 5000: the sampling error of an RMSE over 12
     # runs is large, so the checks against the paper's Table 1 are loose (factor 3)
-    out = idm_experiment.run("idm-static", runs=12, out_dir=tmp_path, seed=3, grid=munk_grid,
-                             n_particles=1000, workers=2)
+    out = idm.run("idm-static", runs=12, out_dir=tmp_path, seed=3, grid=munk_grid,
+                  n_particles=1000, workers=2)
     frame = pd.read_csv(tmp_path / "idm-static_rmse.csv")
     assert list(frame.columns) == ["t_s", "t_min", "rmse_bot_m", "median_bot_m", "rmse_spl_m",
                                    "median_spl_m", "rmse_spl_vp_m", "median_spl_vp_m",
@@ -110,8 +111,7 @@ def test_parallel_observer_vp_kernel_stays_bounded_where_bot_diverges(munk_grid,
     # ends below the BOT CRLB. 12 runs x 5000 particles (fewer particles let more runs escape
     # along the SL(v) - TL(r) ridge), so the medians are compared, not the RMSEs: one escaped
     # run of 12 moves an RMSE by several km
-    idm_experiment.run("idm-parallel", runs=12, out_dir=tmp_path, seed=3, grid=munk_grid,
-                       workers=2)
+    idm.run("idm-parallel", runs=12, out_dir=tmp_path, seed=3, grid=munk_grid, workers=2)
     f = pd.read_csv(tmp_path / "idm-parallel_rmse.csv").set_index("t_min")
     assert f.loc[150, "median_bot_m"] > 3 * f.loc[36, "median_bot_m"] / 2  # BOT diverges
     assert f.loc[150, "median_bot_m"] > f.loc[150, "crlb_bot_m"] * 2
@@ -125,10 +125,10 @@ def test_parallel_observer_vp_kernel_stays_bounded_where_bot_diverges(munk_grid,
 
 @pytest.mark.bellhop
 def test_experiment_is_repeatable_whatever_the_worker_count(munk_grid, tmp_path):
-    a = idm_experiment.run("idm-maneuvering", runs=22, out_dir=tmp_path / "a", seed=9,
-                           grid=munk_grid, n_particles=100, workers=1)
-    b = idm_experiment.run("idm-maneuvering", runs=22, out_dir=tmp_path / "b", seed=9,
-                           grid=munk_grid, n_particles=100, workers=2)
+    a = idm.run("idm-maneuvering", runs=22, out_dir=tmp_path / "a", seed=9,
+                grid=munk_grid, n_particles=100, workers=1)
+    b = idm.run("idm-maneuvering", runs=22, out_dir=tmp_path / "b", seed=9,
+                grid=munk_grid, n_particles=100, workers=2)
     assert a["at"] == b["at"] and b["workers"] == 2  # 22 runs: two chunks of <= 20
     fa = pd.read_csv(tmp_path / "a" / "idm-maneuvering_rmse.csv")
     fb = pd.read_csv(tmp_path / "b" / "idm-maneuvering_rmse.csv")
@@ -152,8 +152,8 @@ def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range
     args = dict(bearing_sd_rad=math.radians(1.5), p0=p0)
     bot = bot_crlb(t, rel, **args)
     tables = GridTables.from_grid(acoustics.open_grid(munk_grid))
-    profile = tables.level_profile(tables.class_index(idm_experiment.CLASS),
-                                   tables.band_index(idm_experiment.BAND), sc.obs_depth_m)
+    profile = tables.level_profile(tables.class_index(idm.CLASS), tables.band_index(idm.BAND),
+                                   sc.obs_depth_m)
     spl = bot_spl_crlb(t, rel, obs_vel, level_sd_db=4.0, k_profile=profile, **args)
     assert np.all(spl <= bot * (1 + 1e-9))
     assert spl[-1] < 0.5 * bot[-1]

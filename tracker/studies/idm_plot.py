@@ -1,16 +1,20 @@
-"""Plots of the Iglesis & de Montella study: position RMSE vs time (analogues of Figs. 3, 5, 7)."""
+"""Plots of the Iglesis & de Montella study: position RMSE vs time (analogues of Figs. 3, 5, 7).
+
+Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state); the study
+writes them with `acoustics.figures.save_figure` at `DPI`.
+"""
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 import pandas as pd
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from envdata.files import atomic_path
-from tracker.idm_experiment import COLUMN
+from acoustics.figures import new_figure
+from tracker.studies.idm_columns import COLUMN
+
+#: Resolution of the PNG files, dots per inch.
+DPI = 110
 
 _STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
           "rpf": ("BOT + SPL (RPF)", "tab:blue", "-"),
@@ -18,17 +22,10 @@ _STYLE = {"rpf-bot": ("BOT (RPF)", "tab:red", "-"),
           "rpf-sl": ("BOT + SPL, VP kernel, joint SL offset", "tab:green", "-")}
 
 
-def save_figure(fig: Figure, path: str | os.PathLike) -> None:
-    """Write ``fig`` as PNG through a temporary file, renamed on success."""
-    FigureCanvasAgg(fig)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-
-
 def rmse_figure(frame: pd.DataFrame, scenario, methods, *, runs: int) -> Figure:
     """Position RMSE of each filter and the BOT CRLB against time, log scale, with the paper's
     reported points as markers."""
-    fig = Figure(figsize=(7.5, 4.6))
+    fig = new_figure(figsize=(7.5, 4.6))
     ax = fig.add_subplot(1, 1, 1)
     t = frame["t_min"].to_numpy()
     for m in methods:

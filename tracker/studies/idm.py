@@ -28,7 +28,8 @@ from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
-from tracker.idm_scenarios import IdmScenario, ScenarioError, get_scenario
+from tracker.studies.idm_columns import COLUMN
+from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
 from tracker.tables import GridTables
 
 log = logging.getLogger(__name__)
@@ -49,10 +50,6 @@ def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
     where the scenario has one."""
     base = ("rpf-bot", "rpf", "rpf-vp")
     return base + ("rpf-sl",) if scenario.sl_offset_db != 0.0 else base
-
-
-#: Column stem of each filter in the CSV and JSON (``rmse_STEM_m``, ``median_STEM_m``).
-COLUMN = {"rpf-bot": "bot", "rpf": "spl", "rpf-vp": "spl_vp", "rpf-sl": "spl_offset"}
 
 
 def check_level_sigma(level_sigma_db: float) -> None:
@@ -229,9 +226,10 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     json_path = out_dir / f"{scenario}.json"
     with atomic_path(csv_path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.6g")
-    from tracker.idm_plot import rmse_figure, save_figure
+    from acoustics.figures import save_figure
+    from tracker.studies.idm_plot import DPI, rmse_figure
 
-    save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path)
+    save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path, dpi=DPI)
 
     at = {}
     for tm in sc.report_times_min:

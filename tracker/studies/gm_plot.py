@@ -1,23 +1,17 @@
-"""Plots of the Grinenkov & Mashoshin experiment (analogues of Figs. 4-17)."""
+"""Plots of the Grinenkov & Mashoshin experiment (analogues of Figs. 4-17).
+
+Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state) and are
+written with `acoustics.figures.save_figure`.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+from acoustics.figures import new_figure, save_figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from envdata.files import atomic_path  # noqa: E402
-
-
-def _save(fig, path: Path) -> str:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=90)
-    plt.close(fig)
-    return str(path)
+#: Resolution of the PNG files, dots per inch.
+DPI = 90
 
 
 def plot_experiment(df, chunk, sc, names, out: Path, run: int = 0) -> list[str]:
@@ -27,7 +21,8 @@ def plot_experiment(df, chunk, sc, names, out: Path, run: int = 0) -> list[str]:
     """
     err, est, sim = chunk
     files = []
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4), layout="constrained")
+    fig = new_figure(figsize=(14, 4), layout="constrained")
+    axes = fig.subplots(1, 3)
     for ax, col, scale, label in zip(axes, ("course_rms_deg", "speed_rms_mps", "range_rms_m"),
                                      (1.0, 1.0, 1e-3),
                                      ("course RMS, deg", "speed RMS, m/s", "range RMS, km")):
@@ -39,11 +34,12 @@ def plot_experiment(df, chunk, sc, names, out: Path, run: int = 0) -> list[str]:
         ax.grid(True)
     axes[0].legend(title="class hypothesis")
     fig.suptitle(f"{sc.name}: RMS errors of smoothed estimates (eqs. 32-34)")
-    files.append(_save(fig, out / "rms.png"))
+    files.append(str(save_figure(fig, out / "rms.png", dpi=DPI)))
     # one run of the chunk, true class hypothesis
     t = sim.t_s / 60.0
     ci = names.index(sc.target_class)
-    fig, axes = plt.subplots(2, 3, figsize=(14, 7), layout="constrained")
+    fig = new_figure(figsize=(14, 7), layout="constrained")
+    axes = fig.subplots(2, 3)
     for j, band in enumerate(sim.band_names):
         axes[0, 0].plot(t, sim.level_true_db[run, :, j], "k-")
         axes[0, 0].plot(t, sim.level_db[run, :, j], ".", ms=2, label=band)
@@ -65,5 +61,5 @@ def plot_experiment(df, chunk, sc, names, out: Path, run: int = 0) -> list[str]:
     axes[1, 0].legend()
     fig.suptitle(f"{sc.name}: the design's centre run, hypothesis {sc.target_class} "
                  f"(cf. Figs. 4-11)")
-    files.append(_save(fig, out / "run.png"))
+    files.append(str(save_figure(fig, out / "run.png", dpi=DPI)))
     return files

@@ -6,7 +6,7 @@ import pytest
 
 import acoustics
 import envdata
-from tracker.gm_experiment import design, run
+from tracker.studies.gm import design, run
 
 
 @pytest.fixture(scope="session")
@@ -66,7 +66,7 @@ def test_tv_110km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
 
 
 def test_design_centre_is_the_class_distribution():
-    from tracker.gm_experiment import center_offsets
+    from tracker.studies.gm import center_offsets
     from envdata import TargetClass
     from tracker.scenario import load_scenario
 
@@ -94,7 +94,7 @@ def test_progress_bar_on_stderr(ocean_grid_file, tmp_path, capfd):
 def test_rms_skips_runs_without_an_estimate():
     import numpy as np
 
-    from tracker.gm_experiment import weighted_rms
+    from tracker.studies.gm import weighted_rms
 
     # 1 class, 3 runs, 2 cycles; run 0 has no range estimate in cycle 0 (not yet detected)
     sq = {"range": np.array([[[np.nan, 4.0], [1.0, 1.0], [9.0, 9.0]]])}

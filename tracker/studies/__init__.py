@@ -1,0 +1,15 @@
+"""The papers' Monte Carlo studies, their scenarios and their plots, on top of the trackers.
+
+Modules (import them directly; nothing is imported here, so importing the package loads
+neither the trackers nor matplotlib):
+
+- `gm`: the Grinenkov & Mashoshin section 4 study, the n x n x n design of eqs. 32-34 over the
+  ML tracker (``tmakit experiment gm``); `gm_plot` draws its RMS and one-run figures.
+- `idm`: the Iglesis & de Montella section 5 study, RMSE of the particle filters against the
+  Cramér-Rao bounds (``tmakit experiment idm``); `idm_scenarios` holds its scenarios,
+  `idm_columns` the filter names of its CSV and JSON columns, and `idm_plot` draws its RMSE
+  figure.
+
+Data flows one way: the plots import the data definitions (scenarios, columns), never the
+experiments; an experiment imports its plot module only where it draws.
+"""
