@@ -26,6 +26,14 @@ REQUIRED_VARS = {"tl_db": ("class", "band", "depth", "range"), "k_db": ("class",
                  "k_urick_db": ("class", "band", "range")}
 REQUIRED_COORDS = ("class", "band", "depth", "range", "band_low_hz", "band_high_hz", "band_center_hz",
                    "source_depth_m")
+#: A bearing-dependent grid (DESIGN.md "Range- and bearing-dependent areas") adds the dimension
+#: ``bearing`` to these variables, and ``bottom_depth_m(bearing, range)``.
+BEARING_VARS = {"tl_db": ("class", "band", "bearing", "depth", "range"),
+                "k_db": ("class", "band", "bearing", "range"),
+                "k_urick_db": ("class", "band", "range"),
+                "bottom_depth_m": ("bearing", "range")}
+BEARING_ATTRS = {"origin_lat_deg": numbers.Real, "origin_lon_deg": numbers.Real}
+FIXED_ENDS = {False: "source", True: "observer"}
 #: Global attributes and the type each must have.
 REQUIRED_ATTRS = {"Conventions": str, "area": str, "model": str, "observer_depth_m": numbers.Real,
                   "source_hash": str, "area_json": str}
@@ -36,7 +44,8 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
     for dim in REQUIRED_DIMS:
         if dim not in ds.dims:
             raise GridFileError(f"{source}: missing dimension {dim!r}")
-    for name, dims in REQUIRED_VARS.items():
+    by_bearing = "bearing" in ds.dims
+    for name, dims in (BEARING_VARS if by_bearing else REQUIRED_VARS).items():
         if name not in ds.data_vars:
             raise GridFileError(f"{source}: missing variable {name!r}")
         if ds[name].dims != dims:
@@ -45,11 +54,17 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
         if not np.issubdtype(ds[name].dtype, np.floating):
             raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers, "
                                 f"got {ds[name].dtype}")
-    for name in REQUIRED_COORDS:
+    for name in REQUIRED_COORDS + (("bearing",) if by_bearing else ()):
         if name not in ds.coords:
             raise GridFileError(f"{source}: missing coordinate {name!r}")
-    _check_attrs(ds, source)
+    _check_attrs(ds, source, {**REQUIRED_ATTRS, **(BEARING_ATTRS if by_bearing else {})})
+    fixed_end = ds["tl_db"].attrs.get("fixed_end", "source")
+    if fixed_end != FIXED_ENDS[by_bearing]:
+        raise GridFileError(f"{source}: tl_db's fixed_end must be {FIXED_ENDS[by_bearing]!r} for a "
+                            f"grid {'with' if by_bearing else 'without'} bearings, got {fixed_end!r}")
     _check_axes(ds, source)
+    if by_bearing:
+        _check_bearings(ds, source)
     try:
         area = area_from_json(ds.attrs["area_json"], source)
     except AreaError as exc:
@@ -61,8 +76,8 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
     return area
 
 
-def _check_attrs(ds: xr.Dataset, source: str) -> None:
-    for name, kind in REQUIRED_ATTRS.items():
+def _check_attrs(ds: xr.Dataset, source: str, required: dict) -> None:
+    for name, kind in required.items():
         if name not in ds.attrs:
             raise GridFileError(f"{source}: missing global attribute {name!r}")
         value = ds.attrs[name]
@@ -90,6 +105,14 @@ def _check_axes(ds: xr.Dataset, source: str) -> None:
         raise GridFileError(f"{source}: coordinate 'depth' must be increasing")
     if depth.size and depth[0] < 0:
         raise GridFileError(f"{source}: coordinate 'depth' must be >= 0 m, got {depth[0]:g} m")
+
+
+def _check_bearings(ds: xr.Dataset, source: str) -> None:
+    bearing = np.asarray(ds["bearing"].values)
+    if not (np.issubdtype(bearing.dtype, np.number) and np.all(np.isfinite(bearing))):
+        raise GridFileError(f"{source}: coordinate 'bearing' must hold finite numbers")
+    if bearing.size and not (np.all(np.diff(bearing) > 0) and bearing[0] >= 0 and bearing[-1] < 360):
+        raise GridFileError(f"{source}: coordinate 'bearing' must increase within [0, 360) deg")
 
 
 def _check_consistent(ds: xr.Dataset, area: Area, source: str) -> None:

@@ -110,16 +110,18 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.G
     r = np.hypot(dx, dy)
     b_true = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
     if tables.outside_depth(sc.obs_depth_m):
-        lo, hi = tables.depth_range_m
-        raise ScenarioError(f"{sc.source}: [observer] depth_m: {sc.obs_depth_m:g} m is outside "
-                            f"the grid's depth axis [{lo:g}, {hi:g}] m")
-    k = tables.k_at(ic, r, sc.obs_depth_m)                             # (E, T, M)
+        raise ScenarioError(f"{sc.source}: [observer] depth_m: "
+                            f"{tables.depth_problem(sc.obs_depth_m)}")
+    # K at the target's bearing and range from the observer (between radials for a grid with
+    # bearings); NaN where the grid has none (beyond land): no level reaches the observer
+    k = tables.k_at(ic, r, sc.obs_depth_m,
+                    bearing_deg=b_true if tables.by_bearing else None)  # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
     noise = tables.noise_band_db - sonar.directivity_index_db
     snr_db = w_true - sonar.receiver_gain_db - noise
     q = 10.0 ** (snr_db / 10.0)
     df = tables.bandwidth_hz
-    q_ind = q * np.sqrt(df * sonar.integration_time_s)
+    q_ind = np.nan_to_num(q * np.sqrt(df * sonar.integration_time_s), nan=0.0)
     det = q_ind >= sonar.detection_threshold
     sd_w = level_sd_db(q, df, sonar.integration_time_s)
     level = np.where(det, w_true + rng.standard_normal(w_true.shape) * sd_w, np.nan)

@@ -76,10 +76,8 @@ def track(grid: xr.Dataset | GridTables, measurements: Measurements, *, method: 
     bad = np.flatnonzero(tables.outside_depth(m.obs_depth_m))
     if bad.size:
         i = int(bad[0])
-        lo, hi = tables.depth_range_m
         raise MeasurementFileError(f"{m.source}: row {i + 1}, column obs_depth_m: "
-                                   f"{m.obs_depth_m[i]:g} m is outside the grid's depth axis "
-                                   f"[{lo:g}, {hi:g}] m")
+                                   f"{tables.depth_problem(float(m.obs_depth_m[i]))}")
     if not np.isfinite(m.bearing_deg).any():
         raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row")
     if method is Method.ML:

@@ -26,12 +26,12 @@ class RunSpec:
     absorption: Absorption = Absorption.THORP
 
 
-def _fmt(value: float) -> str:
+def fmt_number(value: float) -> str:
     return f"{value:.6f}".rstrip("0").rstrip(".") if value != 0 else "0.0"
 
 
-def _list(values, per_line: int = 10) -> str:
-    items = [_fmt(float(v)) for v in values]
+def fmt_list(values, per_line: int = 10) -> str:
+    items = [fmt_number(float(v)) for v in values]
     lines = [" ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
     return "\n".join(lines) + " /"
 
@@ -42,19 +42,19 @@ def env_text(area: Area, spec: RunSpec) -> str:
     # SSP options: interpolation, vacuum surface, attenuation in dB/wavelength, volume attenuation
     volume = "T" if spec.absorption is Absorption.THORP else " "
     options = f"{ssp.interpolation}VW{volume}"
-    lines = [f"'{spec.title[:70]}'", _fmt(spec.freq_hz), "1", f"'{options}'",
-             f"0 0.0 {_fmt(water.depth_m)}"]
-    lines += [f"{_fmt(z)} {_fmt(c)} /" for z, c in zip(ssp.depth_m, ssp.speed_mps)]
+    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'{options}'",
+             f"0 0.0 {fmt_number(water.depth_m)}"]
+    lines += [f"{fmt_number(z)} {fmt_number(c)} /" for z, c in zip(ssp.depth_m, ssp.speed_mps)]
     lines += ["'A' 0.0",
-              f"{_fmt(water.depth_m)} {_fmt(bottom.speed_mps)} {_fmt(bottom.shear_speed_mps)} "
-              f"{_fmt(bottom.density_gcc)} {_fmt(bottom.attenuation_db_per_wavelength)} 0.0 /"]
-    lines += [str(len(spec.source_depth_m)), _list(spec.source_depth_m)]
-    lines += [str(len(spec.receiver_depth_m)), _list(spec.receiver_depth_m)]
+              f"{fmt_number(water.depth_m)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
+              f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /"]
+    lines += [str(len(spec.source_depth_m)), fmt_list(spec.source_depth_m)]
+    lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
     range_km = np.asarray(spec.range_m, dtype=float) / 1000.0  # BELLHOP reads ranges in km
-    lines += [str(len(range_km)), _list(range_km)]
+    lines += [str(len(range_km)), fmt_list(range_km)]
     lines += [f"'{spec.mode.bellhop_letter}{spec.beam_type}'", str(spec.n_beams),
-              f"{_fmt(spec.angle_min_deg)} {_fmt(spec.angle_max_deg)} /"]
+              f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
     box_depth_m = water.depth_m * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
     box_range_km = float(range_km.max()) * 1.01 + 0.01
-    lines.append(f"0.0 {_fmt(box_depth_m)} {_fmt(box_range_km)}")
+    lines.append(f"0.0 {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")
     return "\n".join(lines) + "\n"

@@ -63,23 +63,28 @@ def _kill(proc: subprocess.Popen) -> None:
 
 
 def run_env(env: str, *, exe: str | Path | None = None, keep_dir: str | Path | None = None,
-            timeout_s: float | None = None) -> RunResult:
+            timeout_s: float | None = None, files: dict[str, str] | None = None) -> RunResult:
     """Run BELLHOP on the .env text ``env`` in a temporary directory and read its .shd file.
 
-    With ``keep_dir`` the files are written there and kept (to debug); otherwise nothing is
-    left behind. A run that outlives ``timeout_s`` seconds is killed. Raises BellhopError
-    quoting BELLHOP's own message from the .prt file, or saying it was killed.
+    ``files`` maps an extension to the text of a file BELLHOP reads beside the .env (``"bty"``
+    bathymetry, ``"ssp"`` range-dependent sound speed). With ``keep_dir`` the files are written
+    there and kept (to debug); otherwise nothing is left behind. A run that outlives
+    ``timeout_s`` seconds is killed. Raises BellhopError quoting BELLHOP's own message from the
+    .prt file, or saying it was killed.
     """
     exe_path = Path(exe) if exe is not None else find_bellhop().path
     if keep_dir is not None:
         Path(keep_dir).mkdir(parents=True, exist_ok=True)
-        return _run_in(Path(keep_dir), env, exe_path, timeout_s)
+        return _run_in(Path(keep_dir), env, exe_path, timeout_s, files or {})
     with tempfile.TemporaryDirectory(prefix="tmakit-bellhop-") as tmp:
-        return _run_in(Path(tmp), env, exe_path, timeout_s)
+        return _run_in(Path(tmp), env, exe_path, timeout_s, files or {})
 
 
-def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None) -> RunResult:
+def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None,
+            files: dict[str, str]) -> RunResult:
     (folder / f"{BASE}.env").write_text(env)
+    for suffix, text in files.items():
+        (folder / f"{BASE}.{suffix}").write_text(text)
     command = (str(exe), BASE)
     start = time.perf_counter()
     try:

@@ -1,0 +1,71 @@
+"""BELLHOP input for one radial of a range-dependent area: .env with a 'Q' SSP, .bty and .ssp.
+
+The sound speed is a range-dependent 'Q' (quadrilateral) field read from the .ssp file: NZ rows
+(the depths of the .env's profile, which must end exactly at the deepest bottom) by one column
+per profile range, ranges in km. BELLHOP stops with "ray is outside the box where the soundspeed
+is defined" when a ray leaves the columns' ranges, and a ray is traced until |r| reaches the
+box's range, behind the source too; so the columns are continued, unchanged, to -box and +box.
+The bottom is read from the .bty file (option 'A~', piecewise linear 'L', ranges in km, depths
+in m); BELLHOP itself continues it beyond its ends at the end depths. The ray step is the
+area's ``[propagation] step_m``, never BELLHOP's automatic one (a tenth of the depth, which is
+not converged on deep radials).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from acoustics.bellhop.envfile import RunSpec, fmt_number, fmt_list
+from envdata.area import Absorption, Area
+
+
+def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
+                 box_range_m: float) -> dict[str, str]:
+    """The texts of ``{"env": ..., "bty": ..., "ssp": ...}`` for one radial.
+
+    Parameters
+    ----------
+    area : Area
+        The area (bottom half-space, SSP interpolation and volume absorption settings).
+    radial : envdata.radials.Radial
+        Bottom depth along the radial and its sound-speed section.
+    spec : RunSpec
+        Frequency, source and receiver depths, receiver ranges and the beam fan.
+    step_m : float
+        Ray step, m (> 0).
+    box_range_m : float
+        Rays stop at |r| >= this, m; the sound-speed field covers [-box, +box].
+    """
+    z = np.asarray(radial.ssp_depth_m, dtype=float)
+    c = np.asarray(radial.speed_mps, dtype=float)
+    r = np.asarray(radial.ssp_range_m, dtype=float)
+    if r[0] > -box_range_m:  # continue the first column behind the origin to the box
+        r, c = np.concatenate([[-box_range_m], r]), np.concatenate([c[:, :1], c], axis=1)
+    if r[-1] < box_range_m:
+        r, c = np.concatenate([r, [box_range_m]]), np.concatenate([c, c[:, -1:]], axis=1)
+    depth_max = float(z[-1])
+    bottom = area.bottom
+    volume = "T" if spec.absorption is Absorption.THORP else " "
+    at_origin = c[:, int(np.argmin(np.abs(r)))]  # the .env's own profile: the column at the origin
+    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'QVW{volume}'",
+             f"0 0.0 {fmt_number(depth_max)}"]
+    lines += [f"{fmt_number(zi)} {fmt_number(ci)} /" for zi, ci in zip(z, at_origin)]
+    lines += ["'A~' 0.0",
+              f"{fmt_number(depth_max)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
+              f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /"]
+    lines += [str(len(spec.source_depth_m)), fmt_list(spec.source_depth_m)]
+    lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
+    range_km = np.asarray(spec.range_m, dtype=float) / 1000.0  # BELLHOP reads ranges in km
+    lines += [str(len(range_km)), fmt_list(range_km)]
+    lines += [f"'{spec.mode.bellhop_letter}{spec.beam_type}'", str(spec.n_beams),
+              f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
+    box_depth_m = depth_max * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
+    lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_m / 1000.0)}")
+    env = "\n".join(lines) + "\n"
+
+    bty_r_km = np.asarray(radial.range_m, dtype=float) / 1000.0
+    bty = "\n".join(["'L'", str(bty_r_km.size)] +
+                    [f"{fmt_number(rk)} {fmt_number(zb)}" for rk, zb in zip(bty_r_km, radial.bottom_depth_m)])
+    ssp_rows = [" ".join(f"{v:.3f}" for v in row) for row in c]
+    ssp = "\n".join([str(r.size), " ".join(fmt_number(v) for v in r / 1000.0)] + ssp_rows)
+    return {"env": env, "bty": bty + "\n", "ssp": ssp + "\n"}
