@@ -183,7 +183,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
 
 #: The ways [water] gives the sound speed; exactly one is allowed.
 _SOUND_SPEED_KEYS = {"ssp": ("ssp",), "a speed table": ("ssp_speed_mps",),
-                     "a T/S table": ("temperature_c", "salinity_psu"), "cast": ("cast",),
+                     "a T/S table": ("temperature_c", "salinity_psu"), "a cast": ("cast",),
                      "a climatology": ("climatology", "temperature", "salinity")}
 
 
