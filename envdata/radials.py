@@ -169,9 +169,12 @@ def geodesic_points(lat0_deg: float, lon0_deg: float, bearing_deg: float, range_
 
     r = np.atleast_1d(np.asarray(range_m, dtype=float))
     azimuth = np.where(r >= 0.0, bearing_deg, bearing_deg + 180.0)
-    lon, lat, _ = Geod(ellps="WGS84").fwd(np.full(r.shape, lon0_deg), np.full(r.shape, lat0_deg),
-                                          azimuth, np.abs(r))
-    return np.asarray(lat, dtype=float), np.asarray(lon, dtype=float)
+    geod = Geod(ellps="WGS84")
+    if r.size == 1:  # pyproj takes one point as scalars
+        lon, lat, _ = geod.fwd(float(lon0_deg), float(lat0_deg), float(azimuth[0]), float(abs(r[0])))
+    else:
+        lon, lat, _ = geod.fwd(np.full(r.shape, lon0_deg), np.full(r.shape, lat0_deg), azimuth, np.abs(r))
+    return np.atleast_1d(np.asarray(lat, dtype=float)), np.atleast_1d(np.asarray(lon, dtype=float))
 
 
 @dataclass(frozen=True, eq=False)
