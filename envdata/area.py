@@ -17,10 +17,12 @@ import numpy as np
 from envdata.bands import Band
 from envdata.bottom import Bottom
 from envdata.classes import TargetClass
+from envdata.datafiles import BathymetrySource, ClimatologySource, DataFile
 from envdata.errors import AreaError
+from envdata.geometry import Bearings, Origin
 from envdata.noise import Noise
 from envdata.sonar import Sonar
-from envdata.ssp import SoundSpeedProfile
+from envdata.ssp import SoundSpeedProfile, TsProfile
 
 DEFAULT_AREA = "ocean-deep"
 #: Most depths a grid's depth axis may have (a finer step is a typing or unit mistake).
@@ -42,20 +44,85 @@ class Absorption(StrEnum):
     NONE = "none"
 
 
+#: Depth to which the Munk profile is tabulated for an area whose bottom comes from a
+#: bathymetry file, m: deeper than all but the deepest trenches, where the canonical profile
+#: passes the 1650 m/s that bounds sea-water speeds; every radial is cut from it.
+MUNK_TABLE_DEPTH_M = 10500.0
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Water:
-    depth_m: float
-    ssp: SoundSpeedProfile
+    """The water of an area: its bottom depth and its sound speed.
+
+    The bottom is flat (``depth_m``) or comes from a bathymetry file (``bathymetry``); the sound
+    speed is one profile for the whole area (``ssp``: a table of speeds, the Munk profile, or a
+    T/S table converted to speeds; ``ts``: a T/S table or cast kept as T and S, for a bathymetry
+    area whose depth is not known until the radials are sampled) or comes from a climatology
+    (``climatology``). On a flat bottom ``ssp`` reaches the bottom exactly; over a bathymetry
+    file it must reach the deepest bottom of every radial (``envdata.radials`` checks it).
+    ``cast`` records the CTD cast the profile was read from (provenance, not part of equality).
+    """
+
+    depth_m: float | None = None
+    ssp: SoundSpeedProfile | None = None
+    ts: TsProfile | None = None
+    bathymetry: BathymetrySource | None = None
+    climatology: ClimatologySource | None = None
+    cast: DataFile | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.depth_m) and 0.0 < self.depth_m <= 12000.0):
-            raise AreaError(f"[water] depth_m: must be in (0, 12000] m, got {self.depth_m}")
-        if self.ssp.bottom_m > self.depth_m:
-            raise AreaError(f"[water] sound-speed profile goes to {self.ssp.bottom_m} m, deeper than "
-                            f"the water, depth_m = {self.depth_m} m")
-        if self.ssp.bottom_m < self.depth_m:
-            raise AreaError(f"[water] sound-speed profile ends at {self.ssp.bottom_m} m and does not "
-                            f"reach the bottom, depth_m = {self.depth_m} m")
+        if (self.depth_m is None) == (self.bathymetry is None):
+            raise AreaError("[water]: give the bottom as depth_m (flat) or as a bathymetry file, "
+                            "exactly one of the two")
+        sources = [name for name, value in (("a sound-speed profile", self.ssp), ("a T/S profile", self.ts),
+                                            ("a climatology", self.climatology)) if value is not None]
+        if len(sources) != 1:
+            raise AreaError("[water]: give the sound speed as exactly one of ssp, a table, a T/S table, "
+                            f"a cast or a climatology, got {' and '.join(sources) or 'none'}")
+        if self.depth_m is not None:
+            if not (math.isfinite(self.depth_m) and 0.0 < self.depth_m <= 12000.0):
+                raise AreaError(f"[water] depth_m: must be in (0, 12000] m, got {self.depth_m}")
+            if self.ts is not None:
+                raise AreaError("[water]: on a flat bottom a T/S profile is converted to speeds "
+                                "(envdata.ts_profile); ts is for bathymetry areas")
+            if self.ssp is not None:
+                if self.ssp.bottom_m > self.depth_m:
+                    raise AreaError(f"[water] sound-speed profile goes to {self.ssp.bottom_m} m, deeper "
+                                    f"than the water, depth_m = {self.depth_m} m")
+                if self.ssp.bottom_m < self.depth_m:
+                    raise AreaError(f"[water] sound-speed profile ends at {self.ssp.bottom_m} m and does "
+                                    f"not reach the bottom, depth_m = {self.depth_m} m")
+
+    @property
+    def is_flat(self) -> bool:
+        """True when the bottom is flat (``depth_m``), False when a bathymetry file gives it."""
+        return self.depth_m is not None
+
+    @property
+    def has_one_profile(self) -> bool:
+        """True when one sound-speed profile holds for the whole area (no climatology)."""
+        return self.climatology is None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``[water]`` table: data files as they were given, a profile as its table."""
+        out: dict[str, Any] = {}
+        if self.depth_m is not None:
+            out["depth_m"] = self.depth_m
+        else:
+            out["bathymetry"] = self.bathymetry.file.path
+            if self.bathymetry.variable is not None:
+                out["bathymetry_variable"] = self.bathymetry.variable
+        if self.ssp is not None:
+            if self.depth_m is None and self.ssp.kind == "munk":
+                out.update({"ssp": "munk", "ssp_interpolation": self.ssp.interpolation})
+            else:
+                out.update({"ssp_depth_m": list(self.ssp.depth_m), "ssp_speed_mps": list(self.ssp.speed_mps),
+                            "ssp_interpolation": self.ssp.interpolation})
+        elif self.ts is not None:
+            out.update(self.ts.to_dict())
+        else:
+            out.update(self.climatology.to_dict())
+        return out
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -103,6 +170,9 @@ class Propagation:
     # a BELLHOP run still running after this is killed, s; None: generous, scaled to the run's
     # beams x receivers (acoustics.bellhop.runner.default_timeout_s)
     run_timeout_s: float | None = None
+    # BELLHOP's ray step, m; None: not set in the area file (range-dependent areas need one set
+    # explicitly: BELLHOP's automatic step, a tenth of the depth, is not converged on deep radials)
+    step_m: float | None = None
 
     def __post_init__(self) -> None:
         if self.beam_type not in ("G", "g", "B", "R", "C"):
@@ -120,6 +190,8 @@ class Propagation:
                                                    and 0.0 < self.run_timeout_s <= 30 * 86400.0):
             raise AreaError(f"[propagation] run_timeout_s: must be in (0, 2592000] s (30 days), "
                             f"got {self.run_timeout_s}")
+        if self.step_m is not None and not (math.isfinite(self.step_m) and 0.0 < self.step_m <= 100_000.0):
+            raise AreaError(f"[propagation] step_m: must be in (0, 100000] m, got {self.step_m}")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -137,6 +209,10 @@ class Area:
     propagation: Propagation = field(default_factory=Propagation)
     latitude_deg: float = 45.0
     longitude_deg: float = -30.0
+    # range- and bearing-dependent areas (DESIGN.md "N x 2D"): the origin of the radials (then
+    # latitude_deg and longitude_deg are the origin's) and their bearings; None: isotropic
+    origin: Origin | None = None
+    bearings: Bearings | None = None
 
     def __post_init__(self) -> None:
         if not self.bands:
@@ -148,6 +224,11 @@ class Area:
             dupes = sorted({n for n in names if names.count(n) > 1})
             if dupes:
                 raise AreaError(f"duplicate {kind} name {dupes[0]!r}")
+        self._check_origin()
+        if self.water.depth_m is None:  # bathymetry: the radials check the depths (envdata.radials)
+            if not (math.isfinite(self.observer.depth_m) and self.observer.depth_m > 0.0):
+                raise AreaError(f"[observer] depth_m: must be > 0 m, got {self.observer.depth_m}")
+            return
         if not 0.0 < self.observer.depth_m < self.water.depth_m:
             raise AreaError(f"[observer] depth_m: must be inside the water (0, {self.water.depth_m}) m, "
                             f"got {self.observer.depth_m}")
@@ -162,6 +243,29 @@ class Area:
             raise AreaError(f"[grid] depth_step_m: {self.grid.depth_step_m} m gives more than "
                             f"{MAX_DEPTHS} depths to {self.water.depth_m} m")
 
+    def _check_origin(self) -> None:
+        files = [key for key, value in (("bathymetry", self.water.bathymetry),
+                                        ("climatology", self.water.climatology)) if value is not None]
+        if self.origin is None:
+            if files:
+                raise AreaError(f"[water] {files[0]}: a data file needs [origin] (lat_deg, lon_deg) and "
+                                f"[bearings] to sample it along radials")
+            if self.bearings is not None:
+                raise AreaError("[bearings]: needs [origin] (lat_deg, lon_deg), the point the radials "
+                                "start from")
+            return
+        if self.bearings is None:
+            raise AreaError("[origin]: needs [bearings] (step_deg or bearing_deg), the radials to compute")
+        if (self.latitude_deg, self.longitude_deg) != (self.origin.lat_deg, self.origin.lon_deg):
+            raise AreaError(f"[area] latitude_deg, longitude_deg: {self.latitude_deg}, {self.longitude_deg} "
+                            f"deg differ from [origin] {self.origin.lat_deg}, {self.origin.lon_deg} deg; "
+                            f"give the position once, in [origin]")
+
+    @property
+    def is_bearing_dependent(self) -> bool:
+        """True for an area with an ``[origin]``: its grid has a ``bearing`` dimension."""
+        return self.origin is not None
+
     def band(self, name: str) -> Band:
         for band in self.bands:
             if band.name == name:
@@ -175,7 +279,18 @@ class Area:
         raise KeyError(name)
 
     def depth_m(self) -> np.ndarray:
-        """Depth axis: 0 to the water depth inclusive, m (the last step may be shorter)."""
+        """Depth axis: 0 to the water depth inclusive, m (the last step may be shorter).
+
+        Raises
+        ------
+        AreaError
+            The bottom comes from a bathymetry file: the depth axis then runs to the deepest bottom
+            of the radials (``envdata.radials.area_radials``).
+        """
+        if self.water.depth_m is None:
+            raise AreaError(f"area {self.name!r}: the water depth comes from the bathymetry file "
+                            f"{self.water.bathymetry.file.path!r}; the depth axis runs to the deepest "
+                            f"bottom of the radials (envdata.radials.area_radials)")
         step = self.grid.depth_step_m
         z = np.arange(0.0, self.water.depth_m, step)
         if z[-1] < self.water.depth_m - 1e-9:
@@ -187,20 +302,21 @@ class Area:
 
         ``envdata.parse_area`` reads it back into an equal ``Area``: it is what grids store as
         ``area_json`` and what ``source_hash`` hashes. The profile is written as its table of
-        speeds (what BELLHOP is given), whatever form the file gave it in.
+        speeds (what BELLHOP is given), whatever form the file gave it in; over a bathymetry file
+        a T/S table or cast is written as its T/S table and the Munk profile by name. Data files
+        (bathymetry, climatology) are written as the file gave their paths, so the document reads
+        back without the files; a cast is written as the T/S table read from it.
         """
-        ssp = self.water.ssp
         classes = []
         for cls in self.classes:
             item = _plain(dataclasses.asdict(cls))
             if item["noise_mean_db"] is None:
                 del item["noise_mean_db"]  # the Ross model needs none
             classes.append(item)
-        return {
+        out = {
             "area": {"name": self.name, "description": self.description,
                      "latitude_deg": self.latitude_deg, "longitude_deg": self.longitude_deg},
-            "water": {"depth_m": self.water.depth_m, "ssp_depth_m": list(ssp.depth_m),
-                      "ssp_speed_mps": list(ssp.speed_mps), "ssp_interpolation": ssp.interpolation},
+            "water": self.water.to_dict(),
             "bottom": dataclasses.asdict(self.bottom),
             "noise": dataclasses.asdict(self.noise),
             "observer": dataclasses.asdict(self.observer),
@@ -212,6 +328,10 @@ class Area:
                             _plain(dataclasses.asdict(self.propagation)).items()
                             if value is not None},  # TOML has no null: an unset limit is absent
         }
+        if self.origin is not None:
+            out["origin"] = {"lat_deg": self.origin.lat_deg, "lon_deg": self.origin.lon_deg}
+            out["bearings"] = self.bearings.to_dict()
+        return out
 
 
 def _plain(value):

@@ -13,15 +13,18 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from envdata.area import Absorption, Area, GridSpec, Observer, Propagation, TlMode, Water
+from envdata.area import MUNK_TABLE_DEPTH_M, Absorption, Area, GridSpec, Observer, Propagation, TlMode, Water
 from envdata.bands import Band
 from envdata.bottom import Bottom
+from envdata.casts import read_cast
 from envdata.classes import F_MINUS_2_DB_PER_OCTAVE, SourceLevelModel, TargetClass
+from envdata.datafiles import BathymetrySource, ClimatologySource, DataFile
 from envdata.errors import AreaError
+from envdata.geometry import Bearings, Origin
 from envdata.names import check_name
 from envdata.noise import Noise
 from envdata.sonar import Sonar
-from envdata.ssp import SoundSpeedProfile, munk_profile, ts_profile
+from envdata.ssp import SoundSpeedProfile, TsProfile, munk_profile, ts_profile
 from envdata.tomlfile import TomlTable, read_toml
 
 
@@ -43,50 +46,62 @@ def area_path(name_or_path: str | Path) -> Path:
 
 
 def load_area(name_or_path: str | Path) -> Area:
-    """Load a built-in area by name or an area TOML file; raises AreaError on bad input."""
-    data, source = read_toml(area_path(name_or_path))
-    return parse_area(data, source)
+    """Load a built-in area by name or an area TOML file; raises AreaError on bad input.
+
+    Data files the area names (bathymetry, climatology) are resolved against the area file's
+    folder when they are read; a cast is read now.
+    """
+    path = area_path(name_or_path)
+    data, source = read_toml(path)
+    return parse_area(data, source, folder=path.parent)
 
 
-def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
+def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path | None = None) -> Area:
+    """Read an area-file document (a parsed TOML file, or a grid's ``area_json``) into an ``Area``.
+
+    Parameters
+    ----------
+    data : dict
+        The document.
+    source : str
+        Where it came from, to start every message with.
+    folder : path-like, optional
+        The area file's folder, against which its data-file paths are resolved when read. None
+        (an ``area_json``): the paths are kept as written and no file is opened here.
+    """
+    folder = Path(folder) if folder is not None else None
     top = TomlTable(data, "top level", source)
     for key in ("area", "water", "bottom", "noise", "observer", "sonar", "bands", "classes", "grid"):
         top._get(key, None, True)
-    top._get("propagation", None, False)
+    for key in ("propagation", "origin", "bearings"):
+        top._get(key, None, False)
     top.done()
+
+    origin = bearings = None
+    if "origin" in data:
+        t = TomlTable(data["origin"], "[origin]", source)
+        origin = t.wrap(Origin, lat_deg=t.number("lat_deg"), lon_deg=t.number("lon_deg"))
+        t.done()
+    if "bearings" in data:
+        t = TomlTable(data["bearings"], "[bearings]", source)
+        listed = t.numbers("bearing_deg", required=False)
+        bearings = t.wrap(Bearings, step_deg=t.number("step_deg", required=False),
+                          listed_deg=tuple(listed) if listed is not None else None)
+        t.done()
 
     t = TomlTable(data["area"], "[area]", source)
     name = check_name(t.string("name"), f"{source}: [area] name")
     description = t.string("description", "")
-    latitude = t.number("latitude_deg", 45.0)
-    longitude = t.number("longitude_deg", -30.0)
+    # with an [origin], the area's position is the origin's
+    latitude = t.number("latitude_deg", origin.lat_deg if origin else 45.0)
+    longitude = t.number("longitude_deg", origin.lon_deg if origin else -30.0)
     if not -90.0 <= latitude <= 90.0:
         raise AreaError(f"{source}: [area] latitude_deg: must be in [-90, 90] deg, got {latitude}")
     t.done()
 
     t = TomlTable(data["water"], "[water]", source)
-    depth = t.number("depth_m")
-    if not depth > 0:
-        raise AreaError(f"{source}: [water] depth_m: must be > 0 m, got {depth}")
-    interpolation = t.string("ssp_interpolation", "C", choices=("C", "S", "N", "P"))
-    if t.has("ssp"):
-        t.string("ssp", choices=("munk",))  # the one named profile
-        ssp = t.wrap(munk_profile, depth)
-        ssp = dataclasses.replace(ssp, interpolation=interpolation)
-    elif t.has("temperature_c") or t.has("salinity_psu"):
-        z = t.numbers("ssp_depth_m")
-        temp = t.numbers("temperature_c")
-        sal = t.numbers("salinity_psu")
-        _check_depths(z, source)
-        ssp = t.wrap(ts_profile, z, temp, sal, latitude_deg=latitude, longitude_deg=longitude)
-        ssp = t.wrap(dataclasses.replace, ssp, interpolation=interpolation)
-    else:
-        z = t.numbers("ssp_depth_m")
-        c = t.numbers("ssp_speed_mps")
-        _check_depths(z, source)
-        ssp = t.wrap(SoundSpeedProfile, depth_m=tuple(z), speed_mps=tuple(c), interpolation=interpolation)
+    water, cast_ts = _parse_water(t, source, folder, latitude, longitude)
     t.done()
-    water = t.wrap(Water, depth_m=depth, ssp=ssp)
 
     t = TomlTable(data["bottom"], "[bottom]", source)
     bottom = t.wrap(Bottom, speed_mps=t.number("speed_mps"), density_gcc=t.number("density_gcc"),
@@ -102,6 +117,9 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
     t = TomlTable(data["observer"], "[observer]", source)
     observer = Observer(depth_m=t.number("depth_m"))
     t.done()
+    if cast_ts is not None and not cast_ts.bottom_m > observer.depth_m:
+        raise AreaError(f"{source}: [water] cast: {water.cast.path!r} ends at {cast_ts.bottom_m:g} m and "
+                        f"does not reach below the observer at {observer.depth_m:g} m")
 
     t = TomlTable(data["sonar"], "[sonar]", source)
     sonar = t.wrap(Sonar, beamwidth_deg=t.number("beamwidth_deg"),
@@ -151,7 +169,8 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
             absorption=Absorption(t.string("absorption", defaults.absorption.value,
                                            choices=tuple(a.value for a in Absorption))),
             tl_max_db=t.number("tl_max_db", defaults.tl_max_db),
-            run_timeout_s=t.number("run_timeout_s", required=False))
+            run_timeout_s=t.number("run_timeout_s", required=False),
+            step_m=t.number("step_m", required=False))
         t.done()
     else:
         propagation = defaults
@@ -159,7 +178,85 @@ def parse_area(data: dict[str, Any], source: str = "<area>") -> Area:
     return _wrap_area(source, name=name, description=description, water=water, bottom=bottom,
                       noise=noise, observer=observer, sonar=sonar, bands=tuple(bands),
                       classes=tuple(classes), grid=grid, propagation=propagation,
-                      latitude_deg=latitude, longitude_deg=longitude)
+                      latitude_deg=latitude, longitude_deg=longitude, origin=origin, bearings=bearings)
+
+
+#: The ways [water] gives the sound speed; exactly one is allowed.
+_SOUND_SPEED_KEYS = {"ssp": ("ssp",), "a speed table": ("ssp_speed_mps",),
+                     "a T/S table": ("temperature_c", "salinity_psu"), "a cast": ("cast",),
+                     "a climatology": ("climatology", "temperature", "salinity")}
+
+
+def _parse_water(t: TomlTable, source: str, folder: Path | None, latitude: float,
+                 longitude: float) -> tuple[Water, TsProfile | None]:
+    """The [water] table; also the cast's own T/S profile (to check it against the observer)."""
+    if t.has("depth_m") and t.has("bathymetry"):
+        raise AreaError(f"{source}: [water]: depth_m and bathymetry both given; give one (a flat bottom "
+                        f"or a bathymetry file)")
+    depth = bathymetry = None
+    if t.has("bathymetry"):
+        bathymetry = t.wrap(BathymetrySource,
+                            file=t.wrap(DataFile, path=t.string("bathymetry"), folder=folder, key="bathymetry"),
+                            variable=t.string("bathymetry_variable", required=False))
+    else:
+        if t.has("bathymetry_variable"):
+            raise AreaError(f"{source}: [water] bathymetry_variable: only with a bathymetry file")
+        depth = t.number("depth_m")
+        if not depth > 0:
+            raise AreaError(f"{source}: [water] depth_m: must be > 0 m, got {depth}")
+    given = [label for label, keys in _SOUND_SPEED_KEYS.items() if any(t.has(k) for k in keys)]
+    if len(given) > 1:
+        raise AreaError(f"{source}: [water]: {' and '.join(given)} both give the sound speed; give one")
+    if t.has("month") and given != ["a climatology"]:
+        raise AreaError(f"{source}: [water] month: only with a climatology file (climatology, or "
+                        f"temperature and salinity)")
+    if given == ["a climatology"]:
+        if t.has("ssp_interpolation"):
+            raise AreaError(f"{source}: [water] ssp_interpolation: only for one profile, not with a "
+                            f"climatology")
+        files = {key: t.wrap(DataFile, path=t.string(key), folder=folder, key=key)
+                 for key in ("climatology", "temperature", "salinity") if t.has(key)}
+        climatology = t.wrap(ClimatologySource, file=files.get("climatology"),
+                             temperature_file=files.get("temperature"), salinity_file=files.get("salinity"),
+                             month=t._get("month", None, False))
+        return t.wrap(Water, depth_m=depth, bathymetry=bathymetry, climatology=climatology), None
+
+    interpolation = t.string("ssp_interpolation", "C", choices=("C", "S", "N", "P"))
+    ssp = ts = cast = cast_ts = None
+    if t.has("ssp"):
+        t.string("ssp", choices=("munk",))  # the one named profile
+        ssp = t.wrap(munk_profile, depth if depth is not None else MUNK_TABLE_DEPTH_M)
+        ssp = dataclasses.replace(ssp, interpolation=interpolation)
+    elif t.has("cast"):
+        cast = t.wrap(DataFile, path=t.string("cast"), folder=folder, key="cast")
+        try:
+            cast_ts = read_cast(cast.resolved(), latitude_deg=latitude)
+        except AreaError as exc:
+            raise AreaError(f"{source}: [water] cast: {exc}") from None
+        ts = dataclasses.replace(cast_ts, interpolation=interpolation)
+    elif t.has("temperature_c") or t.has("salinity_psu"):
+        z = t.numbers("ssp_depth_m")
+        temp = t.numbers("temperature_c")
+        sal = t.numbers("salinity_psu")
+        _check_depths(z, source)
+        if depth is not None:
+            ssp = t.wrap(ts_profile, z, temp, sal, latitude_deg=latitude, longitude_deg=longitude)
+            ssp = t.wrap(dataclasses.replace, ssp, interpolation=interpolation)
+        else:
+            ts = t.wrap(TsProfile, depth_m=tuple(z), temperature_c=tuple(temp), salinity_psu=tuple(sal),
+                        interpolation=interpolation)
+    else:
+        z = t.numbers("ssp_depth_m")
+        c = t.numbers("ssp_speed_mps")
+        _check_depths(z, source)
+        ssp = t.wrap(SoundSpeedProfile, depth_m=tuple(z), speed_mps=tuple(c), interpolation=interpolation)
+    if ts is not None and depth is not None:  # a flat bottom: the cast to the bottom, as speeds
+        cut = ts.cut_at(depth)
+        ssp = t.wrap(ts_profile, cut.depth_m, cut.temperature_c, cut.salinity_psu, latitude_deg=latitude,
+                     longitude_deg=longitude)
+        ssp = dataclasses.replace(ssp, interpolation=interpolation, kind="cast")
+        ts = None
+    return t.wrap(Water, depth_m=depth, ssp=ssp, ts=ts, bathymetry=bathymetry, cast=cast), cast_ts
 
 
 def _wrap_area(source: str, **kwargs) -> Area:

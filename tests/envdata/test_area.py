@@ -42,6 +42,41 @@ AREA_CASES = {
     "name-quote.toml": r"\[area\] name: must be letters, digits",
     "band-name-space.toml": r"band name: must be letters, digits, .*got 'FB 1'",
     "run-timeout-negative.toml": r"\[propagation\] run_timeout_s: must be in \(0, 2592000\] s \(30 days\), got -5.0",
+    # range- and bearing-dependent areas (DESIGN.md "N x 2D")
+    "origin-without-bearings.toml": r"\[origin\]: needs \[bearings\] \(step_deg or bearing_deg\)",
+    "bearings-without-origin.toml": r"\[bearings\]: needs \[origin\] \(lat_deg, lon_deg\)",
+    "bathymetry-without-origin.toml": r"\[water\] bathymetry: a data file needs \[origin\]",
+    "climatology-without-origin.toml": r"\[water\] climatology: a data file needs \[origin\]",
+    "month-13.toml": r"\[water\] month: must be an integer in 1\.\.12, got 13$",
+    "month-fraction.toml": r"\[water\] month: must be an integer in 1\.\.12, got 8\.5$",
+    "month-without-climatology.toml": r"\[water\] month: only with a climatology file",
+    "step-not-dividing.toml": r"\[bearings\] step_deg: 7\.0 deg does not divide 360 deg into whole steps",
+    "step-negative.toml": r"\[bearings\] step_deg: must be in \(0, 360\] deg, got -10\.0$",
+    "step-too-fine.toml": r"\[bearings\] step_deg: 0\.1 deg gives 3600 radials, more than 720$",
+    "bearing-360.toml": r"\[bearings\] bearing_deg: each bearing must be in \[0, 360\) deg, got 360\.0$",
+    "bearing-duplicate.toml": r"\[bearings\] bearing_deg: duplicate bearing 90\.0 deg$",
+    "bearing-decreasing.toml": r"\[bearings\] bearing_deg: bearings must increase, got 90\.0 deg then 45\.0 deg$",
+    "bearings-both.toml": r"\[bearings\]: give either step_deg or bearing_deg",
+    "bearings-unknown-key.toml": r"\[bearings\]: unknown key 'start_deg'$",
+    "origin-pole.toml": r"\[origin\] lat_deg: must be in \(-90, 90\) deg .*got 90\.0$",
+    "origin-missing-lon.toml": r"\[origin\]: missing required key 'lon_deg'$",
+    "depth-and-bathymetry.toml": r"\[water\]: depth_m and bathymetry both given; give one",
+    "two-sound-speeds.toml": r"\[water\]: ssp and a climatology both give the sound speed; give one$",
+    "temperature-without-salinity.toml": r"\[water\] salinity: missing; a climatology is one file",
+    "climatology-and-split.toml": r"\[water\] climatology: give either climatology or temperature and salinity",
+    "bathymetry-variable-alone.toml": r"\[water\] bathymetry_variable: only with a bathymetry file$",
+    "bathymetry-empty-name.toml": r"\[water\] bathymetry: must be a file name, got ' '$",
+    "interpolation-with-climatology.toml": r"\[water\] ssp_interpolation: only for one profile, not with a climatology$",
+    "step-m-zero.toml": r"\[propagation\] step_m: must be in \(0, 100000\] m, got 0\.0$",
+    "latitude-differs-from-origin.toml": r"\[area\] latitude_deg, longitude_deg: 40\.0, 5\.0 deg differ from \[origin\] 43\.0, 5\.0",
+    "cast-missing.toml": r"\[water\] cast: .*no-such-cast\.csv: CTD cast not found$",
+    "cast-above-observer.toml": r"\[water\] cast: '\.\./\.\./casts/shallow\.csv' ends at 50 m and does not reach below "
+                                r"the observer at 100 m$",
+    "cast-not-a-number.toml": r"\[water\] cast: .*not-a-number\.csv: line 3: temperature_c: must be a number, got 'abc'$",
+    "cast-upcast.toml": r"upcast\.csv: line 4: depth_m: must increase strictly down the cast .*got 500\.0 m then 400\.0 m$",
+    "cast-no-temperature.toml": r"no-temperature\.csv: line 1: the header needs a temperature_c column, got depth_m, "
+                                r"temp, salinity_psu$",
+    "cast-and-table.toml": r"\[water\]: a speed table and a cast both give the sound speed; give one$",
 }
 
 
@@ -68,7 +103,7 @@ def test_missing_file_and_unknown_name():
 
 
 @pytest.mark.parametrize("name", ["ocean-deep", "munk-1000"])
-def test_builtin_areas_load(name):
+def test_flat_builtin_areas_load(name):
     area = envdata.load_area(name)
     assert area.name == name
     assert area.water.ssp.bottom_m == area.water.depth_m
@@ -149,7 +184,7 @@ def test_noise_band_level_integrates_the_spectrum():
     assert_allclose(envdata.Noise(spectrum_level_1khz_db=57.0).band_level_db(single), 52.0, rtol=0, atol=1e-9)
 
 
-AREA_JSON_SOURCES = ["ocean-deep", "munk-1000", "tests/data/tiny-munk.toml"]
+AREA_JSON_SOURCES = ["ocean-deep", "munk-1000", "shelf-break", "tests/data/tiny-munk.toml"]
 
 
 @pytest.mark.parametrize("name", AREA_JSON_SOURCES)

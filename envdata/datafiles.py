@@ -1,0 +1,116 @@
+"""References from an area to its data files: bathymetry and climatology netCDF files.
+
+An ``Area`` keeps where its data are, not the data: the path as the area file wrote it and the
+folder of that area file, to resolve the path against when the data are read (by
+``envdata.radials``). The folder is not part of equality, so an area read back from a grid's
+``area_json`` (no folder, no files at hand) equals the area read from its file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from envdata.errors import AreaError
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DataFile:
+    """A data file named by an area: ``path`` as written, resolved against ``folder``.
+
+    ``folder`` is the folder of the area file (None: the current directory, e.g. for an area
+    read back from ``area_json``); an absolute ``path`` is used as it is.
+    """
+
+    path: str
+    folder: Path | None = field(default=None, compare=False)
+    key: str = field(default="file", compare=False)  # the area-file key, for messages
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.path, str) or not self.path.strip():
+            raise AreaError(f"[water] {self.key}: must be a file name, got {self.path!r}")
+        if "\x00" in self.path:
+            raise AreaError(f"[water] {self.key}: file name contains a NUL character")
+
+    def resolved(self) -> Path:
+        """The path to read: ``path`` relative to the area file's folder."""
+        p = Path(self.path).expanduser()
+        if p.is_absolute() or self.folder is None:
+            return p
+        return Path(self.folder) / p
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BathymetrySource:
+    """A GEBCO-style relief file: elevation(lat, lon), m, positive up (DESIGN.md).
+
+    ``variable`` names the elevation variable when it is not ``elevation`` or found by its CF
+    standard_name (``bathymetry_variable`` in the area file).
+    """
+
+    file: DataFile
+    variable: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.variable is not None and (not isinstance(self.variable, str) or not self.variable):
+            raise AreaError(f"[water] bathymetry_variable: must be a variable name, got {self.variable!r}")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClimatologySource:
+    """A WOA-style climatology: in-situ temperature and practical salinity on (time, depth, lat, lon).
+
+    Either one file holding both (``climatology``) or WOA's own split into a temperature and a
+    salinity file (``temperature`` and ``salinity``). ``month`` picks the month-th of 12 time
+    steps; a file with one time step is used as it is.
+    """
+
+    file: DataFile | None = None
+    temperature_file: DataFile | None = None
+    salinity_file: DataFile | None = None
+    month: int | None = None
+
+    def __post_init__(self) -> None:
+        split = (self.temperature_file is not None, self.salinity_file is not None)
+        if self.file is not None and any(split):
+            raise AreaError("[water] climatology: give either climatology or temperature and salinity, "
+                            "not both")
+        if self.file is None and not all(split):
+            missing = "salinity" if split[0] else "temperature" if split[1] else "climatology"
+            raise AreaError(f"[water] {missing}: missing; a climatology is one file (climatology) or "
+                            f"WOA's two (temperature and salinity)")
+        if self.month is not None and (isinstance(self.month, bool) or not isinstance(self.month, int)
+                                       or not 1 <= self.month <= 12):
+            raise AreaError(f"[water] month: must be an integer in 1..12, got {self.month!r}")
+
+    @property
+    def temperature(self) -> DataFile:
+        """The file holding temperature (the one file, or WOA's temperature file)."""
+        return self.file if self.file is not None else self.temperature_file
+
+    @property
+    def salinity(self) -> DataFile:
+        """The file holding salinity (the one file, or WOA's salinity file)."""
+        return self.file if self.file is not None else self.salinity_file
+
+    def to_dict(self) -> dict[str, object]:
+        """The ``[water]`` keys as they were given."""
+        out: dict[str, object] = {}
+        if self.file is not None:
+            out["climatology"] = self.file.path
+        else:
+            out["temperature"] = self.temperature_file.path
+            out["salinity"] = self.salinity_file.path
+        if self.month is not None:
+            out["month"] = self.month
+        return out
+
+
+def file_sha256(path: str | Path) -> str:
+    """Hex sha256 of a file's bytes, read in blocks (for the grid's record of its inputs)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()

@@ -1,0 +1,167 @@
+"""Write netCDF files in the layouts of GEBCO's grid and the World Ocean Atlas (sample and test data).
+
+The layouts (dimension and variable names, dtypes, attributes) are those of the products, so
+that tmakit's readers are exercised on what users download; the values are whatever the caller
+gives (synthetic: these files say in their titles that they are not GEBCO or WOA data).
+
+- GEBCO: ``elevation(lat, lon)`` int16, m, positive up, on double ``lat``/``lon`` cell centres
+  (the 15-arc-second grid: centres at (k + 1/2)/240 deg), a ``crs`` variable.
+- WOA: one file per variable (``t``: ``t_an``/``t_mn`` in degrees_celsius; ``s``:
+  ``s_an``/``s_mn``, practical salinity, units "1") on (time, depth, lat, lon), float32 with
+  ``_FillValue`` 9.96921e36 below the sea floor and on land; float32 ``lat``/``lon``/``depth``
+  with bounds; ``time`` in "months since 1955-01-01 00:00:00" (no calendar, undecodable) with
+  ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+#: WOA's standard depth levels, m: 102 to 5500 m; monthly fields use the first 57 (to 1500 m).
+WOA_LEVELS_M = np.concatenate([np.arange(0.0, 100.1, 5.0), np.arange(125.0, 500.1, 25.0),
+                               np.arange(550.0, 2000.1, 50.0), np.arange(2100.0, 5500.1, 100.0)])
+WOA_MONTHLY_LEVELS = 57
+WOA_FILL = np.float32(9.96921e36)
+#: WOA's time stamps: month m of the 1955-2022 climatology is 395.5 + m "months since 1955-01-01",
+#: its climatology bounds [m - 1, 804 + m].
+WOA_TIME_UNITS = "months since 1955-01-01 00:00:00"
+
+_CRS = {"grid_mapping_name": "latitude_longitude", "epsg_code": "EPSG:4326",
+        "longitude_of_prime_meridian": 0.0, "semi_major_axis": 6378137.0,
+        "inverse_flattening": 298.257223563}
+
+
+def gebco_axis_deg(first_deg: float, last_deg: float, per_degree: int = 240) -> np.ndarray:
+    """GEBCO cell centres between two edges, deg: (k + 1/2) / per_degree."""
+    k0 = int(round(first_deg * per_degree))
+    k1 = int(round(last_deg * per_degree))
+    return (np.arange(k0, k1) + 0.5) / per_degree
+
+
+def write_gebco(path: str | Path, lat_deg, lon_deg, elevation_m, *, title: str,
+                variable: str = "elevation") -> None:
+    """Write ``elevation(lat, lon)`` in GEBCO's layout (values rounded to int16 metres)."""
+    import netCDF4
+
+    lat = np.asarray(lat_deg, dtype=float)
+    lon = np.asarray(lon_deg, dtype=float)
+    z = np.asarray(elevation_m, dtype=float)
+    with netCDF4.Dataset(path, "w", format="NETCDF4_CLASSIC") as nc:
+        nc.setncatts({"Conventions": "CF-1.6", "title": title,
+                      "institution": "tmakit (synthetic sample data in the layout of the GEBCO grid)",
+                      "source": "tools/make_sample_data.py", "node_offset": np.int32(1)})
+        nc.createDimension("lat", lat.size)
+        nc.createDimension("lon", lon.size)
+        crs = nc.createVariable("crs", "i4")
+        crs.setncatts(_CRS)
+        v = nc.createVariable("lat", "f8", ("lat",))
+        v.setncatts({"standard_name": "latitude", "long_name": "latitude", "units": "degrees_north",
+                     "axis": "Y", "sdn_parameter_urn": "SDN:P01::ALATZZ01",
+                     "sdn_parameter_name": "Latitude north", "sdn_uom_urn": "SDN:P06::DEGN",
+                     "sdn_uom_name": "Degrees north"})
+        v[:] = lat
+        v = nc.createVariable("lon", "f8", ("lon",))
+        v.setncatts({"standard_name": "longitude", "long_name": "longitude", "units": "degrees_east",
+                     "axis": "X", "sdn_parameter_urn": "SDN:P01::ALONZZ01",
+                     "sdn_parameter_name": "Longitude east", "sdn_uom_urn": "SDN:P06::DEGE",
+                     "sdn_uom_name": "Degrees east"})
+        v[:] = lon
+        v = nc.createVariable(variable, "i2", ("lat", "lon"), zlib=True, complevel=9, shuffle=True,
+                              chunksizes=(min(lat.size, 240), min(lon.size, 240)))
+        v.setncatts({"standard_name": "height_above_reference_ellipsoid",
+                     "long_name": "Elevation relative to sea level", "units": "m",
+                     "sdn_parameter_urn": "SDN:P01::BATHHGHT",
+                     "sdn_parameter_name": "Sea floor height (above mean sea level) {bathymetric height}",
+                     "sdn_uom_urn": "SDN:P06::ULAA", "sdn_uom_name": "Metres", "grid_mapping": "crs"})
+        v[:, :] = np.clip(np.round(z), -32767, 32767).astype(np.int16)
+
+
+def _bounds(centres: np.ndarray, first_edge: float | None = None) -> np.ndarray:
+    mids = 0.5 * (centres[1:] + centres[:-1])
+    lo = np.concatenate([[centres[0] - (mids[0] - centres[0]) if first_edge is None else first_edge], mids])
+    hi = np.concatenate([mids, [centres[-1] + (centres[-1] - mids[-1])]])
+    return np.stack([lo, hi], axis=1)
+
+
+def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, values, *, title: str,
+              mean_offset: float = 0.0) -> None:
+    """Write one WOA variable file.
+
+    Parameters
+    ----------
+    kind : {"t", "s"}
+        Temperature (``t_an``, degC) or salinity (``s_an``, practical salinity).
+    months : sequence of int
+        The month of each time step (1..12); WOA's own monthly files have one.
+    depth_m, lat_deg, lon_deg : array_like
+        Levels and cell centres (WOA's 0.25-deg grid has centres at k/4 + 1/8 deg).
+    values : array_like, shape (time, depth, lat, lon)
+        NaN where the cell has no water (written as the fill value).
+    mean_offset : float
+        ``{kind}_mn`` (the statistical mean WOA also ships) is written as ``values`` plus this,
+        so that a reader that picks it instead of ``{kind}_an`` is caught.
+    """
+    import netCDF4
+
+    months = [int(m) for m in months]
+    depth = np.asarray(depth_m, dtype=float)
+    lat = np.asarray(lat_deg, dtype=float)
+    lon = np.asarray(lon_deg, dtype=float)
+    data = np.asarray(values, dtype=float)
+    if kind == "t":
+        std, units, name = "sea_water_temperature", "degrees_celsius", "sea_water_temperature"
+    elif kind == "s":
+        std, units, name = "sea_water_salinity", "1", "sea_water_salinity"
+    else:
+        raise ValueError(f"kind must be 't' or 's', got {kind!r}")
+    with netCDF4.Dataset(path, "w", format="NETCDF4_CLASSIC") as nc:
+        nc.setncatts({"Conventions": "CF-1.6, ACDD-1.3", "title": title,
+                      "summary": "Synthetic fields in the layout of the World Ocean Atlas 2023 monthly "
+                                 "0.25-degree files, written by tools/make_sample_data.py",
+                      "institution": "tmakit (synthetic sample data, not World Ocean Atlas data)",
+                      "geospatial_lat_resolution": "0.25 degrees",
+                      "geospatial_lon_resolution": "0.25 degrees"})
+        for dim, size in (("time", len(months)), ("nbounds", 2), ("depth", depth.size),
+                          ("lat", lat.size), ("lon", lon.size)):
+            nc.createDimension(dim, size)
+        crs = nc.createVariable("crs", "i4")
+        crs.setncatts(_CRS)
+        for axis_name, centres, unit, axis in (("lat", lat, "degrees_north", "Y"),
+                                               ("lon", lon, "degrees_east", "X")):
+            v = nc.createVariable(axis_name, "f4", (axis_name,))
+            v.setncatts({"standard_name": "latitude" if axis == "Y" else "longitude",
+                         "long_name": "latitude" if axis == "Y" else "longitude",
+                         "units": unit, "axis": axis, "bounds": f"{axis_name}_bnds"})
+            v[:] = centres
+            b = nc.createVariable(f"{axis_name}_bnds", "f4", (axis_name, "nbounds"))
+            b.setncatts({"comment": f"{axis_name} bounds"})
+            b[:, :] = np.stack([centres - 0.125, centres + 0.125], axis=1)
+        v = nc.createVariable("depth", "f4", ("depth",))
+        v.setncatts({"standard_name": "depth", "bounds": "depth_bnds", "positive": "down",
+                     "units": "meters", "axis": "Z"})
+        v[:] = depth
+        b = nc.createVariable("depth_bnds", "f4", ("depth", "nbounds"))
+        b.setncatts({"comment": "depth bounds"})
+        b[:, :] = _bounds(depth, first_edge=0.0)
+        v = nc.createVariable("time", "f4", ("time",))
+        v.setncatts({"standard_name": "time", "long_name": "time", "units": WOA_TIME_UNITS, "axis": "T",
+                     "climatology": "climatology_bounds"})
+        v[:] = [395.5 + m for m in months]
+        b = nc.createVariable("climatology_bounds", "f4", ("time", "nbounds"))
+        b.setncatts({"comment": "This variable defines the bounds of the climatological time period for "
+                                "each time"})
+        b[:, :] = [[m - 1.0, 804.0 + m] for m in months]
+        for suffix, offset, long_name in (
+                ("an", 0.0, f"Objectively analyzed mean fields for {name} at standard depth levels."),
+                ("mn", mean_offset, f"Average of all unflagged interpolated values at each standard depth "
+                                    f"level for {name} in each grid-square which contain at least one "
+                                    f"measurement.")):
+            v = nc.createVariable(f"{kind}_{suffix}", "f4", ("time", "depth", "lat", "lon"), zlib=True,
+                                  complevel=9, shuffle=True, fill_value=WOA_FILL)
+            v.setncatts({"standard_name": std, "long_name": long_name,
+                         "cell_methods": "area: mean depth: mean time: mean within years time: mean over years",
+                         "grid_mapping": "crs", "units": units})
+            field = data + offset
+            v[:, :, :, :] = np.where(np.isfinite(field), field, WOA_FILL).astype(np.float32)
