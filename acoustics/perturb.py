@@ -221,8 +221,17 @@ def load_perturbations(path: str | Path) -> list[Perturbation]:
     return out
 
 
+def check_study_area(area: Area) -> None:
+    """Sensitivity studies perturb one profile over a flat bottom: refuse an area with [origin]."""
+    if area.is_bearing_dependent:
+        raise PerturbationError(f"area {area.name}: sensitivity studies work on areas without "
+                                f"[origin] (one profile over a flat bottom); this one is computed "
+                                f"along radials")
+
+
 def default_perturbations(area: Area) -> list[Perturbation]:
     """A profile measured well, an uncertain bottom and target depth (see docs/sensitivity.md)."""
+    check_study_area(area)
     specs = ["displace:sd_m=10", "temperature:sd_c=0.3,scale_m=300", "bottom-speed:sd_mps=30",
              "bottom-density:sd_gcc=0.1", "bottom-attenuation:sd_db_per_wavelength=0.2",
              f"water-depth:sd_m={0.01 * area.water.depth_m:g}", "source-depth:sd_frac=0.15",
@@ -233,6 +242,7 @@ def default_perturbations(area: Area) -> list[Perturbation]:
 
 def check_perturbations(area: Area, perturbations: list[Perturbation]) -> None:
     """Raise PerturbationError unless every spec keeps ``area`` physical at its +-4 sd extremes."""
+    check_study_area(area)
     seen: dict[Kind, str] = {}
     for p in perturbations:
         if p.kind in seen:

@@ -29,10 +29,7 @@ def run_list(args) -> Report:
 
 def run_show(args) -> Report:
     area = envdata.load_area(args.name)
-    ssp = area.water.ssp
-    lines = [f"{area.name}: {area.description}",
-             f"  water: {area.water.depth_m:g} m deep, {ssp.kind} profile, {len(ssp.depth_m)} points, "
-             f"{min(ssp.speed_mps):.1f}-{max(ssp.speed_mps):.1f} m/s",
+    lines = [f"{area.name}: {area.description}", *_water_lines(area),
              f"  bottom: {area.bottom.speed_mps:g} m/s, {area.bottom.density_gcc:g} g/cm^3, "
              f"{area.bottom.attenuation_db_per_wavelength:g} dB/wavelength",
              f"  sea noise: {area.noise.spectrum_level_1khz_db:g} dB re 1 uPa^2/Hz at 1 kHz, "
@@ -49,9 +46,39 @@ def run_show(args) -> Report:
         lines.append(f"    {c.name}: depth {c.depth_m:g} m, speed {c.speed_mean_mps:g} +- "
                      f"{c.speed_sd_mps:g} m/s, {level}, K error sd {c.k_error_sd_db:g} dB")
     g = area.grid
+    deepest = f"{area.water.depth_m:g} m" if area.water.is_flat else "the deepest bottom"
     lines.append(f"  grid: ranges {g.range_step_m:g}-{g.range_max_m:g} m step {g.range_step_m:g} m, "
-                 f"depths 0-{area.water.depth_m:g} m step {g.depth_step_m:g} m")
+                 f"depths 0-{deepest} step {g.depth_step_m:g} m")
     p = area.propagation
     lines.append(f"  BELLHOP: {p.mode}, beams {p.beam_type} x {p.n_beams or 'auto'} over "
                  f"{p.angle_min_deg:g}..{p.angle_max_deg:g} deg, absorption {p.absorption}")
     return Report("\n".join(lines), area.to_dict())
+
+
+def _water_lines(area: envdata.Area) -> list[str]:
+    """The water of an area in words: bottom, sound speed and, with [origin], the radials."""
+    water = area.water
+    if water.is_flat:
+        bottom = f"{water.depth_m:g} m deep (flat)"
+    else:
+        variable = water.bathymetry.variable or "elevation"
+        bottom = f"bottom from {water.bathymetry.file.path} ({variable})"
+    if water.ssp is not None:
+        ssp = water.ssp
+        speed = (f"{ssp.kind} profile, {len(ssp.depth_m)} points, "
+                 f"{min(ssp.speed_mps):.1f}-{max(ssp.speed_mps):.1f} m/s")
+    elif water.ts is not None:
+        speed = f"T/S profile, {len(water.ts.depth_m)} points to {water.ts.depth_m[-1]:g} m (TEOS-10)"
+    else:
+        clim = water.climatology
+        files = (clim.file.path if clim.file is not None
+                 else f"{clim.temperature_file.path} + {clim.salinity_file.path}")
+        speed = f"climatology {files}" + (f", month {clim.month}" if clim.month else "")
+    if water.cast is not None:
+        speed += f" (cast {water.cast.path})"
+    lines = [f"  water: {bottom}, {speed}"]
+    if area.origin is not None:
+        bearings = area.bearings.bearing_deg
+        lines.append(f"  origin: {area.origin.lat_deg:g} N, {area.origin.lon_deg:g} E; "
+                     f"{len(bearings)} radials, {', '.join(f'{b:g}' for b in bearings)} deg")
+    return lines

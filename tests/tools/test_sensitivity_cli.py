@@ -114,10 +114,22 @@ def test_unreachable_scheduler_is_a_clear_error_within_seconds(tmp_path):
 def test_default_perturbations_are_valid_for_the_builtin_areas():
     from acoustics.perturb import check_perturbations, default_perturbations
 
-    for name in envdata.builtin_area_names():
-        area = envdata.load_area(name)
+    areas = [envdata.load_area(name) for name in envdata.builtin_area_names()]
+    flat = [area for area in areas if not area.is_bearing_dependent]
+    assert len(flat) >= 2
+    for area in flat:
         check_perturbations(area, default_perturbations(area))
         assert np.isclose(default_perturbations(area)[5].sd, 0.01 * area.water.depth_m)
+
+
+def test_a_bearing_dependent_area_is_refused_cleanly(capsys, tmp_path):
+    from tools import cli
+
+    assert cli.main(["sensitivity", "shelf-break", "--members", "2", "--out", str(tmp_path / "s.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("error: area shelf-break: sensitivity studies work on areas without [origin] "
+                   "(one profile over a flat bottom); this one is computed along radials")
+    assert list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.bellhop
