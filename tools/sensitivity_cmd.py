@@ -19,7 +19,7 @@ import xarray as xr
 import envdata
 from acoustics import sensitivity as sens
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.grid import remove_cache
+from acoustics.build import remove_cache
 from acoustics.perturb import default_perturbations, parse_spec
 from tools.report import Report, want_progress
 
