@@ -6,6 +6,7 @@ kept as ``KEY.npy`` in the resume folder when there is one.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 from collections.abc import Iterator, Sequence
@@ -76,12 +77,12 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
                       cache=run_cache(cache_dir) if cache_dir is not None else None,
                       progress=progress, desc="BELLHOP runs", unit="run", stats=done)
     try:
-        for run, (field, seconds), reused in tasks:
-            stats.runs_total, stats.runs_reused = done.total, done.reused
-            if not reused:
-                stats.bellhop_seconds += seconds
-            yield run, field
+        with contextlib.closing(tasks):  # stops the pending runs whatever the caller does
+            for run, (field, seconds), reused in tasks:
+                stats.runs_total, stats.runs_reused = done.total, done.reused
+                if not reused:
+                    stats.bellhop_seconds += seconds
+                yield run, field
     finally:
-        tasks.close()  # cancels what has not started, and stops the clock
         stats.runs_total, stats.runs_reused = done.total, done.reused
         stats.wall_seconds = done.wall_seconds
