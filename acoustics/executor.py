@@ -9,6 +9,7 @@ them in parallel: ``workers`` is how many tasks run at once on this machine. Wit
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import os
@@ -194,11 +195,12 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
             finished = _on_threads(fn, todo, workers)
         else:
             finished = _on_dask(fn, todo, key, scheduler, desc, stats)
-        for item, result in finished:
-            if cache is not None:
-                cache.save(key(item), result)
-            bar.update(1)
-            yield TaskDone(item, result, False)
+        with contextlib.closing(finished):  # cancels what has not run when the caller stops
+            for item, result in finished:
+                if cache is not None:
+                    cache.save(key(item), result)
+                bar.update(1)
+                yield TaskDone(item, result, False)
     finally:
         bar.close()
         stats.wall_seconds = time.perf_counter() - start

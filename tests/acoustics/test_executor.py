@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -73,6 +75,23 @@ def test_reused_results_come_first_and_only_the_rest_runs(tmp_path):
 def test_one_worker_finishes_tasks_in_the_order_given():
     done = run_tasks(int, ["30", "10", "20", "5"], key=str, workers=1)
     assert [d.result for d in done] == [30, 10, 20, 5]
+
+
+def _touch_after(item: tuple[str, float]) -> str:
+    """A task with a visible effect: sleep, then create the file ``item[0]``."""
+    path, seconds = item
+    time.sleep(seconds)
+    Path(path).touch()
+    return path
+
+
+def test_tasks_not_yet_started_are_cancelled_when_the_caller_stops(tmp_path):
+    items = [(str(tmp_path / "a"), 0.0), (str(tmp_path / "b"), 2.0), (str(tmp_path / "c"), 0.0)]
+    tasks = run_tasks(_touch_after, items, key=lambda item: Path(item[0]).name, workers=1)
+    first = next(tasks)
+    assert first.result.endswith("a")  # b is running now, c waits for the one thread
+    tasks.close()  # waits for b, cancels c
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "b"]
 
 
 def test_workers_must_be_positive():
