@@ -89,9 +89,10 @@ def test_tasks_not_yet_started_are_cancelled_when_the_caller_stops(tmp_path):
     items = [(str(tmp_path / "a"), 0.0), (str(tmp_path / "b"), 2.0), (str(tmp_path / "c"), 0.0)]
     tasks = run_tasks(_touch_after, items, key=lambda item: Path(item[0]).name, workers=1)
     first = next(tasks)
-    assert first.result.endswith("a")  # b is running now, c waits for the one thread
-    tasks.close()  # waits for b, cancels c
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "b"]
+    assert first.result.endswith("a")  # b has started or is next; c waits behind b's 2 s
+    tasks.close()  # waits for b if it started, cancels what waits
+    done = sorted(p.name for p in tmp_path.iterdir())
+    assert done in (["a"], ["a", "b"])
 
 
 def test_workers_must_be_positive():
