@@ -11,7 +11,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import shutil
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from enum import StrEnum
@@ -370,7 +369,3 @@ def _dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) ->
 
 def _now() -> str:
     return datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
-
-
-def remove_cache(cache_dir: str | Path) -> None:
-    shutil.rmtree(cache_dir, ignore_errors=True)

@@ -21,13 +21,13 @@ def main() -> None:
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate
 
-    from tools.grids_cmd import build_file
+    from acoustics.build import build_grid_file
 
     out = Path(__file__).resolve().parents[1] / "out" / "bench"
     if len(sys.argv) > 1:
         path = Path(sys.argv[1])
     else:
-        path = Path(build_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2)["file"])
+        path = Path(build_grid_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2)["file"])
     grid = acoustics.open_grid(path)
     # one 40-min tack (the scenario's first, made 2400 s long): the last cycles carry 220-240
     # bearings on the tack, as the latency figure asks

@@ -1,11 +1,10 @@
 """Benchmarks of the environmental sensitivity studies (issue 6).
 
 Prints one line per figure, ``name: value unit``; the ratios are measured side by side in this
-one run. A 16-member study of ``ocean-deep`` with the default perturbations on an in-process
-local Dask cluster with 1 and then 2 workers (target: at least 1.7x), the overhead of the
-distributed path over the sum of BELLHOP run times (target: at most 10 %), the measured K error
-per class and band, and the accuracy of K by reciprocity against the direct K. Takes about
-three minutes on 2 idle cores.
+one run. A 16-member study of ``ocean-deep`` with the default perturbations on 1 and then 2
+local worker threads (target: at least 1.7x), the overhead of the executor over the sum of
+BELLHOP run times (target: at most 10 %), the measured K error per class and band, and the
+accuracy of K by reciprocity against the direct K. Takes about three minutes on 2 idle cores.
 """
 
 from __future__ import annotations
@@ -17,7 +16,7 @@ import numpy as np
 
 import envdata
 from acoustics import sensitivity as sens
-from acoustics.perturb import default_perturbations
+from acoustics.sensitivity.perturb import default_perturbations
 
 MEMBERS = 16
 

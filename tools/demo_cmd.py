@@ -7,8 +7,8 @@ from pathlib import Path
 
 import acoustics
 import envdata
+from acoustics.build import build_grid_file
 from acoustics.plot import plot_grid
-from tools.grids_cmd import build_file
 from tools.report import Report, want_progress
 
 
@@ -22,7 +22,8 @@ def register(sub, common) -> None:
 def run(args) -> Report:
     args.out.mkdir(parents=True, exist_ok=True)
     grid_path = args.out / f"{envdata.DEFAULT_AREA}-bellhop.nc"
-    info = build_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers, progress=want_progress(args))
+    info = build_grid_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers,
+                           progress=want_progress(args))
     ds = acoustics.open_grid(grid_path)
     plots = []
     for cls_name in ds["class"].values:

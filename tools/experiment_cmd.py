@@ -6,8 +6,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from acoustics.build import build_grid_file as build_file
 from envdata.errors import InputError
-from tools.grids_cmd import build_file
 from tools.report import Report, want_progress
 
 

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import os
-import time
 from pathlib import Path
 
 import numpy as np
 
 import acoustics
 import envdata
-from acoustics.grid import remove_cache
+from acoustics.build import build_grid_file
 from tools.report import Report, want_progress
 
 
@@ -23,7 +22,8 @@ def register(sub, common) -> None:
     b.add_argument("--out", type=Path, help="grid file to write (default: AREA-MODEL.nc)")
     b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop")
     b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                   help="BELLHOP processes at once (default: the number of cores)")
+                   help="BELLHOP runs at once on this machine (default: the number of cores; "
+                        "ignored with --scheduler)")
     b.add_argument("--scheduler", metavar="ADDR", help="run on this Dask distributed scheduler")
     b.add_argument("--force", action="store_true", help="rebuild even if the file is up to date")
     b.set_defaults(func=run_build)
@@ -39,41 +39,9 @@ def register(sub, common) -> None:
     pl.set_defaults(func=run_plot)
 
 
-def build_file(area_name: str, out: Path | None, *, model: str = "bellhop", workers: int = 1,
-               scheduler: str | None = None, force: bool = False, progress: bool = False) -> dict:
-    """Build (or reuse) the grid file of an area; returns what was done."""
-    if workers < 1:
-        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
-    area = envdata.load_area(area_name)
-    out = out if out is not None else Path(f"{area.name}-{model}.nc")
-    digest = acoustics.expected_source_hash(area, model)
-    if out.exists() and not force:
-        try:
-            existing = acoustics.open_grid(out)
-        except acoustics.GridFileError:
-            existing = None  # unreadable: rebuilt below
-        if existing is not None and existing.attrs.get("source_hash") == digest:
-            return {"file": str(out), "area": area.name, "model": model, "up_to_date": True,
-                    "source_hash": digest, "runs": 0, "runs_reused": 0, "bellhop_seconds": 0.0,
-                    "wall_seconds": 0.0}
-    cache_dir = out.parent / f".{out.name}.partial-{digest[:12]}"
-    stats = acoustics.BuildStats()
-    start = time.perf_counter()
-    ds = acoustics.build_grid(area, model=model, workers=workers, scheduler=scheduler,
-                              cache_dir=cache_dir if model == "bellhop" else None,
-                              progress=progress, stats=stats)
-    acoustics.write_grid(ds, out)
-    remove_cache(cache_dir)
-    return {"file": str(out), "area": area.name, "model": model, "up_to_date": False,
-            "source_hash": digest, "runs": stats.runs_total, "runs_reused": stats.runs_reused,
-            "bellhop_seconds": round(stats.bellhop_seconds, 3),
-            "wall_seconds": round(time.perf_counter() - start, 3),
-            "dims": {k: int(v) for k, v in ds.sizes.items()}}
-
-
 def run_build(args) -> Report:
-    info = build_file(args.area, args.out, model=args.model, workers=args.workers,
-                      scheduler=args.scheduler, force=args.force, progress=want_progress(args))
+    info = build_grid_file(args.area, args.out, model=args.model, workers=args.workers,
+                           scheduler=args.scheduler, force=args.force, progress=want_progress(args))
     if info["up_to_date"]:
         summary = f"{info['file']}: up to date for area {info['area']} ({info['model']}); --force rebuilds"
     else:

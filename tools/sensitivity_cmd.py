@@ -3,8 +3,8 @@
     tmakit sensitivity AREA --members N [--perturb SPEC]... [--seed S] [--scheduler ADDR]
                        [--workers N] [--out FILE] [--tl] [--plot PNG] [--write-k-error TOML]
 
-The science is in ``acoustics.perturb`` and ``acoustics.sensitivity``; this module parses, calls
-and reports.
+The science is in ``acoustics.sensitivity`` (perturbations in ``acoustics.sensitivity.perturb``);
+this module parses, calls and reports.
 """
 
 from __future__ import annotations
@@ -19,28 +19,29 @@ import xarray as xr
 import envdata
 from acoustics import sensitivity as sens
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.grid import remove_cache
-from acoustics.perturb import default_perturbations, parse_spec
+from acoustics.build import remove_cache, resume_dir
+from acoustics.sensitivity.perturb import default_perturbations, parse_spec
 from tools.report import Report, want_progress
 
 
 def register(sub, common) -> None:
     p = sub.add_parser(
-        "sensitivity", parents=[common], help="environmental sensitivity study of K(r) (Dask ensemble)",
+        "sensitivity", parents=[common], help="environmental sensitivity study of K(r) (ensemble)",
         description="Run an ensemble of perturbed environments (sound-speed profile, bottom, water "
-                    "depth, source and observer depths) through BELLHOP on a Dask cluster and "
-                    "summarise how K(r) moves: bias, sd, constant-offset share, and the range error "
-                    "of level-based ranging (Grinenkov & Mashoshin eq. 20).")
+                    "depth, source and observer depths) through BELLHOP, on this machine or on a "
+                    "Dask cluster, and summarise how K(r) moves: bias, sd, constant-offset share, "
+                    "and the range error of level-based ranging (Grinenkov & Mashoshin eq. 20).")
     p.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
     p.add_argument("--members", type=int, default=16, help="ensemble size (default %(default)s)")
     p.add_argument("--perturb", action="append", metavar="SPEC", default=None,
                    help="KIND:KEY=VALUE,... or a TOML file of [[perturb]] tables; repeatable "
                         "(default: the set in docs/sensitivity.md)")
     p.add_argument("--seed", type=int, default=0, help="member m draws from default_rng([seed, m])")
-    p.add_argument("--scheduler", metavar="ADDR", help="Dask distributed scheduler address "
-                                                        "(default: an in-process local cluster)")
+    p.add_argument("--scheduler", metavar="ADDR", help="run the members on this Dask distributed scheduler "
+                                                        "(default: threads on this machine)")
     p.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                   help="workers of the local cluster (default: the number of cores)")
+                   help="members computed at once on this machine (default: the number of cores; "
+                        "ignored with --scheduler)")
     p.add_argument("--out", type=Path, help="study netCDF to write (default: AREA-sensitivity.nc)")
     p.add_argument("--tl", action="store_true",
                    help="full grid per member; keep tl_db(member, class, band, depth, range)")
@@ -86,7 +87,7 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
                           reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
     out = out if out is not None else Path(f"{area.name}-sensitivity.nc")
     digest = spec.digest(find_bellhop().sha256)
-    cache_dir = out.parent / f".{out.name}.partial-{digest[:12]}"
+    cache_dir = resume_dir(out, digest)
     stats = sens.StudyStats()
     ds = sens.run_study(area, perturbations, members=members, seed=seed, tl=tl, scheduler=scheduler,
                         workers=workers, cache_dir=cache_dir, progress=progress, stats=stats,
@@ -98,7 +99,7 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
     sens.write_study(merged, out)
     files = {"study": str(out)}
     if plot is not None:
-        from acoustics.sensitivity_plot import plot_sd_map, plot_spread
+        from acoustics.sensitivity.plot import plot_sd_map, plot_spread
 
         plot_spread(ds, plot)
         files["plot"] = str(plot)
@@ -154,14 +155,15 @@ def _quiet_dask(verbose: int) -> None:
 
 
 def run_sensitivity(args) -> Report:
-    _quiet_dask(getattr(args, "verbose", 0) or 0)
+    if args.scheduler is not None:
+        _quiet_dask(getattr(args, "verbose", 0) or 0)
     info = run_study_file(args.area, members=args.members, perturb=args.perturb, seed=args.seed,
                           scheduler=args.scheduler, workers=args.workers, out=args.out, tl=args.tl,
                           plot=args.plot, write_k_error=args.write_k_error, ranges_km=args.ranges_km,
                           range_min_km=args.range_min_km, range_max_km=args.range_max_km,
                           reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args))
     lines = [f"wrote {info['files']['study']}: area {info['area']}, {info['members']} members "
-             f"(seed {info['seed']}, {info['members_reused']} reused), {info['workers']} Dask workers, "
+             f"(seed {info['seed']}, {info['members_reused']} reused), {info['workers']} workers, "
              f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['wall_seconds']:.1f} s wall",
              "  perturbations: " + "; ".join(info["perturbations"]),
              f"  K(r) vs nominal over {info['window_km'][0]:g}-{info['window_km'][1]:g} km "

@@ -7,16 +7,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from envdata.files import atomic_path
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+from acoustics.figures import new_figure, save_figure
 
 
 def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
@@ -28,13 +19,17 @@ def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
         A study (``k_db(member, class, band, range)``, ``k_nominal_db``).
     out : path
         PNG to write (atomically).
+
+    Returns
+    -------
+    Path
+        ``out``.
     """
-    plt = _pyplot()
     classes = [str(c) for c in ds["class"].values]
     bands = [str(b) for b in ds["band"].values]
     range_km = ds["range"].values / 1000.0
-    fig, axes = plt.subplots(len(classes), len(bands), figsize=(4.2 * len(bands), 2.9 * len(classes)),
-                             squeeze=False, sharex=True)
+    fig = new_figure(figsize=(4.2 * len(bands), 2.9 * len(classes)))
+    axes = fig.subplots(len(classes), len(bands), squeeze=False, sharex=True)
     for i, cls_name in enumerate(classes):
         for j, band in enumerate(bands):
             ax = axes[i, j]
@@ -57,21 +52,32 @@ def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
     axes[0, 0].legend(fontsize=7, loc="upper right")
     fig.suptitle(f"K(r) spread over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}", fontsize=10)
     fig.tight_layout()
-    out = Path(out)
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=110)
 
 
 def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None) -> Path:
-    """Maps of the sd over members of band TL over depth and range, one per class (needs ``tl_db``)."""
-    plt = _pyplot()
+    """Maps of the sd over members of band TL over depth and range, one per class.
+
+    Parameters
+    ----------
+    ds : Dataset
+        A study run with ``tl=True`` (``tl_db(member, class, band, depth, range)``).
+    out : path
+        PNG to write (atomically).
+    band : str, optional
+        Band to draw; default the first.
+
+    Returns
+    -------
+    Path
+        ``out``.
+    """
     if "tl_db" not in ds:
         raise ValueError("the study has no tl_db (run it with --tl)")
     band = str(ds["band"].values[0]) if band is None else band
     classes = [str(c) for c in ds["class"].values]
-    fig, axes = plt.subplots(1, len(classes), figsize=(5.2 * len(classes), 3.8), squeeze=False)
+    fig = new_figure(figsize=(5.2 * len(classes), 3.8))
+    axes = fig.subplots(1, len(classes), squeeze=False)
     range_km = ds["range"].values / 1000.0
     depth = ds["depth"].values
     for ax, cls_name in zip(axes[0], classes):
@@ -85,8 +91,4 @@ def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None) -> 
         ax.set_ylabel("depth, m")
         fig.colorbar(mesh, ax=ax, label="dB")
     fig.tight_layout()
-    out = Path(out)
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=110)

@@ -10,7 +10,7 @@ import time
 import pytest
 import xarray as xr
 
-from acoustics import perturb as pt
+from acoustics.sensitivity import perturb as pt
 from acoustics import sensitivity as sens
 from envdata.errors import InputError
 

@@ -12,8 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from acoustics import perturb as pt
-from acoustics.perturb import PerturbationError
+from acoustics.sensitivity import perturb as pt
+from acoustics.sensitivity.perturb import PerturbationError
 from tests.conftest import DATA, MALFORMED
 
 BAD = MALFORMED / "perturb"

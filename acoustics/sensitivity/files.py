@@ -1,0 +1,30 @@
+"""Study files: the study dataset (and any summaries merged into it) as netCDF4."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import xarray as xr
+
+from acoustics.io import load_netcdf, write_netcdf
+from envdata.errors import InputError
+
+REQUIRED_STUDY_VARS = {"k_db": ("member", "class", "band", "range"), "k_nominal_db": ("class", "band", "range")}
+
+
+class StudyFileError(InputError):
+    """A study file that is missing, not netCDF, or lacks what DESIGN.md requires."""
+
+
+def write_study(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write the study (and any summaries merged into it) as netCDF4 via a temporary file."""
+    return write_netcdf(ds, path)
+
+
+def open_study(path: str | Path) -> xr.Dataset:
+    """Open a study file, load it, and check the variables of DESIGN.md."""
+    ds = load_netcdf(path, StudyFileError, "study")
+    for name, dims in REQUIRED_STUDY_VARS.items():
+        if name not in ds or ds[name].dims != dims:
+            raise StudyFileError(f"{path}: missing variable {name}{dims}")
+    return ds

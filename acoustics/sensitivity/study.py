@@ -1,0 +1,189 @@
+"""Running a sensitivity study: the nominal area and every member as tasks, and the study dataset.
+
+Each member is the area perturbed by ``acoustics.sensitivity.perturb`` with its own generator
+``np.random.default_rng([seed, member])`` and its K(r) recomputed by BELLHOP
+(``acoustics.sensitivity.members``). One task is one member (its BELLHOP runs inside), so the
+result does not depend on how many workers there are or which worker ran what. The tasks run
+on local threads or a Dask cluster (``acoustics.executor``); finished members are kept in a
+cache folder, so an interrupted study resumes without redoing them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import json
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.executor import ResultCache, TaskStats, run_tasks
+from acoustics.grid import TMAKIT_VERSION, _now
+from acoustics.sensitivity.members import MemberResult, compute_member, member_key
+from acoustics.sensitivity.perturb import Perturbation
+from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
+from envdata.area import Area
+
+
+@dataclass
+class StudyStats:
+    """What a study did: members asked for and reused, workers, BELLHOP time, wall time."""
+
+    members_total: int = 0
+    members_reused: int = 0
+    bellhop_seconds: float = 0.0  # BELLHOP process time of the members computed now (nominal included)
+    wall_seconds: float = 0.0
+    workers: int = 0
+
+
+def member_cache(folder: str | Path) -> ResultCache[MemberResult]:
+    """Finished members, ``nominal.npz`` and ``member-NNNNNN.npz``, in ``folder``."""
+    return ResultCache(folder, encode=MemberResult.to_record, decode=MemberResult.from_record)
+
+
+def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int, seed: int = 0,
+              tl: bool = False, scheduler: str | None = None, workers: int = 1,
+              cache_dir: str | Path | None = None, progress: bool = False,
+              stats: StudyStats | None = None,
+              reciprocity_min_depth_m: float = RECIPROCITY_MIN_DEPTH_M,
+              on_result: Callable[[MemberResult], None] | None = None) -> xr.Dataset:
+    """Run the ensemble and return the study dataset (``k_db(member, class, band, range)``).
+
+    Parameters
+    ----------
+    area : Area
+        The nominal area.
+    perturbations : sequence of Perturbation
+        What is uncertain (``acoustics.sensitivity.perturb``); checked at +-4 sd before anything runs.
+    members : int
+        Ensemble size.
+    seed : int
+        Member m draws from ``np.random.default_rng([seed, m])``.
+    tl : bool
+        Full grid per member and keep ``tl_db(member, class, band, depth, range)``.
+    scheduler : str, optional
+        Address of a Dask distributed scheduler to run the members on.
+    workers : int
+        Members computed at once on local threads (ignored with ``scheduler``).
+    cache_dir : path, optional
+        Folder for finished members (resume); the caller removes it once the file is written.
+    progress : bool
+        Show a progress bar on stderr.
+    stats : StudyStats, optional
+        Filled with counts and timings.
+    reciprocity_min_depth_m : float
+        Classes at least this deep get K by reciprocity, m.
+    on_result : callable, optional
+        Called in the calling thread with each member's result as it arrives (not for reused
+        ones), after it is saved in ``cache_dir``.
+    """
+    spec = StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
+                     reciprocity_min_depth_m=reciprocity_min_depth_m)
+    stats = stats if stats is not None else StudyStats()
+    start = time.perf_counter()
+    exe = find_bellhop()
+    digest = spec.digest(exe.sha256)
+    results: dict[int | None, MemberResult] = {}
+    done = TaskStats()
+    stats.members_total = members
+    tasks = run_tasks(functools.partial(compute_member, spec, exe=str(exe.path)), [None, *range(members)],
+                      key=member_key, workers=workers, scheduler=scheduler,
+                      cache=member_cache(cache_dir) if cache_dir is not None else None,
+                      progress=progress, desc="sensitivity members", unit="member", stats=done)
+    with contextlib.closing(tasks):  # stops the pending members whatever happens here
+        for member, result, reused in tasks:
+            results[member] = result
+            if reused:
+                stats.members_reused += member is not None
+            else:
+                stats.bellhop_seconds += result.bellhop_seconds
+                if on_result is not None:
+                    on_result(result)
+    stats.workers = done.workers
+    ds = study_dataset(spec, results, digest, exe.describe())
+    stats.wall_seconds = time.perf_counter() - start
+    return ds
+
+
+def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], digest: str,
+                  exe_info: dict) -> xr.Dataset:
+    """The study dataset of DESIGN.md from the nominal result (key None) and every member's."""
+    area = spec.area
+    members = np.arange(spec.members)
+    nominal = results[None]
+    k = np.stack([results[int(m)].k_db for m in members])
+    names = [n for p in sorted(spec.perturbations, key=lambda p: list(type(p.kind)).index(p.kind))
+             for n in p.param_names()]
+    coords = {
+        "member": ("member", members, {"long_name": "ensemble member (seeded by [seed, member])"}),
+        "class": ("class", np.array([c.name for c in area.classes], dtype=object),
+                  {"long_name": "target class hypothesis"}),
+        "band": ("band", np.array([b.name for b in area.bands], dtype=object), {"long_name": "frequency band"}),
+        "range": ("range", area.grid.range_m(), {"units": "m", "long_name": "horizontal range from the source"}),
+        "band_low_hz": ("band", np.array([b.low_hz for b in area.bands]), {"units": "Hz"}),
+        "band_high_hz": ("band", np.array([b.high_hz for b in area.bands]), {"units": "Hz"}),
+        "band_center_hz": ("band", np.array([b.center_hz for b in area.bands]), {"units": "Hz"}),
+        "source_depth_m": ("class", np.array([c.depth_m for c in area.classes]),
+                           {"units": "m", "long_name": "nominal radiating depth of the class", "positive": "down"}),
+    }
+    for name in names:
+        coords[name] = ("member", np.array([results[int(m)].params[name] for m in members]),
+                        {"long_name": f"perturbation parameter {name}", "units": _unit(name)})
+    dims3 = ("class", "band", "range")
+    data_vars = {
+        "k_db": (("member",) + dims3, k, {
+            "units": "dB", "long_name": "transfer characteristic K(r) at the observer depth, perturbed member",
+            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)"}),
+        "k_nominal_db": (dims3, nominal.k_db, {
+            "units": "dB", "long_name": "transfer characteristic K(r) of the nominal area, same method"}),
+    }
+    if spec.tl:
+        depth = area.depth_m()
+        coords["depth"] = ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
+                                            "axis": "Z", "long_name": "receiver depth"})
+        data_vars["tl_db"] = (("member", "class", "band", "depth", "range"),
+                              np.stack([results[int(m)].tl_db for m in members]),
+                              {"units": "dB", "long_name": "band transmission loss, perturbed member",
+                               "reference": "1 m from the source",
+                               "comment": "NaN below the member's bottom"})
+        data_vars["tl_nominal_db"] = (("class", "band", "depth", "range"), nominal.tl_db,
+                                      {"units": "dB", "long_name": "band transmission loss, nominal area",
+                                       "reference": "1 m from the source"})
+    method = ("grid build per member (direct for every class)" if spec.tl else
+              f"reciprocity for classes at or below {spec.reciprocity_min_depth_m:g} m, direct above")
+    attrs = {
+        "Conventions": "CF-1.8",
+        "title": f"tmakit environmental sensitivity study for area {area.name}",
+        "institution": "tmakit",
+        "source": f"tmakit {TMAKIT_VERSION}, model bellhop",
+        "references": "Grinenkov & Mashoshin (2024) eqs. 12-13, 20; Porter, The BELLHOP manual (2011)",
+        "comment": "dB quantities carry units 'dB' with their reference in the 'reference' attribute",
+        "area": area.name,
+        "model": "bellhop",
+        "observer_depth_m": float(area.observer.depth_m),
+        "water_depth_m": float(area.water.depth_m),
+        "seed": int(spec.seed),
+        "members": int(spec.members),
+        "perturbations": json.dumps([p.to_dict() for p in spec.perturbations]),
+        "k_method": method,
+        "reciprocity_min_depth_m": float(spec.reciprocity_min_depth_m),
+        "bellhop_version": exe_info["version"],
+        "bellhop_sha256": exe_info["sha256"],
+        "created": _now(),
+        "source_hash": digest,
+        "area_json": json.dumps(area.to_dict(), sort_keys=True),
+    }
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _unit(name: str) -> str:
+    for suffix, unit in (("_m", "m"), ("_mps", "m s-1"), ("_c", "degC"), ("_psu", "1e-3"), ("_gcc", "g cm-3"),
+                         ("_db_per_wavelength", "dB/wavelength")):
+        if name.endswith(suffix):
+            return unit
+    return "1"

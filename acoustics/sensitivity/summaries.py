@@ -1,0 +1,149 @@
+"""What a study says: bias, sd and constant-offset share of dK(r) = K_member(r) - K_nominal(r),
+and the range error of level-based ranging (eq. 20) with the nominal tables in the member's sea.
+
+Grinenkov & Mashoshin take dK as a constant offset, sd 1.5 dB surface / 2.0 dB submarine; the
+summaries say how much of the measured dK is such an offset.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import xarray as xr
+
+from envdata.errors import InputError
+
+DEFAULT_EVAL_RANGES_M = (5000.0, 10000.0, 20000.0, 50000.0, 100000.0)
+
+
+def level_range_m(k_levels_db: np.ndarray, k_table_db: np.ndarray, range_m: np.ndarray,
+                  sigma_db: np.ndarray | None = None) -> np.ndarray:
+    """Level-based range estimate, eq. 20: argmin_r sum_k (W_k - P0 - K_k(r) - H_k)^2 / sigma_k^2.
+
+    Parameters
+    ----------
+    k_levels_db : ndarray, (..., band)
+        Measured band levels minus P0 and H, i.e. the true K_k at the target's range, dB.
+    k_table_db : ndarray, (band, range)
+        The tables K_k(r) the ranging uses, dB.
+    range_m : ndarray, (range,)
+        Range axis of the tables, m.
+    sigma_db : ndarray, (band,), optional
+        Level error sd per band (eq. 11); equal weights by default.
+
+    Returns
+    -------
+    range_m : ndarray, (...)
+        The grid range minimising the weighted squared level misfit (all bands detected, I_k = 1).
+
+    References
+    ----------
+    Grinenkov & Mashoshin (2024), eqs. 18-20.
+    """
+    levels = np.asarray(k_levels_db, dtype=float)
+    table = np.asarray(k_table_db, dtype=float)
+    w = np.ones(table.shape[0]) if sigma_db is None else 1.0 / np.asarray(sigma_db, dtype=float) ** 2
+    cost = np.einsum("...kr,k->...r", (levels[..., :, None] - table) ** 2, w)
+    return np.asarray(range_m)[np.argmin(cost, axis=-1)]
+
+
+def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_RANGES_M,
+              range_min_m: float | None = None, range_max_m: float | None = None) -> xr.Dataset:
+    """Bias, sd, constant-offset share of dK(r) = K_member(r) - K_nominal(r), and the range error.
+
+    Parameters
+    ----------
+    ds : Dataset
+        A study from ``run_study`` or ``open_study``.
+    eval_ranges_m : sequence of float
+        True ranges at which the implied range error of level-based ranging (eq. 20) is given.
+    range_min_m, range_max_m : float, optional
+        Range window of the scalar summaries (default: the whole range axis).
+
+    Returns
+    -------
+    Dataset
+        ``k_bias_db`` and ``k_sd_db`` (class, band, range); over the window, per (class, band):
+        ``k_offset_sd_db`` (sd over members of each member's mean dK, the constant part),
+        ``k_residual_rms_db`` (what a constant offset leaves), ``k_constant_fraction`` (share of
+        the mean-square dK that is a constant offset), ``k_rms_error_db``; per class
+        ``k_error_sd_db`` (rms dK over members, bands and ranges: the measured value for the
+        area file); per (class, eval_range) ``range_bias_m``, ``range_rms_m`` and
+        ``range_error_m(member, class, eval_range)``; ``k_offset_correlation(class, parameter)``
+        says which drawn parameter moves the constant part.
+    """
+    rng = ds["range"].values
+    lo = rng[0] if range_min_m is None else range_min_m
+    hi = rng[-1] if range_max_m is None else range_max_m
+    inside = (rng >= lo) & (rng <= hi)
+    if not inside.any():
+        raise InputError(f"range window [{lo:g}, {hi:g}] m contains no range of the study "
+                         f"({rng[0]:g}-{rng[-1]:g} m)")
+    dk = ds["k_db"] - ds["k_nominal_db"]
+    n = ds.sizes["member"]
+    bias = dk.mean("member")
+    sd = dk.std("member", ddof=1) if n > 1 else xr.zeros_like(bias) * np.nan
+    win = dk.isel(range=inside)
+    offset = win.mean("range")
+    offset_sd = offset.std("member", ddof=1) if n > 1 else xr.zeros_like(offset.isel(member=0)) * np.nan
+    ms = (win ** 2).mean(("member", "range"))
+    residual = np.sqrt(((win - offset) ** 2).mean(("member", "range")))
+    constant_fraction = xr.where(ms > 0, (offset ** 2).mean("member") / ms, 1.0)
+    k_error = np.sqrt((win ** 2).mean(("member", "band", "range")))
+
+    eval_r = np.asarray([r for r in eval_ranges_m if rng[0] <= r <= rng[-1]], dtype=float)
+    idx = np.abs(rng[None, :] - eval_r[:, None]).argmin(axis=1) if eval_r.size else np.zeros(0, int)
+    true_r = rng[idx]
+    k_member = ds["k_db"].values[..., idx]  # (member, class, band, eval)
+    k_nom = ds["k_nominal_db"].values  # (class, band, range)
+    est = np.empty((n, ds.sizes["class"], idx.size))
+    for ic in range(ds.sizes["class"]):
+        levels = np.moveaxis(k_member[:, ic], 1, -1)  # (member, eval, band)
+        est[:, ic] = level_range_m(levels, k_nom[ic], rng)
+    err = est - true_r[None, None, :]
+    # which drawn parameter drives the constant part: correlation over members of each parameter
+    # with the member's offset (mean over bands and the window)
+    params = [name for name, coord in ds.coords.items() if coord.dims == ("member",) and name != "member"]
+    band_offset = offset.mean("band").values  # (member, class)
+    corr = np.full((ds.sizes["class"], len(params)), np.nan)
+    for j, name in enumerate(params):
+        x = ds[name].values.astype(float)
+        for ic in range(ds.sizes["class"]):
+            y = band_offset[:, ic]
+            if n > 2 and x.std() > 0 and y.std() > 0:
+                corr[ic, j] = float(np.corrcoef(x, y)[0, 1])
+    out = xr.Dataset(
+        {
+            "k_offset_correlation": (("class", "parameter"), corr,
+                                     {"units": "1", "long_name": "correlation over members of a perturbation "
+                                                                 "parameter with the member's mean K offset"}),
+            "k_bias_db": (bias.dims, bias.values, {"units": "dB", "long_name": "mean over members of K - K_nominal"}),
+            "k_sd_db": (sd.dims, sd.values, {"units": "dB", "long_name": "sd over members of K - K_nominal"}),
+            "k_offset_sd_db": (offset_sd.dims, offset_sd.values,
+                               {"units": "dB", "long_name": "sd over members of the range-mean of K - K_nominal"}),
+            "k_residual_rms_db": (residual.dims, residual.values,
+                                  {"units": "dB", "long_name": "rms of K - K_nominal after removing each "
+                                                               "member's constant offset"}),
+            "k_constant_fraction": (constant_fraction.dims, constant_fraction.values,
+                                    {"units": "1", "long_name": "share of the mean-square K error that is a "
+                                                                "constant offset per member"}),
+            "k_rms_error_db": (ms.dims, np.sqrt(ms.values), {"units": "dB", "long_name": "rms of K - K_nominal"}),
+            "k_error_sd_db": (k_error.dims, k_error.values,
+                              {"units": "dB", "long_name": "measured sd of the transfer-characteristic error "
+                                                           "(rms over members, bands and ranges)"}),
+            "range_error_m": (("member", "class", "eval_range"), err,
+                              {"units": "m", "long_name": "level-ranging (eq. 20) error with nominal tables"}),
+            "range_bias_m": (("class", "eval_range"), err.mean(axis=0), {"units": "m"}),
+            "range_rms_m": (("class", "eval_range"), np.sqrt((err ** 2).mean(axis=0)), {"units": "m"}),
+        },
+        coords={"member": ds["member"].values, "class": ds["class"].values, "band": ds["band"].values,
+                "range": rng, "parameter": ("parameter", np.array(params, dtype=object)),
+                "eval_range": ("eval_range", true_r, {"units": "m", "long_name": "true range"})},
+        attrs={"summary_range_min_m": float(lo), "summary_range_max_m": float(hi)})
+    return out
+
+
+def k_error_by_class(summary: xr.Dataset) -> dict[str, float]:
+    """The measured ``k_error_sd_db`` per class name, dB (what ``write_k_error`` writes back)."""
+    return {str(c): float(v) for c, v in zip(summary["class"].values, summary["k_error_sd_db"].values)}
