@@ -217,15 +217,34 @@ def _on_threads(fn: Callable[[T], R], todo: list[T], workers: int) -> Iterator[t
                 future.cancel()
 
 
+def check_scheduler_address(scheduler: str) -> None:
+    """Refuse what is not ``tcp://HOST:PORT`` (or ``HOST:PORT``) before Dask tries it.
+
+    Only plain TCP is supported: TLS needs a security configuration tmakit does not take, and
+    other comms (UCX, in-process) do not reach another machine. The scheduler must be a
+    trusted one: its results are unpickled here.
+    """
+    text = scheduler[len("tcp://"):] if scheduler.startswith("tcp://") else scheduler
+    host, sep, port = text.rpartition(":")
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]  # an IPv6 address
+    ok = (sep == ":" and port.isdigit() and 0 < int(port) < 65536 and host != ""
+          and "://" not in host and all(ch.isalnum() or ch in ".-_:" for ch in host))
+    if not ok:
+        raise InputError(f"--scheduler {scheduler!r}: expected tcp://HOST:PORT of a trusted Dask "
+                         f"scheduler (results are unpickled from it)")
+
+
 def _on_dask(fn: Callable[[T], R], todo: list[T], key: Callable[[T], str], scheduler: str, desc: str,
              stats: TaskStats) -> Iterator[tuple[T, R]]:
     """The one place that talks to Dask: connect, map, collect, release, close."""
     from distributed import Client
     from distributed import as_completed as dask_as_completed
 
+    check_scheduler_address(scheduler)
     try:
         client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
         raise InputError(f"--scheduler {scheduler}: cannot connect to a Dask scheduler "
                          f"({type(exc).__name__}: {exc})") from None
     try:

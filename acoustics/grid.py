@@ -22,6 +22,7 @@ import xarray as xr
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.exe import find_bellhop
+from acoustics.bellhop.runner import default_timeout_s
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
 from acoustics.runs import Run, RunStats, execute_runs, iter_runs
@@ -107,8 +108,16 @@ def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance
                            n_beams=n_beams, angle_min_deg=a1, angle_max_deg=a2,
                            absorption=prop.absorption)
             runs.append(Run(env=env_text(area, spec), freq_hz=f, source_depth_m=sd, part=part,
-                            n_parts=len(slices), n_beams=n_beams))
+                            n_parts=len(slices), n_beams=n_beams,
+                            timeout_s=run_timeout_s(area, n_beams, len(spec.receiver_depth_m) * len(ranges))))
     return runs
+
+
+def run_timeout_s(area: Area, n_beams: int, n_receivers: int) -> float:
+    """The limit of one BELLHOP run: the area's ``[propagation] run_timeout_s`` or a generous
+    default scaled to the run's beams x receivers (``bellhop.runner.default_timeout_s``), s."""
+    limit = area.propagation.run_timeout_s
+    return limit if limit is not None else default_timeout_s(n_beams, n_receivers)
 
 
 def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:

@@ -11,8 +11,11 @@ from acoustics.errors import GridFileError
 from acoustics.schema import check_grid
 from envdata.files import atomic_path, check_input_file
 
-def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever)."""
+def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
+    """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever).
+
+    Without ``atomic`` straight to ``path``, for a caller that renames several files together.
+    """
     path = Path(path)
     encoding = {}
     for name, var in ds.variables.items():
@@ -20,6 +23,9 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
             encoding[name] = {"_FillValue": None}
         elif np.issubdtype(var.dtype, np.floating):
             encoding[name] = {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
+    if not atomic:
+        ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        return path
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
     return path

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from envdata.files import atomic_path
+from acoustics.figures import new_figure, save_figure
 
 
 def plot_grid(ds: xr.Dataset, out: str | Path, *, cls_name: str | None = None) -> Path:
@@ -18,15 +18,12 @@ def plot_grid(ds: xr.Dataset, out: str | Path, *, cls_name: str | None = None) -
     """
     import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     cls_name = str(ds["class"].values[0]) if cls_name is None else cls_name
     bands = [str(b) for b in ds["band"].values]
     range_km = ds["range"].values / 1000.0
     depth = ds["depth"].values
-    fig, axes = plt.subplots(len(bands), 2, figsize=(13, 3.6 * len(bands)), squeeze=False,
-                             gridspec_kw={"width_ratios": [1.25, 1]})
+    fig = new_figure(figsize=(13, 3.6 * len(bands)))
+    axes = fig.subplots(len(bands), 2, squeeze=False, gridspec_kw={"width_ratios": [1.25, 1]})
     tl_all = ds["tl_db"].sel({"class": cls_name}).values
     finite = tl_all[np.isfinite(tl_all)]
     vmin, vmax = np.percentile(finite, [2, 98]) if finite.size else (40, 120)
@@ -58,8 +55,4 @@ def plot_grid(ds: xr.Dataset, out: str | Path, *, cls_name: str | None = None) -
         ax.set_xlabel("range, km")
     fig.suptitle(f"area {ds.attrs['area']}", fontsize=11)
     fig.tight_layout()
-    out = Path(out)
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=110)

@@ -29,10 +29,16 @@ class Run:
     part: int = 0
     n_parts: int = 1
     n_beams: int = 0  # beams in this run (0: BELLHOP's automatic count)
+    files: tuple[tuple[str, str], ...] = ()  # (extension, text) of files beside the .env (.bty, .ssp)
+    timeout_s: float | None = None  # the run is killed after this long (None: no limit)
 
     @property
     def key(self) -> str:
-        return hashlib.sha256(self.env.encode()).hexdigest()[:24]
+        h = hashlib.sha256(self.env.encode())
+        for suffix, text in self.files:
+            h.update(f"\0{suffix}\0".encode())
+            h.update(text.encode())
+        return h.hexdigest()[:24]
 
 
 @dataclass
@@ -46,7 +52,7 @@ class RunStats:
 def execute_run(run: Run, exe: str | None = None) -> tuple[np.ndarray, float]:
     """Run one environment; return its pressure field (first source depth), complex64, and
     BELLHOP's time. In incoherent and semicoherent modes |p|^2 is the summed beam intensity."""
-    result = run_env(run.env, exe=exe)
+    result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s)
     return result.field.pressure[0], result.seconds
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import acoustics
 import envdata
 from acoustics.build import build_grid_file
+from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
 
 
@@ -25,7 +26,8 @@ def register(sub, common) -> None:
                    help="BELLHOP runs at once on this machine (default: the number of cores; "
                         "ignored with --scheduler)")
     b.add_argument("--scheduler", metavar="ADDR", help="run on this Dask distributed scheduler")
-    b.add_argument("--force", action="store_true", help="rebuild even if the file is up to date")
+    b.add_argument("--force", action="store_true",
+                   help="rebuild even if the file is up to date; replace --out even if it is not a grid")
     b.set_defaults(func=run_build)
 
     s = gsub.add_parser("show", parents=[common], help="summarise a grid file")
@@ -36,11 +38,15 @@ def register(sub, common) -> None:
     pl.add_argument("file", type=Path, metavar="FILE")
     pl.add_argument("--out", type=Path, required=True, metavar="PNG")
     pl.add_argument("--class", dest="cls_name", help="class whose TL field to draw (default: the first)")
+    pl.add_argument("--force", action="store_true", help="replace --out even if it is not a PNG")
     pl.set_defaults(func=run_plot)
 
 
 def run_build(args) -> Report:
-    info = build_grid_file(args.area, args.out, model=args.model, workers=args.workers,
+    area = envdata.load_area(args.area)
+    out = args.out if args.out is not None else Path(f"{area.name}-{args.model}.nc")
+    check_output_file(out, Kind.NETCDF, force=args.force)
+    info = build_grid_file(area, out, model=args.model, workers=args.workers,
                            scheduler=args.scheduler, force=args.force, progress=want_progress(args))
     if info["up_to_date"]:
         summary = f"{info['file']}: up to date for area {info['area']} ({info['model']}); --force rebuilds"
@@ -82,6 +88,7 @@ def run_show(args) -> Report:
 def run_plot(args) -> Report:
     from acoustics.plot import plot_grid
 
+    check_output_file(args.out, Kind.PNG, force=args.force)
     ds = acoustics.open_grid(args.file)
     if args.cls_name is not None and args.cls_name not in ds["class"].values:
         raise envdata.InputError(f"{args.file}: --class {args.cls_name!r} is not a class of the grid "

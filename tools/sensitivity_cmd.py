@@ -13,14 +13,10 @@ import logging
 import os
 from pathlib import Path
 
-import numpy as np
-import xarray as xr
 
-import envdata
 from acoustics import sensitivity as sens
-from acoustics.bellhop.exe import find_bellhop
-from acoustics.build import remove_cache, resume_dir
-from acoustics.sensitivity.perturb import default_perturbations, parse_spec
+import envdata
+from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
 
 
@@ -55,95 +51,9 @@ def register(sub, common) -> None:
     p.add_argument("--range-max-km", type=float, help="summary window end, km (default: last range)")
     p.add_argument("--reciprocity-min-depth-m", type=float, default=sens.RECIPROCITY_MIN_DEPTH_M,
                    help="classes at least this deep get K by reciprocity (default %(default)g m)")
+    p.add_argument("--force", action="store_true",
+                   help="replace outputs even if they are not tmakit's kind of file")
     p.set_defaults(func=run_sensitivity)
-
-
-def _ranges_m(text: str) -> list[float]:
-    try:
-        values = [float(v) * 1000.0 for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise envdata.InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
-    if not values or any(not (np.isfinite(v) and v > 0) for v in values):
-        raise envdata.InputError(f"--ranges-km: need positive ranges, got {text!r}")
-    return values
-
-
-def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = None, seed: int = 0,
-                   scheduler: str | None = None, workers: int = 1, out: Path | None = None,
-                   tl: bool = False, plot: Path | None = None, write_k_error: Path | None = None,
-                   ranges_km: str = "5,10,20,50,100", range_min_km: float | None = None,
-                   range_max_km: float | None = None,
-                   reciprocity_min_depth_m: float = sens.RECIPROCITY_MIN_DEPTH_M,
-                   progress: bool = False) -> dict:
-    """Run a study from the command-line options, write its files and return what was done."""
-    if workers < 1:
-        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
-    area_file = envdata.area_path(area_name)
-    area = envdata.load_area(area_name)
-    perturbations = ([p for text in perturb for p in parse_spec(text)] if perturb
-                     else default_perturbations(area))
-    eval_ranges = _ranges_m(ranges_km)
-    spec = sens.StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
-                          reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
-    out = out if out is not None else Path(f"{area.name}-sensitivity.nc")
-    digest = spec.digest(find_bellhop().sha256)
-    cache_dir = resume_dir(out, digest)
-    stats = sens.StudyStats()
-    ds = sens.run_study(area, perturbations, members=members, seed=seed, tl=tl, scheduler=scheduler,
-                        workers=workers, cache_dir=cache_dir, progress=progress, stats=stats,
-                        reciprocity_min_depth_m=reciprocity_min_depth_m)
-    summary = sens.summarize(ds, eval_ranges_m=eval_ranges,
-                             range_min_m=None if range_min_km is None else range_min_km * 1000.0,
-                             range_max_m=None if range_max_km is None else range_max_km * 1000.0)
-    merged = xr.merge([ds, summary], combine_attrs="override")
-    sens.write_study(merged, out)
-    files = {"study": str(out)}
-    if plot is not None:
-        from acoustics.sensitivity.plot import plot_sd_map, plot_spread
-
-        plot_spread(ds, plot)
-        files["plot"] = str(plot)
-        if tl:
-            sd_map = plot.with_name(f"{plot.stem}-sd-map.png")
-            plot_sd_map(ds, sd_map)
-            files["sd_map"] = str(sd_map)
-    measured = sens.k_error_by_class(summary)
-    if write_k_error is not None:
-        sens.write_k_error(area_file, measured, write_k_error)
-        files["area_with_k_error"] = str(write_k_error)
-    remove_cache(cache_dir)
-    per_cb = {}
-    for cls_name in summary["class"].values:
-        for band in summary["band"].values:
-            sel = {"class": cls_name, "band": band}
-            per_cb[f"{cls_name}/{band}"] = {
-                "bias_db_median": round(float(np.median(summary["k_bias_db"].sel(sel))), 3),
-                "sd_db_median": round(float(np.median(summary["k_sd_db"].sel(sel))), 3),
-                "rms_error_db": round(float(summary["k_rms_error_db"].sel(sel)), 3),
-                "offset_sd_db": round(float(summary["k_offset_sd_db"].sel(sel)), 3),
-                "residual_rms_db": round(float(summary["k_residual_rms_db"].sel(sel)), 3),
-                "constant_fraction": round(float(summary["k_constant_fraction"].sel(sel)), 3)}
-    ranging = {}
-    for c in summary["class"].values:
-        bias = summary["range_bias_m"].sel({"class": c}).values
-        rms = summary["range_rms_m"].sel({"class": c}).values
-        ranging[str(c)] = {f"{r / 1000:g}": {"bias_m": round(float(bias[i]), 1), "rms_m": round(float(rms[i]), 1)}
-                           for i, r in enumerate(summary["eval_range"].values)}
-    drivers = {}
-    for ic, cls_name in enumerate(summary["class"].values):
-        corr = summary["k_offset_correlation"].values[ic]
-        order = [j for j in np.argsort(-np.abs(np.nan_to_num(corr))) if np.isfinite(corr[j])][:3]
-        drivers[str(cls_name)] = {str(summary["parameter"].values[j]): round(float(corr[j]), 2) for j in order}
-    return {"files": files, "offset_drivers": drivers, "area": area.name, "members": members, "seed": seed,
-            "perturbations": [p.describe() for p in perturbations],
-            "k_method": ds.attrs["k_method"], "members_reused": stats.members_reused,
-            "workers": stats.workers, "bellhop_seconds": round(stats.bellhop_seconds, 3),
-            "wall_seconds": round(stats.wall_seconds, 3),
-            "k_error_sd_db": {k: round(v, 3) for k, v in measured.items()},
-            "k_error_sd_db_area_file": {c.name: c.k_error_sd_db for c in area.classes},
-            "k": per_cb, "range_error": ranging,
-            "window_km": [summary.attrs["summary_range_min_m"] / 1000.0,
-                          summary.attrs["summary_range_max_m"] / 1000.0]}
 
 
 def _quiet_dask(verbose: int) -> None:
@@ -155,10 +65,16 @@ def _quiet_dask(verbose: int) -> None:
 
 
 def run_sensitivity(args) -> Report:
+    out = args.out if args.out is not None else Path(f"{envdata.load_area(args.area).name}-sensitivity.nc")
+    kinds = {"study": Kind.NETCDF, "plot": Kind.PNG, "sd_map": Kind.PNG,
+             "area_with_k_error": Kind.AREA_TOML}
+    for name, path in sens.output_files(out, plot=args.plot, tl=args.tl,
+                                        write_k_error=args.write_k_error).items():
+        check_output_file(path, kinds[name], force=args.force)
     if args.scheduler is not None:
         _quiet_dask(getattr(args, "verbose", 0) or 0)
-    info = run_study_file(args.area, members=args.members, perturb=args.perturb, seed=args.seed,
-                          scheduler=args.scheduler, workers=args.workers, out=args.out, tl=args.tl,
+    info = sens.run_study_file(args.area, members=args.members, perturb=args.perturb, seed=args.seed,
+                          scheduler=args.scheduler, workers=args.workers, out=out, tl=args.tl,
                           plot=args.plot, write_k_error=args.write_k_error, ranges_km=args.ranges_km,
                           range_min_km=args.range_min_km, range_max_km=args.range_max_km,
                           reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args))

@@ -16,9 +16,10 @@ class StudyFileError(InputError):
     """A study file that is missing, not netCDF, or lacks what DESIGN.md requires."""
 
 
-def write_study(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write the study (and any summaries merged into it) as netCDF4 via a temporary file."""
-    return write_netcdf(ds, path)
+def write_study(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
+    """Write the study (and any summaries merged into it) as netCDF4, via a temporary file
+    unless ``atomic`` is False (for a caller that renames several files together)."""
+    return write_netcdf(ds, path, atomic=atomic)
 
 
 def open_study(path: str | Path) -> xr.Dataset:

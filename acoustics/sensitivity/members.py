@@ -19,7 +19,8 @@ import numpy as np
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.grid import BuildStats, _fkey, band_tl_from_runs, build_grid, run_frequencies_hz
+from acoustics.grid import (BuildStats, _fkey, band_tl_from_runs, build_grid, run_frequencies_hz,
+                            run_timeout_s)
 from acoustics.kcurve import spectral_term_db
 from acoustics.sensitivity.perturb import member_area
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
@@ -96,7 +97,8 @@ def compute_k(area: Area, *, reciprocity_min_depth_m: float = RECIPROCITY_MIN_DE
                            mode=prop.mode, beam_type=prop.beam_type, n_beams=prop.n_beams,
                            angle_min_deg=prop.angle_min_deg, angle_max_deg=prop.angle_max_deg,
                            absorption=prop.absorption)
-            result = run_env(env_text(area, spec), exe=exe)
+            result = run_env(env_text(area, spec), exe=exe, timeout_s=run_timeout_s(
+                area, spec.n_beams, len(spec.source_depth_m) * len(receivers) * len(ranges)))
             seconds += result.seconds
             by_freq[_fkey(f)] = tl_from_pressure(result.field.pressure, prop.tl_max_db)
         for ic, cls in enumerate(area.classes):

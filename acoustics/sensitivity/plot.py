@@ -10,7 +10,7 @@ import xarray as xr
 from acoustics.figures import new_figure, save_figure
 
 
-def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
+def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:
     """One panel per (class, band): nominal K(r), the 5-95 % member band and +-1 sd of K(r).
 
     Parameters
@@ -52,10 +52,11 @@ def plot_spread(ds: xr.Dataset, out: str | Path) -> Path:
     axes[0, 0].legend(fontsize=7, loc="upper right")
     fig.suptitle(f"K(r) spread over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}", fontsize=10)
     fig.tight_layout()
-    return save_figure(fig, out, dpi=110)
+    return save_figure(fig, out, dpi=110, atomic=atomic)
 
 
-def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None) -> Path:
+def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None,
+                atomic: bool = True) -> Path:
     """Maps of the sd over members of band TL over depth and range, one per class.
 
     Parameters
@@ -91,4 +92,4 @@ def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None) -> 
         ax.set_ylabel("depth, m")
         fig.colorbar(mesh, ax=ax, label="dB")
     fig.tight_layout()
-    return save_figure(fig, out, dpi=110)
+    return save_figure(fig, out, dpi=110, atomic=atomic)

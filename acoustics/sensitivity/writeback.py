@@ -15,7 +15,8 @@ K_ERROR_KEY = re.compile(r"^\s*k_error_sd_db\s*=")
 NAME_KEY = re.compile(r"^\s*name\s*=")
 
 
-def write_k_error(area_file: str | Path, values: dict[str, float], out: str | Path) -> Path:
+def write_k_error(area_file: str | Path, values: dict[str, float], out: str | Path, *,
+                  atomic: bool = True) -> Path:
     """Copy the area TOML ``area_file`` to ``out`` with each class's ``k_error_sd_db`` replaced.
 
     Comments and layout are kept; a class without the key gets it after its ``name`` line. The
@@ -28,7 +29,10 @@ def write_k_error(area_file: str | Path, values: dict[str, float], out: str | Pa
     values : dict of str to float
         ``k_error_sd_db`` per class name, dB (``k_error_by_class``); written to 0.01 dB.
     out : path
-        The copy to write (atomically).
+        The copy to write.
+    atomic : bool
+        Write through a temporary file renamed on success (default); without, straight to
+        ``out`` (for a caller that renames several files together).
 
     Returns
     -------
@@ -58,10 +62,18 @@ def write_k_error(area_file: str | Path, values: dict[str, float], out: str | Pa
     if missing:
         raise InputError(f"{area_file}: no [[classes]] entry named {missing[0]!r} to write k_error_sd_db into")
     out = Path(out)
+    if not atomic:
+        _write_checked(out, "".join(out_lines), values, area_file)
+        return out
     with atomic_path(out) as tmp:
-        tmp.write_text("".join(out_lines), encoding="utf-8")
-        area = load_area(tmp)
-        for cls in area.classes:
-            if cls.name in values and abs(cls.k_error_sd_db - round(values[cls.name], 2)) > 1e-9:
-                raise InputError(f"{area_file}: could not write k_error_sd_db of class {cls.name!r}")
+        _write_checked(tmp, "".join(out_lines), values, area_file)
     return out
+
+
+def _write_checked(path: Path, text: str, values: dict[str, float], area_file) -> None:
+    """Write the copy and read it back with the area loader: it must carry the values."""
+    path.write_text(text, encoding="utf-8")
+    area = load_area(path)
+    for cls in area.classes:
+        if cls.name in values and abs(cls.k_error_sd_db - round(values[cls.name], 2)) > 1e-9:
+            raise InputError(f"{area_file}: could not write k_error_sd_db of class {cls.name!r}")

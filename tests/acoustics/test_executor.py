@@ -14,7 +14,7 @@ from acoustics.errors import BellhopError
 from acoustics.executor import ResultCache, TaskStats, run_tasks
 from acoustics.grid import plan_runs
 from acoustics.runs import Run, execute_run
-from envdata.area import load_area
+from envdata.areafile import load_area
 from envdata.errors import InputError
 from tests.conftest import MALFORMED
 

@@ -109,15 +109,23 @@ def test_show_of_a_bad_grid_file_is_one_error_line(capsys):
     assert capsys.readouterr().err.strip() == f"error: {path}: not a netCDF file"
 
 
+def default_sigint() -> None:
+    """In the child: SIGINT back to its default, whatever this test run inherited (a
+    background job starts with SIGINT ignored, and Python then installs no handler)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.bellhop
 @pytest.mark.slow
-def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path):
+@pytest.mark.parametrize("signum, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path, signum, status):
     area_text = tiny_area_path.read_text().replace("n_beams = 300", "n_beams = 4000\nfrequency_shortcut = false")
     area_file = tmp_path / "slow.toml"
     area_file.write_text(area_text)
     out = tmp_path / "slow.nc"
     proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "grids", "build", str(area_file), "--out", str(out),
-                             "--workers", "1"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             "--workers", "1"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=default_sigint)
     deadline = time.time() + 60
     cache = None
     while time.time() < deadline:
@@ -127,9 +135,9 @@ def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path):
             break
         time.sleep(0.02)
     assert cache is not None, "the build never wrote a finished run"
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(signum)
     _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 130, err
+    assert proc.returncode == status, err
     assert err.strip().splitlines()[-1].startswith("error: interrupted")
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]

@@ -204,3 +204,54 @@ def test_output_path_that_is_not_utf8(tmp_path, tiny_grid_file):
     assert proc.returncode == 2, err
     assert err.strip().count("\n") == 0 and "output path is not valid UTF-8" in err
     assert sorted(os.listdir(tmp_path)) == ["m.csv"]
+def test_an_existing_file_of_another_kind_is_not_replaced(capsys, tmp_path):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    line = run_cli(capsys, "grids", "build", TINY, "--out", notes, "--model", "urick")
+    assert "exists and is not a tmakit netCDF file; not replaced (--force replaces it)" in line
+    line = run_cli(capsys, "locate", "plan", "--target-x-m", "9000", "--target-y-m", "9000",
+                   "--out", notes)
+    assert "not a route CSV" in line
+    assert notes.read_text() == "my notes\n"
+    assert cli.main(["locate", "plan", "--target-x-m", "9000", "--target-y-m", "9000",
+                     "--out", str(notes), "--force"]) == 0
+    assert notes.read_text().startswith("t_s,obs_x_m,obs_y_m,bearing_deg")
+
+
+def test_a_plot_path_that_cannot_be_written(capsys, tmp_path, tiny_grid_file):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    line = run_cli(capsys, "grids", "plot", tiny_grid_file, "--out", blocker / "p.png")
+    assert "is a file, not a folder" in line
+    line = run_cli(capsys, "locate", "--bearings", DATA / "locate" / "paper_pair.csv",
+                   "--plot", blocker / "p.png")
+    assert "is a file, not a folder" in line
+    assert blocker.read_text() == "x"
+
+
+def test_a_hung_bellhop_ends_the_build_at_its_limit(capsys, tmp_path, monkeypatch):
+    import time
+
+    hang = tmp_path / "bellhop.sh"
+    hang.write_text(f"#!/bin/sh\nsleep 1000 # tmakit-hung-{tmp_path.name}\n")
+    hang.chmod(0o755)
+    monkeypatch.setenv("BELLHOP_EXE", str(hang))
+    area = tmp_path / "area.toml"
+    area.write_text((DATA / "tiny-munk.toml").read_text().replace(
+        "n_beams = 300", "n_beams = 300\nrun_timeout_s = 1.0"))
+    out = tmp_path / "out"
+    start = time.perf_counter()
+    line = run_cli(capsys, "grids", "build", area, "--out", out / "g.nc", "--workers", "2")
+    assert time.perf_counter() - start < 30.0
+    assert "BELLHOP did not finish within 1 s and was killed" in line
+    assert not (out / "g.nc").exists()
+    leftovers = subprocess.run(["pgrep", "-f", f"tmakit-hung-{tmp_path.name}"], capture_output=True)
+    assert leftovers.returncode == 1  # no BELLHOP left running
+
+
+@pytest.mark.parametrize("address", ["tls://127.0.0.1:1", "ucx://127.0.0.1:1", "inproc://x",
+                                     "not a url::", "tcp://127.0.0.1:notaport", "localhost:0"])
+def test_malformed_scheduler_addresses(capsys, tmp_path, address):
+    line = run_cli(capsys, "grids", "build", TINY, "--out", tmp_path / "g.nc", "--scheduler", address)
+    assert f"--scheduler {address}" in line or f"--scheduler {address!r}" in line
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,131 @@
+"""A sensitivity study as files: run it (resumable), summarise it, write its outputs all or none.
+
+The study file (study and summaries merged), the K(r) spread plot (and with ``tl`` the sd map)
+and the area copy with the measured ``k_error_sd_db`` are written together: all of them, or,
+if one cannot be written, none. Finished members are kept in ``.NAME.partial-HASH/`` beside the
+study file while members remain to be computed, so an interrupted study resumes; once every
+member is in, the folder goes, whether the outputs could be written or not.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+import envdata
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.build import remove_cache, resume_dir
+from acoustics.sensitivity.files import write_study
+from acoustics.sensitivity.perturb import default_perturbations, parse_spec
+from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
+from acoustics.sensitivity.study import StudyStats, run_study
+from acoustics.sensitivity.summaries import k_error_by_class, summarize
+from acoustics.sensitivity import writeback
+from envdata.files import atomic_paths
+
+
+def _ranges_m(text: str) -> list[float]:
+    try:
+        values = [float(v) * 1000.0 for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise envdata.InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
+    if not values or any(not (np.isfinite(v) and v > 0) for v in values):
+        raise envdata.InputError(f"--ranges-km: need positive ranges, got {text!r}")
+    return values
+
+
+def output_files(out: Path, *, plot: Path | None = None, tl: bool = False,
+                 write_k_error: Path | None = None) -> dict[str, str]:
+    """The files a study writes: ``{"study": ..., "plot": ..., "sd_map": ..., "area_with_k_error": ...}``."""
+    files = {"study": str(out)}
+    if plot is not None:
+        files["plot"] = str(plot)
+        if tl:
+            files["sd_map"] = str(Path(plot).with_name(f"{Path(plot).stem}-sd-map.png"))
+    if write_k_error is not None:
+        files["area_with_k_error"] = str(write_k_error)
+    return files
+
+
+def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = None, seed: int = 0,
+                   scheduler: str | None = None, workers: int = 1, out: Path | None = None,
+                   tl: bool = False, plot: Path | None = None, write_k_error: Path | None = None,
+                   ranges_km: str = "5,10,20,50,100", range_min_km: float | None = None,
+                   range_max_km: float | None = None,
+                   reciprocity_min_depth_m: float = RECIPROCITY_MIN_DEPTH_M,
+                   progress: bool = False) -> dict:
+    """Run a study from the command-line options, write its files and return what was done.
+
+    ``out`` defaults to ``AREA-sensitivity.nc``; the keys of the result are what
+    ``tmakit sensitivity`` reports (``files``, ``k``, ``range_error``, ``k_error_sd_db``, ...).
+    """
+    if workers < 1:
+        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
+    area_file = envdata.area_path(area_name)
+    area = envdata.load_area(area_name)
+    perturbations = ([p for text in perturb for p in parse_spec(text)] if perturb
+                     else default_perturbations(area))
+    eval_ranges = _ranges_m(ranges_km)
+    spec = StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
+                          reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
+    out = out if out is not None else Path(f"{area.name}-sensitivity.nc")
+    digest = spec.digest(find_bellhop().sha256)
+    cache_dir = resume_dir(out, digest)
+    stats = StudyStats()
+    ds = run_study(area, perturbations, members=members, seed=seed, tl=tl, scheduler=scheduler,
+                        workers=workers, cache_dir=cache_dir, progress=progress, stats=stats,
+                        reciprocity_min_depth_m=reciprocity_min_depth_m)
+    summary = summarize(ds, eval_ranges_m=eval_ranges,
+                             range_min_m=None if range_min_km is None else range_min_km * 1000.0,
+                             range_max_m=None if range_max_km is None else range_max_km * 1000.0)
+    merged = xr.merge([ds, summary], combine_attrs="override")
+    measured = k_error_by_class(summary)
+    files = output_files(out, plot=plot, tl=tl, write_k_error=write_k_error)
+    try:
+        with atomic_paths([Path(p) for p in files.values()]) as temps:
+            tmp = dict(zip(files, temps))
+            write_study(merged, tmp["study"], atomic=False)
+            if "plot" in files:
+                from acoustics.sensitivity.plot import plot_sd_map, plot_spread
+
+                plot_spread(ds, tmp["plot"], atomic=False)
+                if "sd_map" in files:
+                    plot_sd_map(ds, tmp["sd_map"], atomic=False)
+            if "area_with_k_error" in files:
+                writeback.write_k_error(area_file, measured, tmp["area_with_k_error"], atomic=False)
+    finally:
+        remove_cache(cache_dir)  # every member is in: nothing left to resume
+    per_cb = {}
+    for cls_name in summary["class"].values:
+        for band in summary["band"].values:
+            sel = {"class": cls_name, "band": band}
+            per_cb[f"{cls_name}/{band}"] = {
+                "bias_db_median": round(float(np.median(summary["k_bias_db"].sel(sel))), 3),
+                "sd_db_median": round(float(np.median(summary["k_sd_db"].sel(sel))), 3),
+                "rms_error_db": round(float(summary["k_rms_error_db"].sel(sel)), 3),
+                "offset_sd_db": round(float(summary["k_offset_sd_db"].sel(sel)), 3),
+                "residual_rms_db": round(float(summary["k_residual_rms_db"].sel(sel)), 3),
+                "constant_fraction": round(float(summary["k_constant_fraction"].sel(sel)), 3)}
+    ranging = {}
+    for c in summary["class"].values:
+        bias = summary["range_bias_m"].sel({"class": c}).values
+        rms = summary["range_rms_m"].sel({"class": c}).values
+        ranging[str(c)] = {f"{r / 1000:g}": {"bias_m": round(float(bias[i]), 1), "rms_m": round(float(rms[i]), 1)}
+                           for i, r in enumerate(summary["eval_range"].values)}
+    drivers = {}
+    for ic, cls_name in enumerate(summary["class"].values):
+        corr = summary["k_offset_correlation"].values[ic]
+        order = [j for j in np.argsort(-np.abs(np.nan_to_num(corr))) if np.isfinite(corr[j])][:3]
+        drivers[str(cls_name)] = {str(summary["parameter"].values[j]): round(float(corr[j]), 2) for j in order}
+    return {"files": files, "offset_drivers": drivers, "area": area.name, "members": members, "seed": seed,
+            "perturbations": [p.describe() for p in perturbations],
+            "k_method": ds.attrs["k_method"], "members_reused": stats.members_reused,
+            "workers": stats.workers, "bellhop_seconds": round(stats.bellhop_seconds, 3),
+            "wall_seconds": round(stats.wall_seconds, 3),
+            "k_error_sd_db": {k: round(v, 3) for k, v in measured.items()},
+            "k_error_sd_db_area_file": {c.name: c.k_error_sd_db for c in area.classes},
+            "k": per_cb, "range_error": ranging,
+            "window_km": [summary.attrs["summary_range_min_m"] / 1000.0,
+                          summary.attrs["summary_range_max_m"] / 1000.0]}
