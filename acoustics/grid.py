@@ -12,7 +12,6 @@ import hashlib
 import json
 import math
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
 from enum import StrEnum
 from pathlib import Path
 
@@ -24,15 +23,15 @@ from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.runner import default_timeout_s
 from acoustics.bellhop.shdfile import tl_from_pressure
+from acoustics.dataset import TMAKIT_VERSION, flat_dataset
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
 from acoustics.runs import Run, RunStats, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
-from envdata.areafile import area_to_json
+from envdata.datafiles import input_file_digests
 from envdata.limits import check_memory
 
 GRID_FORMAT_VERSION = 1
-TMAKIT_VERSION = "0.1.0"
 
 
 class Model(StrEnum):
@@ -197,16 +196,22 @@ def grid_size_bytes(area: Area) -> float:
     return 8.0 * len(area.classes) * len(area.bands) * cells + 48.0 * cells
 
 
-def source_hash(area: Area, model: Model, bellhop_sha256: str | None) -> str:
-    """Hash of everything that determines the grid's numbers."""
+def source_hash(area: Area, model: Model, bellhop_sha256: str | None,
+                input_files: dict | None = None) -> str:
+    """Hash of everything that determines the grid's numbers: the area, the model, BELLHOP,
+    and the sha256 of the area's data files (``envdata.datafiles.input_file_digests``)."""
     payload = {"area": area.to_dict(), "model": str(model), "format": GRID_FORMAT_VERSION,
                "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256}
+    if input_files:
+        payload["inputs"] = {role: info["sha256"] for role, info in input_files.items()}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
 def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
+    """The ``source_hash`` a grid of ``area`` built now would have (reads the data files)."""
     model = Model(model)
-    return source_hash(area, model, find_bellhop().sha256 if model is Model.BELLHOP else None)
+    return source_hash(area, model, find_bellhop().sha256 if model is Model.BELLHOP else None,
+                       input_file_digests(area.water))
 
 
 def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
@@ -233,6 +238,11 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
         Filled with run counts and timings.
     """
     model = Model(model)
+    if area.is_bearing_dependent:
+        from acoustics.radialgrid import build_radial_grid
+
+        return build_radial_grid(area, model=model, workers=workers, scheduler=scheduler,
+                                 cache_dir=cache_dir, progress=progress, stats=stats)
     check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     stats = stats if stats is not None else BuildStats()
     depth = area.depth_m()
@@ -269,8 +279,8 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
             tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]
         k[:] = k_urick
 
-    return _dataset(area, model, depth, rng, tl, k, k_urick, beta,
-                    source_hash(area, model, exe.sha256 if exe else None),
+    return flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
+                    source_hash(area, model, exe.sha256 if exe else None, input_file_digests(area.water)),
                     exe.describe() if exe else None)
 
 
@@ -307,74 +317,3 @@ def build_k(area: Area, *, reciprocity: bool = True, workers: int = 1, scheduler
                                 "range": rng}, name="k_db",
                         attrs={"units": "dB", "long_name": "transfer characteristic K(r) at the observer depth",
                                "method": "reciprocity" if reciprocity else "direct"})
-
-
-def _dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) -> xr.Dataset:
-    prop = area.propagation
-    bands = area.bands
-    coords = {
-        "class": ("class", np.array([c.name for c in area.classes], dtype=object),
-                  {"long_name": "target class hypothesis"}),
-        "band": ("band", np.array([b.name for b in bands], dtype=object), {"long_name": "frequency band"}),
-        "depth": ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
-                                   "axis": "Z", "long_name": "receiver depth"}),
-        "range": ("range", rng, {"units": "m", "long_name": "horizontal range from the source"}),
-        "band_low_hz": ("band", np.array([b.low_hz for b in bands]),
-                        {"units": "Hz", "long_name": "lower band edge"}),
-        "band_high_hz": ("band", np.array([b.high_hz for b in bands]),
-                         {"units": "Hz", "long_name": "upper band edge"}),
-        "band_center_hz": ("band", np.array([b.center_hz for b in bands]),
-                           {"units": "Hz", "long_name": "band centre (geometric mean of the edges)"}),
-        "source_depth_m": ("class", np.array([c.depth_m for c in area.classes]),
-                           {"units": "m", "long_name": "radiating depth of the class", "positive": "down"}),
-    }
-    dims4 = ("class", "band", "depth", "range")
-    dims3 = ("class", "band", "range")
-    data_vars = {
-        "tl_db": (dims4, tl, {"units": "dB", "long_name": "band transmission loss",
-                              "reference": "1 m from the source",
-                              "comment": "intensity average over the band weighted by the class spectrum; "
-                                         f"shadows capped at {prop.tl_max_db:g} dB"}),
-        "k_db": (dims3, k, {"units": "dB", "long_name": "transfer characteristic K(r) at the observer depth",
-                            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
-                            "model": str(model)}),
-        "k_urick_db": (dims3, k_urick, {"units": "dB",
-                                        "long_name": "transfer characteristic K(r), Urick approximate formula",
-                                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
-        "anomaly_db": (dims3, k - k_urick, {"units": "dB",
-                                            "long_name": "propagation anomaly 10 lg A implied by the model",
-                                            "reference": "K(r) minus the Urick K(r) with A = 1"}),
-        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
-                                             "long_name": "volume attenuation at the band centre"}),
-    }
-    attrs = {
-        "Conventions": "CF-1.8",
-        "title": f"tmakit propagation grid for area {area.name}",
-        "institution": "tmakit",
-        "source": f"tmakit {TMAKIT_VERSION}, model {model}",
-        "history": f"{_now()} created by tmakit grids build",
-        "references": "Grinenkov & Mashoshin (2024) eqs. 12-13; Porter, The BELLHOP manual (2011)",
-        "comment": "dB quantities carry units 'dB' with their reference in the 'reference' attribute",
-        "area": area.name,
-        "area_description": area.description,
-        "model": str(model),
-        "observer_depth_m": float(area.observer.depth_m),
-        "water_depth_m": float(area.water.depth_m),
-        "created": _now(),
-        "source_hash": digest,
-        "area_json": area_to_json(area),
-    }
-    if exe_info is not None:
-        attrs["bellhop_version"] = exe_info["version"]
-        attrs["bellhop_sha256"] = exe_info["sha256"]
-        attrs["bellhop_settings"] = json.dumps({
-            "mode": str(prop.mode), "beam_type": prop.beam_type, "n_beams": prop.n_beams,
-            "angle_min_deg": prop.angle_min_deg, "angle_max_deg": prop.angle_max_deg,
-            "absorption": str(prop.absorption), "freqs_per_band": prop.freqs_per_band,
-            "frequency_shortcut": prop.frequency_shortcut, "tl_max_db": prop.tl_max_db,
-            "ssp_interpolation": area.water.ssp.interpolation}, sort_keys=True)
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
-
-
-def _now() -> str:
-    return datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")

@@ -8,6 +8,7 @@ folder of that area file, to resolve the path against when the data are read (by
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -114,3 +115,48 @@ def file_sha256(path: str | Path) -> str:
         for block in iter(lambda: fh.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def area_data_files(water) -> dict[str, DataFile]:
+    """The data files an area's water was read from, by role (bathymetry, climatology or
+    temperature and salinity, cast)."""
+    files: dict[str, DataFile] = {}
+    if water.bathymetry is not None:
+        files["bathymetry"] = water.bathymetry.file
+    clim = water.climatology
+    if clim is not None:
+        if clim.file is not None:
+            files["climatology"] = clim.file
+        else:
+            files["temperature"] = clim.temperature_file
+            files["salinity"] = clim.salinity_file
+    if water.cast is not None:
+        files["cast"] = water.cast
+    return files
+
+
+def input_file_digests(water) -> dict[str, dict[str, str]]:
+    """``{role: {"name": path as given, "sha256": ...}}`` of the data files behind an area's water.
+
+    Raises
+    ------
+    AreaError
+        A data file that is missing or not a regular file.
+    """
+    from envdata.files import check_input_file
+
+    out = {}
+    for role, data_file in area_data_files(water).items():
+        path = check_input_file(data_file.resolved(), f"{role} file", AreaError)
+        out[role] = {"name": data_file.path, "sha256": _cached_sha256(str(path), *_stamp(path))}
+    return out
+
+
+def _stamp(path: Path) -> tuple[int, int]:
+    st = path.stat()
+    return st.st_size, st.st_mtime_ns
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_sha256(path: str, size: int, mtime_ns: int) -> str:
+    return file_sha256(path)

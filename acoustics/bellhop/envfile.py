@@ -27,10 +27,12 @@ class RunSpec:
 
 
 def fmt_number(value: float) -> str:
+    """A number as BELLHOP reads it: fixed point, at most six decimals, no trailing zeros."""
     return f"{value:.6f}".rstrip("0").rstrip(".") if value != 0 else "0.0"
 
 
 def fmt_list(values, per_line: int = 10) -> str:
+    """Numbers ten to a line, closed by BELLHOP's list terminator '/'."""
     items = [fmt_number(float(v)) for v in values]
     lines = [" ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
     return "\n".join(lines) + " /"
@@ -56,5 +58,7 @@ def env_text(area: Area, spec: RunSpec) -> str:
               f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
     box_depth_m = water.depth_m * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
     box_range_km = float(range_km.max()) * 1.01 + 0.01
-    lines.append(f"0.0 {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")
+    # ray step: the area's [propagation] step_m, else 0 (BELLHOP's own: a tenth of the depth)
+    step_m = area.propagation.step_m if area.propagation.step_m is not None else 0.0
+    lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")
     return "\n".join(lines) + "\n"

@@ -39,10 +39,13 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
     z = np.asarray(radial.ssp_depth_m, dtype=float)
     c = np.asarray(radial.speed_mps, dtype=float)
     r = np.asarray(radial.ssp_range_m, dtype=float)
-    if r[0] > -box_range_m:  # continue the first column behind the origin to the box
-        r, c = np.concatenate([[-box_range_m], r]), np.concatenate([c[:, :1], c], axis=1)
-    if r[-1] < box_range_m:
-        r, c = np.concatenate([r, [box_range_m]]), np.concatenate([c, c[:, -1:]], axis=1)
+    # BELLHOP asks for the sound speed at the end of the step that leaves the box, so the
+    # columns reach a few steps beyond it
+    reach_m = box_range_m + 10.0 * step_m + 1000.0
+    if r[0] > -reach_m:  # continue the first column behind the origin past the box
+        r, c = np.concatenate([[-reach_m], r]), np.concatenate([c[:, :1], c], axis=1)
+    if r[-1] < reach_m:
+        r, c = np.concatenate([r, [reach_m]]), np.concatenate([c, c[:, -1:]], axis=1)
     depth_max = float(z[-1])
     bottom = area.bottom
     volume = "T" if spec.absorption is Absorption.THORP else " "

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid import TMAKIT_VERSION
+from acoustics.dataset import TMAKIT_VERSION
 from acoustics.sensitivity.perturb import Perturbation, check_perturbations
 from envdata.area import Area
 from envdata.errors import InputError

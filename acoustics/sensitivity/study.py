@@ -23,7 +23,7 @@ import xarray as xr
 
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.executor import ResultCache, TaskStats, run_tasks
-from acoustics.grid import TMAKIT_VERSION, _now
+from acoustics.dataset import TMAKIT_VERSION, now_iso
 from acoustics.sensitivity.members import MemberResult, compute_member, member_key
 from acoustics.sensitivity.perturb import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
@@ -174,7 +174,7 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
         "reciprocity_min_depth_m": float(spec.reciprocity_min_depth_m),
         "bellhop_version": exe_info["version"],
         "bellhop_sha256": exe_info["sha256"],
-        "created": _now(),
+        "created": now_iso(),
         "source_hash": digest,
         "area_json": json.dumps(area.to_dict(), sort_keys=True),
     }
