@@ -12,6 +12,7 @@ from numpy.testing import assert_allclose
 from scipy import stats
 
 from tracker import rpf
+from tracker.rpf import config
 from tracker import rpf_kernel as kern
 from tracker.idm_experiment import simulate
 from tracker.idm_scenarios import get_scenario
@@ -254,7 +255,7 @@ def test_prior_particles_match_rpf_initial_particles():
 # --- the whole filter ------------------------------------------------------------------------
 
 def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=False):
-    monkeypatch.setattr(rpf, "ENGINE", engine)
+    monkeypatch.setattr(config, "ENGINE", engine)
     sc = get_scenario("idm-static")
     p = _profile(uniform=shrink)  # both K(r) paths of the kernel: the walk and the uniform axis
     t = sc.t_s
@@ -270,7 +271,7 @@ def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=Fals
 
 
 def test_kernel_is_the_default_and_independent_of_threads(monkeypatch):
-    assert rpf.ENGINE == "kernel"
+    assert config.ENGINE == "kernel"
     a, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=3, threads=1)
     b, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=3, threads=2)
     c, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=4, threads=1)
@@ -313,12 +314,12 @@ def test_summaries_match_rpf_particle_sds():
     state = _particles(rng)
     w = rng.random(state.shape[1])
     w /= w.sum()
-    ref = rpf._particle_sds(state[:, None], w[None], [1.0, -0.5])[0]
+    ref = rpf.particle_sds(state[:, None], w[None], [1.0, -0.5])[0]
     assert_allclose(kern.summaries_arrays(state, w, 1.0, -0.5), ref, rtol=RTOL)
 
 
 def test_track_summaries_and_missing_bearings(monkeypatch):
-    monkeypatch.setattr(rpf, "ENGINE", "kernel")
+    monkeypatch.setattr(config, "ENGINE", "kernel")
     t = np.arange(0.0, 600.0, 60.0)
     obs = np.zeros((t.size, 4))
     obs[:, 2] = 2.0
