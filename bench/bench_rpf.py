@@ -7,7 +7,7 @@ Prints one line per figure, ``name: value unit``, all measured in this one run:
 - particle-steps per second of one tmakit filter (N = 5000, bearings only, the static-observer
   scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in blocks of runs, on
   one thread and on 2 threads), with the compiled fused cycle loop (``tracker.rpf.config.ENGINE =
-  "kernel"``, the default; `tracker.rpf_kernel`) and, for reference, the numpy implementation;
+  "kernel"``, the default; `tracker.rpf.kernel`) and, for reference, the numpy implementation;
 - the same for Stone Soup's particle filter on the same bearings (ParticlePredictor,
   ParticleUpdater with a MultinomialResampler applied when N_eff < N/3, and the
   MCMCRegulariser), run by the Python of a separate environment holding ``stonesoup``

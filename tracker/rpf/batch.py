@@ -133,11 +133,11 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
     if config.ENGINE == "kernel" and (level_db_meas is None
                                       or all(p is None or hasattr(p, "k_db")
                                              for p in k_profiles)):
-        from tracker import rpf_kernel
+        from tracker.rpf.kernel import run as run_kernel  # numba loads only here
 
         sigma_l = math.hypot(cfg.level_sigma_db,
                              p0_sd_db if source_level_model != "ross" else 0.0)
-        means, covs, resampled, sds = rpf_kernel.run(
+        means, covs, resampled, sds = run_kernel(
             t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
             level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
             ross=source_level_model == "ross", p0_db=p0_db, sigma_l_db=sigma_l,

@@ -1,0 +1,15 @@
+"""The compiled (numba) engine of the regularized particle filter: the same algorithm as the
+numpy reference of `tracker.rpf.batch`, fused into one loop per run.
+
+Modules: `random` (the generator and the ziggurat samplers), `fastmath` (compiler flags and
+call-free atan2 and exp), the per-particle and per-run pieces by role (`prior`, `motion`,
+`likelihood`, `weights`, `estimate`, `resample`, `regularise`), `loop` (the fused cycle loop)
+and `driver` (`run`: arrays in, estimates out, for one block of runs).
+
+Not imported by `tracker.rpf`: numba loads only when the kernel engine runs.
+"""
+
+from tracker.rpf.kernel.driver import profile_arrays, run
+from tracker.rpf.kernel.random import seed_states
+
+__all__ = ["profile_arrays", "run", "seed_states"]
