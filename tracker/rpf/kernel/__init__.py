@@ -3,13 +3,17 @@ numpy reference of `tracker.rpf.batch`, fused into one loop per run.
 
 Modules: `random` (the generator and the ziggurat samplers), `fastmath` (compiler flags and
 call-free atan2 and exp), the per-particle and per-run pieces by role (`prior`, `motion`,
-`likelihood`, `weights`, `estimate`, `resample`, `regularise`), `loop` (the fused cycle loop)
-and `driver` (`run`: arrays in, estimates out, for one block of runs).
+`likelihood`, `weights`, `estimate`, `resample`, `regularise`), `params` (the loop's inputs
+and outputs in named groups), `loop` (the fused cycle loop) and `driver` (`run`: arrays in,
+estimates out, for one block of runs).
 
 Not imported by `tracker.rpf`: numba loads only when the kernel engine runs.
 """
 
-from tracker.rpf.kernel.driver import profile_arrays, run
+from tracker.rpf.kernel.driver import run
+from tracker.rpf.kernel.params import (Measured, Model, Observer, Outputs, Prior, Profiles,
+                                       Settings, profile_arrays)
 from tracker.rpf.kernel.random import seed_states
 
-__all__ = ["profile_arrays", "run", "seed_states"]
+__all__ = ["Measured", "Model", "Observer", "Outputs", "Prior", "Profiles", "Settings",
+           "profile_arrays", "run", "seed_states"]

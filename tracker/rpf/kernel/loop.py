@@ -34,6 +34,7 @@ from tracker.rpf.kernel.estimate import moments_run, particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
 from tracker.rpf.kernel.likelihood import bearing_pass, level_loglik_particle
 from tracker.rpf.kernel.motion import predict_pass
+from tracker.rpf.kernel.params import Measured, Outputs
 from tracker.rpf.kernel.prior import init_particle
 from tracker.rpf.kernel.random import fill_normal_pairs, normal_pair
 from tracker.rpf.kernel.regularise import cholesky_loaded, fill_epanechnikov, regularise_run
@@ -42,14 +43,30 @@ from tracker.rpf.kernel.weights import normalise_run
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def run_one(s, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use_level, ross,
-            p0_db, prior, sigma_a, sigma_theta, sigma_l, offset_sd_db, n, d, n_thr, h, shrink,
-            summaries, means, covs, resampled, sds):
-    """The filter over every cycle for one run (generator state ``s``).
+def run_one(s, observer, measured, profiles, prior, model, settings, out):
+    """The filter over every cycle for one run.
 
-    ``prior`` = (range mean, range sd, bearing sd rad, speed mean, speed sd, course sd rad);
-    outputs ``means`` (K, D), ``covs`` (K, D, D), ``resampled`` (K,) uint8, ``sds`` (K, 3).
+    Parameters
+    ----------
+    s : ndarray of uint64, shape (4,)
+        The run's generator state (`tracker.rpf.kernel.random`), advanced in place.
+    observer : Observer
+        Cycle times and observer track.
+    measured : Measured
+        The run's bearings and levels, shape (K,) each.
+    profiles : Profiles
+        K(r) of each cycle.
+    prior : Prior
+    model : Model
+    settings : Settings
+    out : Outputs
+        The run's rows: ``means`` (K, D), ``covs`` (K, D, D), ``resampled`` (K,) uint8,
+        ``sds`` (K, 3) or (1, 3); written.
     """
+    t_s, obs = observer.t_s, observer.state
+    bearing, level = measured.bearing_rad, measured.level_db
+    sigma_a, use_level, ross, p0_db = model.sigma_a_mps2, model.use_level, model.ross, model.p0_db
+    n, d, n_thr, h = settings.n, settings.d, settings.n_thr, settings.bandwidth
     n_cycles = t_s.size
     state = np.empty((d, n))
     log_w = np.empty(n)
@@ -64,8 +81,8 @@ def run_one(s, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use
     chol = np.empty((d, d))
     gx = np.zeros(n)
     gy = np.zeros(n)
-    half_b = 0.5 / (sigma_theta * sigma_theta)
-    half_l = 0.5 / (sigma_l * sigma_l)
+    half_b = 0.5 / (model.sigma_theta_rad * model.sigma_theta_rad)
+    half_l = 0.5 / (model.sigma_l_db * model.sigma_l_db)
     log_n = -math.log(n)
 
     z0 = bearing[0]
@@ -74,10 +91,9 @@ def run_one(s, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use
         g0, g1 = normal_pair(s)
         g2, g3 = normal_pair(s)
         state[0, i], state[1, i], state[2, i], state[3, i] = init_particle(
-            g0, g1, g2, g3, z0, ovx0, ovy0, prior[0], prior[1], prior[2], prior[3], prior[4],
-            prior[5])
+            g0, g1, g2, g3, z0, ovx0, ovy0, prior)
         if d > 4:
-            state[4, i] = offset_sd_db * normal_pair(s)[0]
+            state[4, i] = prior.offset_sd_db * normal_pair(s)[0]
         log_w[i] = log_n
 
     for k in range(n_cycles):
@@ -95,10 +111,10 @@ def run_one(s, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use
             dt = dv_scale = cpx = cpy = cvx = cvy = 0.0
         cz = math.cos(bearing[k]) if has_b else 1.0
         sz = math.sin(bearing[k]) if has_b else 0.0
-        p = prof_idx[k] if has_l else 0
-        m = prof_len[p] if has_l else 1
-        xp = prof_r[p]
-        fp = prof_k[p]
+        p = profiles.index[k] if has_l else 0
+        m = profiles.length[p] if has_l else 1
+        xp = profiles.range_m[p]
+        fp = profiles.k_db[p]
         lv = level[k] if has_l else 0.0
         ovx, ovy = obs[k, 2], obs[k, 3]
 
@@ -125,29 +141,31 @@ def run_one(s, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use
             cholesky_loaded(cov, chol)
             resample_indices(w, s, cdf, idx, spac)
             fill_epanechnikov(s, eps, gx, gy)  # the process noise arrays as scratch
-            regularise_run(state, idx, mean, chol, eps, h, shrink, new)
+            regularise_run(state, idx, mean, chol, eps, h, settings.shrink, new)
             state, new = new, state
             for i in range(n):
                 log_w[i] = log_n
                 w[i] = 1.0 / n
             moments_run(state, w, mean, cov)
-            resampled[k] = 1
+            out.resampled[k] = 1
         for a in range(d):
-            means[k, a] = mean[a]
+            out.means[k, a] = mean[a]
             for b in range(d):
-                covs[k, a, b] = cov[a, b]
-        if summaries:
-            particle_sds_run(state, w, ovx, ovy, sds[k])
+                out.covs[k, a, b] = cov[a, b]
+        if settings.summaries:
+            particle_sds_run(state, w, ovx, ovy, out.sds[k])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def run_runs(states, t_s, obs, bearing, level, prof_idx, prof_r, prof_k, prof_len, use_level,
-               ross, p0_db, prior, sigma_a, sigma_theta, sigma_l, offset_sd_db, n, d, n_thr, h,
-               shrink, summaries, means, covs, resampled, sds):
-    """`run_one` for each run in turn. Releases the GIL: `rpf.run_batch` runs blocks of runs on
-    Python threads (no numba threading layer, which is not safe in forked workers)."""
-    for r in range(states.shape[0]):
-        run_one(states[r], t_s, obs, bearing[r], level[r], prof_idx, prof_r, prof_k, prof_len,
-                use_level, ross, p0_db, prior, sigma_a, sigma_theta, sigma_l, offset_sd_db, n, d,
-                n_thr, h, shrink, summaries, means[r], covs[r], resampled[r], sds[r])
+def run_runs(states, observer, measured, profiles, prior, model, settings, out):
+    """`run_one` for each run of a block in turn.
 
+    ``states`` (runs, 4) uint64 holds one generator state per run; ``measured`` and ``out``
+    have a leading ``runs`` axis, the other groups are shared. Releases the GIL:
+    `tracker.rpf.batch.run_batch` runs blocks of runs on Python threads (no numba threading
+    layer, which is not safe in forked workers).
+    """
+    for r in range(states.shape[0]):
+        run_one(states[r], observer,
+                Measured(measured.bearing_rad[r], measured.level_db[r]), profiles, prior, model,
+                settings, Outputs(out.means[r], out.covs[r], out.resampled[r], out.sds[r]))

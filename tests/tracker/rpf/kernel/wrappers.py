@@ -104,13 +104,12 @@ def k_at_arrays(r, xp, fp):
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def init_arrays(g, z0, ovx, ovy, prior):
-    """Prior particles (4, N) from normals ``g`` (4, N), as the fused loop (for tests)."""
+    """Prior particles (4, N) from normals ``g`` (4, N) and a `Prior`, as the fused loop."""
     n = g.shape[1]
     out = np.empty((4, n))
     for i in range(n):
         out[0, i], out[1, i], out[2, i], out[3, i] = init_particle(
-            g[0, i], g[1, i], g[2, i], g[3, i], z0, ovx, ovy, prior[0], prior[1], prior[2],
-            prior[3], prior[4], prior[5])
+            g[0, i], g[1, i], g[2, i], g[3, i], z0, ovx, ovy, prior)
     return out
 
 
