@@ -1,9 +1,14 @@
-"""Shared pieces of the kernel tests: the precision bar, a particle cloud and a K(r) profile."""
+"""Shared pieces of the kernel tests: the precision bar, a particle cloud, a K(r) profile, and
+fresh numba caches for the compiled test helpers."""
 
 from __future__ import annotations
 
-import numpy as np
+from pathlib import Path
 
+import numpy as np
+import pytest
+
+from tracker.rpf.kernel.cache import drop_stale_caches
 from tracker.tables import LevelProfile
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision
@@ -27,3 +32,10 @@ def profile(uniform=False):
     if not uniform:
         r[10:] += 37.0  # not uniform: the index guess must walk (`k_at`)
     return LevelProfile(range_m=r, k_db=-20.0 * np.log10(r) - 1e-4 * r + 5.0 * np.sin(r / 900.0))
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _fresh_wrapper_caches():
+    """The cached helpers of `wrappers` embed kernel code, which numba does not track: drop
+    their caches when a kernel source is newer, so that the tests run the kernel as it is."""
+    drop_stale_caches(Path(__file__).parent / "__pycache__")
