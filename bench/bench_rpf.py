@@ -6,8 +6,8 @@ Prints one line per figure, ``name: value unit``, all measured in this one run:
 
 - particle-steps per second of one tmakit filter (N = 5000, bearings only, the static-observer
   scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in blocks of runs, on
-  one thread and on 2 threads), with the compiled fused cycle loop (``rpf.ENGINE = "kernel"``,
-  the default; `tracker.rpf_kernel`) and, for reference, the numpy implementation;
+  one thread and on 2 threads), with the compiled fused cycle loop (``tracker.rpf.config.ENGINE =
+  "kernel"``, the default; `tracker.rpf.kernel`) and, for reference, the numpy implementation;
 - the same for Stone Soup's particle filter on the same bearings (ParticlePredictor,
   ParticleUpdater with a MultinomialResampler applied when N_eff < N/3, and the
   MCMCRegulariser), run by the Python of a separate environment holding ``stonesoup``
@@ -112,8 +112,9 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
     Over the first ``cycles`` cycles (all by default); the best of ``repeat`` calls.
     """
     from tracker import rpf
+    from tracker.rpf import config as rpf_config
 
-    rpf.ENGINE = engine
+    rpf_config.ENGINE = engine
 
     _, t, obs, b = _scenario()
     t, obs, b = t[:cycles], obs[:cycles], b[:cycles]
@@ -129,7 +130,7 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
     if runs == 1 and repeat > 1:
         say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
             float(res.resampled[:, 1:].mean()))
-    rpf.ENGINE = "kernel"
+    rpf_config.ENGINE = "kernel"
     return best
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 import pytest
@@ -10,7 +9,6 @@ from numpy.testing import assert_allclose
 
 import acoustics
 import envdata
-from envdata.geometry import Bearings, Origin
 from tests.conftest import DATA
 
 pytestmark = pytest.mark.bellhop

@@ -1,0 +1,199 @@
+"""The filter over a batch of runs sharing one observer track: `run_batch`.
+
+One cycle, all runs and particles at once (arrays of shape (D, runs, N), component first so
+each component is contiguous):
+
+1. prediction, eqs. 4-6 (`tracker.rpf.motion.predict`): discrete white-noise acceleration,
+   nu ~ N(0, sigma_a^2 I);
+2. update, eqs. 18-19 and 31-33 (`tracker.rpf.likelihood`, `tracker.rpf.weights.normalise_exp`):
+   weights kept as logs and normalised with logsumexp;
+3. N_eff (eq. 20, `tracker.rpf.weights.n_eff`) against N_thr = N/3; below it multinomial
+   resampling then regularization with the Epanechnikov kernel (eq. 26) and the MISE-optimal
+   bandwidth (eqs. 27-28) scaled by the empirical covariance, x = x' + h D eps with P = D D^T
+   (eq. 21, `tracker.rpf.regularise.regularise`);
+4. estimate and covariance after the regularization step, eqs. 29-30
+   (`tracker.rpf.estimate.estimate`).
+
+This module's cycle loop is the numpy reference engine; by default (`tracker.rpf.config.ENGINE`)
+each block of runs goes to the compiled fused loop of `tracker.rpf.kernel` instead.
+
+References
+----------
+E. Iglesis, L. de Montella, "Target motion analysis using combined bearings and underwater
+sound pressure levels", hal-04796331 (2024), sec. 4.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tracker.rpf import config
+from tracker.rpf.config import BLOCK_PARTICLES, RpfConfig
+from tracker.rpf.estimate import estimate, particle_sds
+from tracker.rpf.likelihood import bearing_loglik, level_loglik
+from tracker.rpf.motion import predict
+from tracker.rpf.prior import initial_particles
+from tracker.rpf.regularise import optimal_bandwidth, regularise
+from tracker.rpf.scratch import scratch
+from tracker.rpf.weights import n_eff, normalise_exp
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BatchResult:
+    """Output of `run_batch`.
+
+    Attributes
+    ----------
+    mean : ndarray, shape (runs, K, D)
+        Estimates after each cycle (eq. 29), relative state.
+    cov : ndarray, shape (runs, K, D, D)
+        Their covariances (eq. 30).
+    resampled : ndarray of bool, shape (runs, K)
+        Whether the regularization-resampling step ran.
+    extra : dict
+        Per-cycle particle summaries when asked for (range, course and speed sd).
+    """
+
+    mean: np.ndarray
+    cov: np.ndarray
+    resampled: np.ndarray
+    extra: dict = field(default_factory=dict)
+
+
+def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.ndarray,
+              level_db_meas: np.ndarray | None, k_profiles, cfg: RpfConfig,
+              rng: np.random.Generator, source_level_model: str = "ross",
+              p0_db: float = math.nan, p0_sd_db: float = 0.0,
+              summaries: bool = False, threads: int = 1) -> BatchResult:
+    """Run the RPF over K cycles for a batch of runs sharing one observer track.
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (K,)
+        Cycle times, s.
+    obs_state : ndarray, shape (K, 4)
+        Observer (x, y, vx, vy) at each cycle, m and m/s.
+    bearing_rad_meas : ndarray, shape (runs, K)
+        Measured bearings, rad; NaN: no bearing this cycle. The first cycle must have one.
+    level_db_meas : ndarray, shape (runs, K) or None
+        Measured SPL, dB re 1 uPa; None for bearings only (rpf-bot); NaN: bearing only.
+    k_profiles : sequence of callables, length K
+        K(r) at the observer depth of each cycle (`LevelProfile`); unused without levels.
+    cfg : RpfConfig
+    rng : numpy.random.Generator
+    source_level_model : str
+        "ross" (eq. 12) or "p0" (constant ``p0_db``, its sd ``p0_sd_db`` added to sigma_l).
+    summaries : bool
+        Also return per-cycle particle sd of range, course and target speed (for track CSVs).
+    threads : int
+        Blocks of runs filtered at once on this many threads (the compiled loop and numpy's
+        array loops release the GIL). The results do not depend on it: the runs go in blocks
+        of about ``BLOCK_PARTICLES`` particles, each with its own generator spawned from
+        ``rng`` (and, with ``ENGINE = "kernel"``, one generator per run seeded from it).
+
+    Returns
+    -------
+    BatchResult
+    """
+    runs = bearing_rad_meas.shape[0]
+    block = max(1, BLOCK_PARTICLES // cfg.n_particles)
+    starts = list(range(0, runs, block))
+    rngs = rng.spawn(len(starts))
+
+    def one(i):
+        rows = slice(starts[i], starts[i] + block)
+        return _run_block(t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas[rows],
+                          level_db_meas=None if level_db_meas is None else level_db_meas[rows],
+                          k_profiles=k_profiles, cfg=cfg, rng=rngs[i],
+                          source_level_model=source_level_model, p0_db=p0_db,
+                          p0_sd_db=p0_sd_db, summaries=summaries)
+
+    if threads > 1 and len(starts) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=threads) as pool:
+            parts = list(pool.map(one, range(len(starts))))
+    else:
+        parts = [one(i) for i in range(len(starts))]
+    if len(parts) == 1:
+        return parts[0]
+    return BatchResult(mean=np.concatenate([p.mean for p in parts]),
+                       cov=np.concatenate([p.cov for p in parts]),
+                       resampled=np.concatenate([p.resampled for p in parts]),
+                       extra={"sd": np.concatenate([p.extra["sd"] for p in parts])}
+                       if summaries else {})
+
+
+def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, cfg, rng,
+               source_level_model, p0_db, p0_sd_db, summaries) -> BatchResult:
+    """`run_batch` on one block of runs, one generator."""
+    if config.ENGINE == "kernel" and (level_db_meas is None
+                                      or all(p is None or hasattr(p, "k_db")
+                                             for p in k_profiles)):
+        from tracker.rpf.kernel import run as run_kernel  # numba loads only here
+
+        sigma_l = math.hypot(cfg.level_sigma_db,
+                             p0_sd_db if source_level_model != "ross" else 0.0)
+        means, covs, resampled, sds = run_kernel(
+            t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
+            level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
+            ross=source_level_model == "ross", p0_db=p0_db, sigma_l_db=sigma_l,
+            bandwidth=optimal_bandwidth(cfg.n_particles, cfg.n_dim), summaries=summaries)
+        return BatchResult(mean=means, cov=covs, resampled=resampled,
+                           extra={"sd": sds} if summaries else {})
+    runs, n_cycles = bearing_rad_meas.shape
+    sigma_theta = math.radians(cfg.bearing_sigma_deg)
+    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model != "ross" else 0.0)
+    n_thr = cfg.neff_fraction * cfg.n_particles
+    d = cfg.n_dim
+    means = np.empty((runs, n_cycles, d))
+    covs = np.empty((runs, n_cycles, d, d))
+    resampled = np.zeros((runs, n_cycles), dtype=bool)
+    sds = np.full((runs, n_cycles, 3), np.nan) if summaries else None
+
+    state = initial_particles(bearing_rad_meas[:, 0], obs_state[0, 2:], cfg, runs, rng)
+    log_w = np.full((runs, cfg.n_particles), -math.log(cfg.n_particles))
+    work = {}  # scratch arrays reused by every cycle
+    for k in range(n_cycles):
+        if k > 0:
+            predict(state, dt_s=float(t_s[k] - t_s[k - 1]), obs_k=obs_state[k - 1],
+                    obs_k1=obs_state[k], sigma_a_mps2=cfg.sigma_a_mps2, rng=rng, work=work)
+            z = bearing_rad_meas[:, k]
+            have = np.isfinite(z)
+            if have.all():
+                log_w += bearing_loglik(state, z[:, None], sigma_theta, work)
+            elif have.any():
+                log_w[have] += bearing_loglik(state[:, have], z[have, None], sigma_theta)
+        # the first bearing is in the prior already; the first level is used like the others
+        if level_db_meas is not None:
+            lv = level_db_meas[:, k]
+            have = np.isfinite(lv)
+            if have.any():
+                sub = state if have.all() else state[:, have]
+                ll = level_loglik(sub, lv[have, None], obs_state[k, 2:], k_profiles[k], sigma_l,
+                                  source_level_model=source_level_model, p0_db=p0_db)
+                if have.all():
+                    log_w = log_w + ll
+                else:
+                    log_w[have] += ll
+        log_w, w = normalise_exp(log_w, scratch(work, "w", log_w.shape))
+        low = n_eff(w) < n_thr
+        if low.any():
+            if low.all():
+                state = regularise(state, w, rng, shrink=cfg.shrink, work=work)
+            else:
+                state[:, low] = regularise(state[:, low], w[low], rng, shrink=cfg.shrink,
+                                           work=work)
+            log_w[low] = -math.log(cfg.n_particles)
+            w[low] = 1.0 / cfg.n_particles
+            resampled[low, k] = True
+        mean, cov = estimate(state, w, work)  # after the regularization step (sec. 4.4)
+        means[:, k] = mean.T
+        covs[:, k] = cov
+        if summaries:
+            sds[:, k] = particle_sds(state, w, obs_state[k, 2:])
+    return BatchResult(mean=means, cov=covs, resampled=resampled,
+                       extra={"sd": sds} if summaries else {})

@@ -1,0 +1,221 @@
+"""The compiled loop's inputs and outputs, in named groups, and how they are built from the
+filter's settings.
+
+Each group is a `typing.NamedTuple`, which numba passes to compiled code as a plain struct:
+reading a field costs what reading a separate argument did. Scalars are converted to Python
+``float``, ``int`` and ``bool`` and arrays to C-ordered float64 or int64 copies here, so that
+every call has the same type signature (another signature would be another compile).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Observer(NamedTuple):
+    """The observer's track, the same for every run.
+
+    Attributes
+    ----------
+    t_s : ndarray, shape (K,)
+        Cycle times, s.
+    state : ndarray, shape (K, 4)
+        Observer (x, y, vx, vy) at each cycle, m and m/s.
+    """
+
+    t_s: np.ndarray
+    state: np.ndarray
+
+
+class Measured(NamedTuple):
+    """Measurements of a block of runs, shape (runs, K), or of one run, shape (K,).
+
+    Attributes
+    ----------
+    bearing_rad : ndarray
+        Measured bearings, rad; NaN: none that cycle.
+    level_db : ndarray
+        Measured SPL, dB re 1 uPa; NaN: none that cycle. Unused (zeros, one column) when
+        `Model.use_level` is False.
+    """
+
+    bearing_rad: np.ndarray
+    level_db: np.ndarray
+
+
+class Profiles(NamedTuple):
+    """The distinct K(r) profiles of the cycles, stacked (`profile_arrays`).
+
+    Attributes
+    ----------
+    index : ndarray of int64, shape (K,)
+        Row of each cycle's profile (0 where the cycle has none).
+    range_m, k_db : ndarray, shape (P, M)
+        Range axes, m, and K values, dB, padded with their last value.
+    length : ndarray of int64, shape (P,)
+        Number of points of each.
+    """
+
+    index: np.ndarray
+    range_m: np.ndarray
+    k_db: np.ndarray
+    length: np.ndarray
+
+
+class Prior(NamedTuple):
+    """The prior the particles are drawn from (`tracker.rpf.prior.initial_particles`).
+
+    Attributes
+    ----------
+    range_mean_m, range_sd_m : float
+        Range, m.
+    bearing_sd_rad : float
+        Bearing sd about the first bearing, rad.
+    speed_mean_mps, speed_sd_mps : float
+        Target speed, m/s.
+    course_sd_rad : float
+        Course sd about the first bearing + pi, rad.
+    offset_sd_db : float
+        Source-level offset sd, dB (used with D = 5).
+    """
+
+    range_mean_m: float
+    range_sd_m: float
+    bearing_sd_rad: float
+    speed_mean_mps: float
+    speed_sd_mps: float
+    course_sd_rad: float
+    offset_sd_db: float
+
+
+class Model(NamedTuple):
+    """Motion and measurement model.
+
+    Attributes
+    ----------
+    sigma_a_mps2 : float
+        Acceleration process-noise sd, m/s^2 (eq. 6).
+    sigma_theta_rad : float
+        Bearing sd of eq. 32, rad.
+    use_level : bool
+        Whether the SPL enters the likelihood (eq. 31) or the bearings alone (eq. 32).
+    ross : bool
+        Source level SL(v) of eq. 12 (True) or the constant ``p0_db``.
+    p0_db : float
+        Source level of the constant model, dB.
+    sigma_l_db : float
+        Level sd of eq. 33, dB.
+    """
+
+    sigma_a_mps2: float
+    sigma_theta_rad: float
+    use_level: bool
+    ross: bool
+    p0_db: float
+    sigma_l_db: float
+
+
+class Settings(NamedTuple):
+    """Size and resampling settings of the filter.
+
+    Attributes
+    ----------
+    n : int
+        Particles per run, N.
+    d : int
+        State dimension, D (4, or 5 with the source-level offset).
+    n_thr : float
+        N_thr: resample when N_eff (eq. 20) falls below it.
+    bandwidth : float
+        Kernel bandwidth h (eqs. 27-28).
+    shrink : bool
+        Variance-preserving regularization (`RpfConfig.shrink`).
+    summaries : bool
+        Whether to write the particle spreads of each cycle.
+    """
+
+    n: int
+    d: int
+    n_thr: float
+    bandwidth: float
+    shrink: bool
+    summaries: bool
+
+
+class Outputs(NamedTuple):
+    """What the loop writes, for a block of runs (leading axis ``runs``) or for one run.
+
+    Attributes
+    ----------
+    means : ndarray, shape (runs, K, D)
+        Estimates after each cycle (eq. 29).
+    covs : ndarray, shape (runs, K, D, D)
+        Their covariances (eq. 30).
+    resampled : ndarray of uint8, shape (runs, K)
+        1 where the regularization-resampling step ran.
+    sds : ndarray, shape (runs, K, 3), or (runs, 1, 3) without summaries
+        Range sd, m, course sd, deg, and speed sd, m/s, of the particles.
+    """
+
+    means: np.ndarray
+    covs: np.ndarray
+    resampled: np.ndarray
+    sds: np.ndarray
+
+
+def profile_arrays(k_profiles, n_cycles: int) -> Profiles:
+    """Stack the distinct K(r) profiles (objects with ``range_m`` and ``k_db``) of the cycles.
+
+    Parameters
+    ----------
+    k_profiles : sequence of LevelProfile or None, length K, or None
+        The profile of each cycle (`tracker.tables.LevelProfile`); None: no level that cycle.
+    n_cycles : int
+        K.
+    """
+    rows, where = [], {}
+    prof_idx = np.zeros(n_cycles, dtype=np.int64)
+    for k in range(n_cycles):
+        p = None if k_profiles is None else k_profiles[k]
+        if p is None:
+            continue
+        if id(p) not in where:
+            where[id(p)] = len(rows)
+            rows.append((np.asarray(p.range_m, dtype=float), np.asarray(p.k_db, dtype=float)))
+        prof_idx[k] = where[id(p)]
+    if not rows:
+        return Profiles(prof_idx, np.zeros((1, 1)), np.zeros((1, 1)), np.ones(1, dtype=np.int64))
+    m = max(r.size for r, _ in rows)
+    prof_r = np.empty((len(rows), m))
+    prof_k = np.empty((len(rows), m))
+    for i, (r, kk) in enumerate(rows):
+        prof_r[i, :r.size], prof_r[i, r.size:] = r, r[-1]
+        prof_k[i, :kk.size], prof_k[i, kk.size:] = kk, kk[-1]
+    return Profiles(prof_idx, prof_r, prof_k, np.array([r.size for r, _ in rows], dtype=np.int64))
+
+
+def prior_of(cfg) -> Prior:
+    """The prior of `tracker.rpf.config.RpfConfig` ``cfg``, angles in radians."""
+    return Prior(range_mean_m=float(cfg.range_mean_m), range_sd_m=float(cfg.range_sd_m),
+                 bearing_sd_rad=math.radians(cfg.bearing_sigma_deg),
+                 speed_mean_mps=float(cfg.speed_mean_mps), speed_sd_mps=float(cfg.speed_sd_mps),
+                 course_sd_rad=math.radians(cfg.course_sd_deg),
+                 offset_sd_db=float(cfg.sl_offset_sd_db))
+
+
+def model_of(cfg, *, use_level: bool, ross: bool, p0_db: float, sigma_l_db: float) -> Model:
+    """The model of ``cfg`` with the level settings `tracker.rpf.batch.run_batch` resolved."""
+    return Model(sigma_a_mps2=float(cfg.sigma_a_mps2),
+                 sigma_theta_rad=math.radians(cfg.bearing_sigma_deg), use_level=bool(use_level),
+                 ross=bool(ross), p0_db=float(p0_db), sigma_l_db=float(sigma_l_db))
+
+
+def settings_of(cfg, *, bandwidth: float, summaries: bool) -> Settings:
+    """The sizes and resampling settings of ``cfg``; N_thr = ``neff_fraction`` N."""
+    n = int(cfg.n_particles)
+    return Settings(n=n, d=int(cfg.n_dim), n_thr=float(cfg.neff_fraction * n),
+                    bandwidth=float(bandwidth), shrink=bool(cfg.shrink),
+                    summaries=bool(summaries))
