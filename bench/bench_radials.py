@@ -1,0 +1,171 @@
+"""Benchmarks of bearing-dependent grids (N x 2D BELLHOP runs along radials).
+
+Run with ``make bench`` (or ``python bench/bench_radials.py [--repeats N]``). Prints one line per
+figure, ``name: value unit``, and writes them to ``docs/results/radials.json``.
+
+- Speed, on the built-in ``shelf-break`` area (12 radials x 3 bands x 3 classes to 30 km): the
+  ``grids build`` command on 1 and on 2 workers against the sum of the raw ``bellhop.exe`` runs on
+  the same input files (.env, .bty, .ssp), one after the other. The three are measured in turn,
+  in a rotating order, ``--repeats`` times, and the medians compared: the machines are noisy.
+  Targets: 2 workers over half the raw sum <= 1.10 (the overhead of the build, and what two
+  workers lose to each other); 2 workers against 1 >= 1.8x.
+- Memory: the peak resident size of ``grids build`` on a 36-radial, 3-band, 3-class area to
+  50 km (the same synthetic sea on a box large enough, written in GEBCO's and WOA's layouts).
+  Target < 1 GiB.
+- Convergence of the default ray step (25 m) against a 5 m step, on shelf-break: |dK| median
+  and 95th percentile over classes, bands, bearings and ranges.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import acoustics
+import envdata
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.radialgrid import depth_axis_m, plan_radial_runs
+from envdata.radials import area_radials
+
+REPO = Path(__file__).resolve().parents[1]
+RESULTS = REPO / "docs" / "results" / "radials.json"
+
+
+def say(name: str, value, unit: str = "", results: dict | None = None) -> None:
+    text = f"{value:.4g}" if isinstance(value, float) else str(value)
+    print(f"{name}: {text} {unit}".rstrip(), flush=True)
+    if results is not None:
+        results[name] = {"value": value, "unit": unit}
+
+
+def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
+    """Wall time, peak resident size of the largest process (MiB) and the JSON report."""
+    start = time.perf_counter()
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args, "--json"], cwd=REPO,
+                                stdout=out, stderr=err, text=True)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - start
+        out.seek(0)
+        err.seek(0)
+        if status != 0:
+            raise SystemExit(f"bench: tmakit {' '.join(args)} failed: {err.read()}")
+        return wall, usage.ru_maxrss / 1024.0, json.loads(out.read())
+
+
+def raw_runs(area: envdata.Area):
+    """The build's own BELLHOP runs (the same .env, .bty and .ssp texts)."""
+    radials = area_radials(area)
+    depth = depth_axis_m(area, radials)
+    receivers = np.unique(np.concatenate([depth, [c.depth_m for c in area.classes]]))
+    runs, _ = plan_radial_runs(area, radials, receivers)
+    return runs
+
+
+def raw_bellhop_seconds(runs, exe: Path) -> float:
+    """Sum of the wall times of bellhop.exe itself on the runs' files, one at a time."""
+    total = 0.0
+    for run in runs:
+        with tempfile.TemporaryDirectory() as tmp:
+            (Path(tmp) / "raw.env").write_text(run.env)
+            for suffix, text in run.files:
+                (Path(tmp) / f"raw.{suffix}").write_text(text)
+            start = time.perf_counter()
+            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
+            total += time.perf_counter() - start
+    return total
+
+
+def wide_area(folder: Path, *, step_deg: float, range_max_m: float) -> Path:
+    """shelf-break's synthetic sea on a box wide enough for ``range_max_m``, in the products'
+    layouts, and an area file using it (``step_deg`` radials to ``range_max_m``)."""
+    sys.path.insert(0, str(REPO))
+    from tools import make_sample_data as sea
+    from tools.sample_layouts import gebco_axis_deg, write_gebco
+
+    half_lat = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LAT
+    half_lon = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LON
+    lat = gebco_axis_deg(sea.ORIGIN_LAT_DEG - half_lat, sea.ORIGIN_LAT_DEG + half_lat)
+    lon = gebco_axis_deg(sea.ORIGIN_LON_DEG - half_lon, sea.ORIGIN_LON_DEG + half_lon)
+    relief = folder / "wide_gebco_15s.nc"
+    write_gebco(relief, lat, lon, sea.elevation_m(lat[:, None], lon[None, :]),
+                title="synthetic shelf-break relief, wide box (tmakit benchmark)")
+    text = envdata.area_path("shelf-break").read_text()
+    data = envdata.area_path("shelf-break").parent / "data"
+    text = text.replace('bathymetry = "data/shelf-break_gebco_15s.nc"', f'bathymetry = "{relief}"')
+    text = text.replace('"data/', f'"{data}/')
+    text = text.replace("step_deg = 30.0", f"step_deg = {step_deg}")
+    text = text.replace("range_max_m = 30000.0", f"range_max_m = {range_max_m}")
+    path = folder / "wide.toml"
+    path.write_text(text)
+    return path
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--no-convergence", action="store_true", help="skip the 5 m step build")
+    args = parser.parse_args(argv)
+    results: dict = {}
+    exe = find_bellhop().path
+    area = envdata.load_area("shelf-break")
+    say("cores", os.cpu_count() or 1, "", results)
+    runs = raw_runs(area)
+    say("shelf_break_runs", len(runs), "BELLHOP runs", results)
+    times: dict[str, list[float]] = {"w1": [], "w2": [], "raw": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "g.nc"
+        build = {w: ["grids", "build", "shelf-break", "--out", str(out), "--workers", w, "--force"]
+                 for w in ("1", "2")}
+        order = ["w2", "w1", "raw"]
+        for i in range(args.repeats):
+            for which in order[i % 3:] + order[:i % 3]:  # rotate, so no figure always runs first
+                if which == "raw":
+                    times["raw"].append(raw_bellhop_seconds(runs, exe))
+                else:
+                    times[which].append(cli_with_rusage(build[which[1]])[0])
+        for key, values in times.items():
+            results[f"shelf_break_{key}_each_s"] = {"value": values, "unit": "s"}
+        w1, w2, raw = (statistics.median(times[k]) for k in ("w1", "w2", "raw"))
+        say("shelf_break_build_1_worker_median", w1, "s", results)
+        say("shelf_break_build_2_workers_median", w2, "s", results)
+        say("shelf_break_raw_bellhop_sum_median", raw, "s", results)
+        say("shelf_break_2_workers_over_half_raw", w2 / (raw / 2.0), "(target <= 1.10)", results)
+        say("shelf_break_1_worker_over_raw", w1 / raw, "", results)
+        say("shelf_break_speedup_2_vs_1", w1 / w2, "x (target >= 1.8)", results)
+
+        if not args.no_convergence:
+            fine = Path(tmp) / "fine.toml"
+            text = envdata.area_path("shelf-break").read_text()
+            data = envdata.area_path("shelf-break").parent / "data"
+            fine.write_text(text.replace('"data/', f'"{data}/').replace("step_m = 25.0", "step_m = 5.0"))
+            ref = Path(tmp) / "fine.nc"
+            cli_with_rusage(["grids", "build", str(fine), "--out", str(ref), "--workers", "2"])
+            a = acoustics.open_grid(out)["k_db"].values
+            b = acoustics.open_grid(ref)["k_db"].values
+            d = np.abs(a - b)[np.isfinite(a) & np.isfinite(b)]
+            say("step_25m_vs_5m_k_median_abs_diff", float(np.median(d)), "dB", results)
+            say("step_25m_vs_5m_k_p95_abs_diff", float(np.percentile(d, 95)), "dB", results)
+
+        wide = wide_area(Path(tmp), step_deg=10.0, range_max_m=50_000.0)
+        wall, rss, info = cli_with_rusage(["grids", "build", str(wide), "--out", str(Path(tmp) / "wide.nc"),
+                                           "--workers", "2"])
+        say("wide_36_radials_dims", json.dumps(info["dims"]), "", results)
+        say("wide_36_radials_build_2_workers", wall, "s", results)
+        say("wide_36_radials_peak_rss", rss, "MiB (target < 1024)", results)
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps({"bench": "bench/bench_radials.py", "results": results}, indent=1) + "\n")
+    print(f"# wrote {RESULTS.relative_to(REPO)}")
+
+
+if __name__ == "__main__":
+    main()
