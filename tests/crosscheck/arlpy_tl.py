@@ -36,7 +36,12 @@ import json
 import os
 import sys
 import tempfile
+from importlib.metadata import version
 from pathlib import Path
+
+import arlpy.uwapm as pm
+import numpy as np
+import pandas as pd
 
 REQUIRED = {"frequency_hz", "source_depth_m", "receiver_depth_m", "receiver_range_m", "ssp",
             "bottom", "beams"}
@@ -56,10 +61,6 @@ def _fields(table: dict, where: str, names: set[str]) -> dict:
 
 def env_kwargs(case: dict) -> dict:
     """The keyword arguments of ``arlpy.uwapm.create_env2d`` for ``case``, in arlpy's units."""
-    import numpy as np
-    import pandas as pd
-    import arlpy.uwapm as pm
-
     keys = set(case)
     if REQUIRED - keys or keys - REQUIRED - OPTIONAL:
         raise CaseError(f"case: missing {sorted(REQUIRED - keys)}, "
@@ -101,11 +102,6 @@ def env_kwargs(case: dict) -> dict:
 
 def transmission_loss(case: dict, bellhop: Path) -> dict:
     """Run ``case`` through arlpy and BELLHOP ``bellhop``; the contents of OUT.json."""
-    from importlib.metadata import version
-
-    import numpy as np
-    import arlpy.uwapm as pm
-
     modes = {"incoherent": pm.incoherent, "coherent": pm.coherent,
              "semicoherent": pm.semicoherent}
     mode = case.get("mode", "incoherent")
