@@ -1,14 +1,16 @@
 # Two commands on a fresh machine (Python 3.11, pip, make, apt): `make demo` and `make test`.
 # Each creates .venv/ when it is missing or stale, installs tmakit with its dependencies and the
-# BELLHOP executable into it, then runs.
+# BELLHOP executable into it, then runs. `make test` also makes .venv-arlpy/ (arlpy, for the
+# BELLHOP cross-check test).
 
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.tmakit-installed
 BELLHOP := $(VENV)/share/tmakit/bellhop/aubellhop/bin/bellhop.exe
+ARLPY  := .venv-arlpy/.installed
 
-.PHONY: demo test bench setup clean
+.PHONY: demo test bench setup arlpy clean
 
 setup: $(STAMP) $(BELLHOP)
 
@@ -24,8 +26,16 @@ $(BELLHOP): $(STAMP) tools/install_bellhop.py
 demo: setup
 	$(BIN)/tmakit demo --out out/demo
 
-test: setup
-	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
+test: setup $(ARLPY)
+	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
+
+# arlpy, which the BELLHOP cross-check test runs (tests/crosscheck/), lives in its own venv:
+# its pins (numpy<2, scipy<1.14) are not tmakit's
+arlpy: $(ARLPY)
+$(ARLPY): tests/crosscheck/requirements-arlpy.txt
+	@test -x .venv-arlpy/bin/python || $(PYTHON) -m venv .venv-arlpy
+	.venv-arlpy/bin/python -m pip install -q -r tests/crosscheck/requirements-arlpy.txt
+	@touch $@
 
 # Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
 STONESOUP := .venv-stonesoup/.installed
@@ -38,4 +48,4 @@ bench: setup $(STONESOUP)
 	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup out
+	rm -rf $(VENV) .venv-stonesoup .venv-arlpy out

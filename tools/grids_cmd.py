@@ -73,8 +73,9 @@ def run_show(args) -> Report:
     for cls_name in ds["class"].values:
         for band in ds["band"].values:
             sel = {"class": cls_name, "band": band}
-            kb = ds["k_db"].sel(sel).interp(range=[r * 1000.0 for r in ranges_km]).values
-            ku = ds["k_urick_db"].sel(sel).interp(range=[r * 1000.0 for r in ranges_km]).values
+            at_m = [r * 1000.0 for r in ranges_km]  # np.interp: xarray's .interp needs scipy
+            kb = np.interp(at_m, ds["range"].values, ds["k_db"].sel(sel).values)
+            ku = np.interp(at_m, ds["range"].values, ds["k_urick_db"].sel(sel).values)
             k_table[f"{cls_name}/{band}"] = {"k_db": kb.round(2).tolist(), "k_urick_db": ku.round(2).tolist()}
             lines.append(f"    {cls_name:>5} {band:>5}: " + "  ".join(f"{a:7.1f}/{b:6.1f}" for a, b in zip(kb, ku)))
     data = {"file": str(args.file), "attrs": {k: (v.item() if isinstance(v, np.generic) else v)

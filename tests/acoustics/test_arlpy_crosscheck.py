@@ -1,8 +1,9 @@
-"""Cross-check: our .env writer and .shd reader against arlpy.uwapm driving the same BELLHOP."""
+"""Cross-check: our .env writer and .shd reader against arlpy.uwapm driving the same BELLHOP.
+
+arlpy runs in its own environment (.venv-arlpy, made by ``make test``; see tests/crosscheck/).
+"""
 
 from __future__ import annotations
-
-import os
 
 import numpy as np
 import pytest
@@ -10,39 +11,35 @@ from numpy.testing import assert_allclose
 
 import envdata
 from acoustics.bellhop.envfile import RunSpec, env_text
-from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
+from tests.crosscheck.run_arlpy import arlpy_tl_db
 
 pytestmark = pytest.mark.bellhop
 
 
-def _with_bellhop_on_path(fn):
-    """arlpy runs 'bellhop.exe' from PATH: put the executable tmakit uses first on PATH."""
-    old = os.environ.get("PATH", "")
-    os.environ["PATH"] = f"{find_bellhop().path.parent}{os.pathsep}{old}"
-    try:
-        return fn()
-    finally:
-        os.environ["PATH"] = old
-
-
-def test_tl_agrees_with_arlpy_on_the_munk_1000_environment():
-    import arlpy.uwapm as pm
-
+def test_tl_agrees_with_arlpy_on_the_munk_1000_environment(tmp_path):
     area = envdata.load_area("munk-1000")
     ssp = area.water.ssp
     rx_depth = np.arange(50.0, 1000.0, 100.0)
     rx_range = np.arange(500.0, 20_001.0, 500.0)
-    env = pm.create_env2d(
-        depth=area.water.depth_m, soundspeed=[[z, c] for z, c in zip(ssp.depth_m, ssp.speed_mps)],
-        bottom_soundspeed=area.bottom.speed_mps, bottom_density=area.bottom.density_gcc * 1000.0,
-        bottom_absorption=area.bottom.attenuation_db_per_wavelength, tx_depth=5.0, rx_depth=rx_depth,
-        rx_range=rx_range, frequency=50.0, nbeams=2000, min_angle=-80.0, max_angle=80.0,
-        soundspeed_interp=pm.linear)  # tabulated profiles are linear (BELLHOP C), as in DESIGN.md
-    p_arlpy = _with_bellhop_on_path(lambda: pm.compute_transmission_loss(env, mode=pm.incoherent))
-    assert p_arlpy is not None, "arlpy's BELLHOP run failed (arlpy prints the reason)"
-    tl_arlpy = tl_from_pressure(np.asarray(p_arlpy, dtype=complex), 200.0)
+    case = {
+        "frequency_hz": 50.0, "source_depth_m": 5.0,
+        "receiver_depth_m": rx_depth.tolist(), "receiver_range_m": rx_range.tolist(),
+        "water_depth_m": area.water.depth_m,
+        "ssp": {"depth_m": np.asarray(ssp.depth_m, dtype=float).tolist(),
+                "speed_mps": np.asarray(ssp.speed_mps, dtype=float).tolist()},
+        "ssp_interpolation": "linear",  # tabulated profiles are linear (BELLHOP C), as in DESIGN.md
+        "bottom": {"speed_mps": area.bottom.speed_mps, "density_gcc": area.bottom.density_gcc,
+                   "attenuation_db_per_wavelength": area.bottom.attenuation_db_per_wavelength},
+        "beams": {"count": 2000, "min_angle_deg": -80.0, "max_angle_deg": 80.0},
+        "mode": "incoherent", "tl_max_db": 200.0,
+    }
+    arlpy = arlpy_tl_db(case, tmp_path)
+    assert arlpy["arlpy_version"] == "1.9.3"
+    assert_allclose(arlpy["receiver_depth_m"], rx_depth, rtol=0, atol=1e-3)
+    assert_allclose(arlpy["receiver_range_m"], rx_range, rtol=0, atol=1e-2)
+    tl_arlpy = arlpy["tl_db"]
 
     # arlpy always asks BELLHOP for Thorp absorption ('CVWT') and geometric beams ('IG')
     spec = RunSpec(title="cross-check", freq_hz=50.0, source_depth_m=(5.0,), receiver_depth_m=tuple(rx_depth),
