@@ -41,5 +41,11 @@ def run_simulate(args) -> Report:
                f"{sc.target_class}; detected fraction per band "
                + ", ".join(f"{b} {f:.2f}" for b, f in zip(m.band_names, det))
                + f"\n  wrote {files['measurements']}, {files['truth']}")
-    return Report(summary, {"scenario": sc.name, "cycles": len(m), **files,
-                            "detected_fraction": dict(zip(m.band_names, det.tolist()))})
+    data = {"scenario": sc.name, "cycles": len(m), **files,
+            "detected_fraction": dict(zip(m.band_names, det.tolist()))}
+    if "bearing" in grid.dims:
+        away = float(np.max(np.hypot(m.obs_x_m, m.obs_y_m)))
+        summary += (f"\n  observer up to {away / 1000:.2f} km from the grid's origin "
+                    f"({grid.attrs['origin_lat_deg']:g} N, {grid.attrs['origin_lon_deg']:g} E)")
+        data["observer_max_distance_from_origin_m"] = away
+    return Report(summary, data)

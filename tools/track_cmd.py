@@ -43,6 +43,12 @@ def run_track(args) -> Report:
     last = df.groupby("class").tail(1)
     lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"]
     data = {"out": args.out, "method": args.method, "cycles": len(m), "final": {}}
+    if "bearing" in grid.dims:
+        away = float(np.max(np.hypot(m.obs_x_m, m.obs_y_m)))
+        lines.append(f"  observer up to {away / 1000:.2f} km from the grid's origin "
+                     f"({grid.attrs['origin_lat_deg']:g} N, {grid.attrs['origin_lon_deg']:g} E): its "
+                     f"bearing-dependent tables are computed from there")
+        data["observer_max_distance_from_origin_m"] = away
     for _, r in last.iterrows():
         lines.append(f"  {r['class']}: range {r.range_m / 1000:.2f} km, course "
                      f"{r.course_deg:.1f} deg, speed {r.speed_mps:.2f} m/s (tack {r.tack})")

@@ -127,11 +127,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                     raise GridFileError(f"{tables.source}: class {name!r} has source level "
                                         f"model {model!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
-            cache = {}
-            for k, d in enumerate(depth):
-                if d not in cache:
-                    cache[d] = tables.level_profile(ic, ib, float(d))
-                profiles[k] = cache[d]
+            profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]))
         res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
                         level_db_meas=None if levels is None else levels[rows][None],
                         k_profiles=profiles, cfg=cfg, rng=rng, source_level_model=model,
@@ -149,3 +145,21 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
             "course_sd_deg": sds[:, 1], "speed_sd_mps": sds[:, 2], "tack": 1,
             "method": method.value}))
     return pd.concat(frames, ignore_index=True)
+
+
+def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg) -> list:
+    """The level model's K(r) of each cycle: at the cycle's observer depth, and for a grid with
+    bearings at the cycle's measured bearing (between radials; a cycle without one takes the
+    last bearing measured). The particles of a cycle lie within a few bearing sd of the measured
+    bearing, where K changes little between radials tens of degrees apart."""
+    cache: dict = {}
+    profiles = []
+    last = None
+    for d, b in zip(np.asarray(depth_m, dtype=float), np.asarray(bearing_deg, dtype=float)):
+        if np.isfinite(b):
+            last = float(b)
+        key = (float(d), round(last, 3) if tables.by_bearing and last is not None else None)
+        if key not in cache:
+            cache[key] = tables.level_profile(ic, ib, key[0], bearing_deg=key[1])
+        profiles.append(cache[key])
+    return profiles
