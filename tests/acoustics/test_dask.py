@@ -17,7 +17,7 @@ def test_build_on_a_two_worker_cluster_equals_the_local_build(tiny_area, tiny_gr
     from distributed import LocalCluster
 
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None) as cluster:
+                      dashboard_address="127.0.0.1:0") as cluster:
         stats = acoustics.BuildStats()
         ds = acoustics.build_grid(tiny_area, scheduler=cluster.scheduler_address, stats=stats)
     assert stats.runs_total == 4 and stats.bellhop_seconds > 0
