@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from tracker.tables import BEYOND_GRID_PENALTY_DB
+
 
 def bearing_sd_deg(beamwidth_deg, q_ind):
     """RMS bearing error, deg (eq. 2): sigma_P = 0.2 * beamwidth / Q_ind.
@@ -68,8 +70,10 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
         Level error sd sigma_dW_k (eq. 11), dB.
     p0_db : ndarray, shape (B,)
         Expected noise level P0 of the class hypothesis, dB re 1 uPa.
-    k_db : ndarray, shape (M, R)
-        Transfer characteristic K_k(r) of the class, dB (eq. 12).
+    k_db : ndarray, shape (M, R), or (B, M, R) for one K per row
+        Transfer characteristic K_k(r) of the class, dB (eq. 12); per row when it depends on
+        the row's bearing (a bearing-dependent grid). Ranges where the grid has no K (NaN:
+        beyond land, a target deeper than the water) take a level no target gives.
     range_m : ndarray, shape (R,)
         Range axis of ``k_db``, m.
     offsets_db, weights : sequence
@@ -89,9 +93,19 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     det = np.asarray(detected, dtype=bool) & np.isfinite(level_db)
     w = np.where(det, 1.0 / np.square(sd_db), 0.0)                     # (B, M)
     d0 = np.where(det, level_db - np.asarray(p0_db)[:, None] - gain_db, 0.0)
+    k_db = np.asarray(k_db, dtype=float)
+    if not np.all(np.isfinite(k_db)):
+        finite = k_db[np.isfinite(k_db)]
+        floor = (finite.min() if finite.size else 0.0) - BEYOND_GRID_PENALTY_DB
+        k_db = np.where(np.isfinite(k_db), k_db, floor)
     # cost_c(r) = sum w (d0 - c - K)^2 = const(c) - 2 (w d0).K + 2 c w.K + w.K^2
-    wk = w @ k_db                                                      # (B, R)
-    base = w @ np.square(k_db) - 2.0 * ((w * d0) @ k_db)              # (B, R)
+    if k_db.ndim == 2:
+        wk = w @ k_db                                                  # (B, R)
+        base = w @ np.square(k_db) - 2.0 * ((w * d0) @ k_db)          # (B, R)
+    else:
+        wk = np.einsum("bm,bmr->br", w, k_db)
+        base = (np.einsum("bm,bmr->br", w, np.square(k_db))
+                - 2.0 * np.einsum("bm,bmr->br", w * d0, k_db))
     r_opt = range_m[np.argmin(base, axis=1)]
     offsets = np.asarray(offsets_db, dtype=float)
     weights = np.full(len(offsets), 1.0 / len(offsets)) if weights is None else np.asarray(weights)
