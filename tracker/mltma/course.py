@@ -1,0 +1,61 @@
+"""Course from bearings: relative course by least squares over bearing triples (eq. 8, Annex 1)
+and course from the relative course and a speed (eq. 7).
+
+Angles are degrees clockwise from north (DESIGN.md); differences are wrapped into [-180, 180).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def wrap180(a):
+    return np.mod(np.asarray(a, dtype=float) + 180.0, 360.0) - 180.0
+
+
+def relative_course_deg(t_s, bearing_deg, i0, i1, i2, valid):
+    """Relative course by least squares over bearing triples (eq. 8 / A1.4, Annex 1).
+
+    Each triple (P0, P1, P2) at (t0, t1, t2) gives the linear equation of A1.3 in
+    (sin K_rho, cos K_rho); the unit vector minimising the sum of squares over the triples
+    is the smallest eigenvector of a 2 x 2 matrix. The 180-deg ambiguity is resolved by the
+    sense of the bearing change (the relative motion turns the bearing the same way).
+
+    Parameters
+    ----------
+    t_s : ndarray (T,) ; bearing_deg : ndarray (B, T)
+    i0, i1, i2 : ndarray of int, (B, J) ; valid : ndarray of bool (B, J)
+    """
+    b = np.radians(bearing_deg)
+    take = lambda idx: np.take_along_axis(b, idx, axis=1)  # noqa: E731
+    p0, p1, p2 = take(i0), take(i1), take(i2)
+    t0, t1, t2 = t_s[i0], t_s[i1], t_s[i2]
+    # eq. 8 with P_1, P_k, P_N = p0, p1, p2 (A1.4 of the extraction has garbled indices; eq. 8
+    # is the form that holds on noiseless data, see the tests)
+    s10 = np.sin(p1 - p0) * (t2 - t1)
+    s20 = np.sin(p2 - p1) * (t1 - t0)
+    den = s10 * np.cos(p2) - s20 * np.cos(p0)      # coefficient of tan K_rho
+    num = s10 * np.sin(p2) - s20 * np.sin(p0)
+    # den sinK - num cosK = 0 ; scale each triple to unit norm (equal weight per triple)
+    norm = np.hypot(den, num)
+    ok = valid & (norm > 0)
+    den = np.where(ok, den / np.where(ok, norm, 1.0), 0.0)
+    num = np.where(ok, num / np.where(ok, norm, 1.0), 0.0)
+    alpha = (den * den).sum(1)
+    beta = (den * num).sum(1)
+    gamma = (num * num).sum(1)
+    theta = 0.5 * np.arctan2(2.0 * beta, alpha - gamma)   # minimises alpha s^2 - 2 beta s c + gamma c^2
+    k = np.degrees(theta)
+    # sense: bearing increasing (clockwise) <=> sin(K_rho - P_last) > 0
+    last = np.take_along_axis(bearing_deg, i2[:, -1:], axis=1)[:, 0]
+    first = np.take_along_axis(bearing_deg, i0[:, :1], axis=1)[:, 0]
+    change = wrap180(last - first)
+    flip = np.sign(np.sin(np.radians(k - last))) != np.sign(change)
+    return np.mod(k + np.where(flip, 180.0, 0.0), 360.0)
+
+
+def course_from_relative_deg(k_rel_deg, v_mps, obs_course_deg, obs_speed_mps):
+    """Course from relative course (eq. 7): K = K_rho - arcsin(V_n / V sin(K_rho - K_n))."""
+    arg = np.clip(obs_speed_mps / np.maximum(v_mps, 1e-6)
+                  * np.sin(np.radians(k_rel_deg - obs_course_deg)), -1.0, 1.0)
+    return np.mod(k_rel_deg - np.degrees(np.arcsin(arg)), 360.0)
