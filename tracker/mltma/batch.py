@@ -63,43 +63,58 @@ class MLBatch:
 
     def __init__(self, grid: xr.Dataset | GridTables, class_index, capacity: int,
                  params: MLParams | None = None):
-        self.p = params or MLParams()
+        self.params = params or MLParams()
         self.tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
-        self.classes = self.tables.classes
         self.sonar = self.tables.area.sonar
-        self.bandwidth_hz = self.tables.bandwidth_hz
-        self.range_axis = self.tables.range_m
-        self.k_db = self.tables.k_db()                        # (C, M, R) at the grid's depth
-        self.ci = np.asarray(class_index, dtype=int)
-        b = len(self.ci)
-        self.B, self.M, self.T = b, self.k_db.shape[1], int(capacity)
-        cls = self.classes
-        for c in {cls[i] for i in self.ci}:
+        self.bandwidth_hz = self.tables.bandwidth_hz           # (M,) of eqs. 2 and 11, Hz
+        self.range_axis_m = self.tables.range_m                # (R,) range axis of K(r), m
+        self.class_index = np.asarray(class_index, dtype=int)  # (B,) class hypothesis of each row
+        b = len(self.class_index)
+        self.n_rows = b                                        # B
+        self.n_bands = len(self.tables.band_names)             # M
+        self.capacity = int(capacity)                          # T, the most cycles to be fed
+        classes = [self.tables.classes[i] for i in self.class_index]
+        for c in dict.fromkeys(classes):
             if c.noise_mean_db is None:
                 raise MeasurementFileError(f"{self.tables.source}: class {c.name!r} has no "
                                            f"noise_mean_db; the ML tracker needs P0 "
                                            f"(source_level_model = 'p0')")
-        self.mV = np.array([cls[i].speed_mean_mps for i in self.ci])
-        self.sV = np.array([cls[i].speed_sd_mps for i in self.ci])
-        self.p0 = np.array([cls[i].noise_mean_db for i in self.ci])
-        self.offsets = [offset_nodes(c.noise_sd_db, c.k_error_sd_db, self.p.offsets_n) for c in cls]
-        self.n = 0
-        self.t = np.zeros(self.T)
-        self.ox = np.zeros(self.T)
-        self.oy = np.zeros(self.T)
-        self.brg = np.zeros((b, self.T))
-        self.sdp = np.ones((b, self.T))                # bearing sd of each cycle, deg
-        self.lvl_top = np.full((b, self.T), np.nan)   # level in the highest detected band
-        self.top_band = np.full((b, self.T), -1)
-        self.s0 = np.zeros(b, dtype=int)               # tack start index
+        # each row's class: mV, sV of eqs. 6, 25 and mP0 of eq. 20
+        self.speed_mean_mps = np.array([c.speed_mean_mps for c in classes])
+        self.speed_sd_mps = np.array([c.speed_sd_mps for c in classes])
+        self.p0_db = np.array([c.noise_mean_db for c in classes])     # dB re 1 uPa
+        # eq. 21 quadrature (offsets_db, weights) over P0 and K(r) errors, per grid class
+        self.level_offsets = [offset_nodes(c.noise_sd_db, c.k_error_sd_db, self.params.offsets_n)
+                              for c in self.tables.classes]
+        self.n_cycles = 0                                      # cycles fed so far
+        # per cycle: time and observer position (shared by the rows)
+        self.t_s = np.zeros(self.capacity)
+        self.obs_x_m = np.zeros(self.capacity)
+        self.obs_y_m = np.zeros(self.capacity)
+        # per row and cycle: bearing and its sd sigma_P (eq. 2), deg
+        self.bearing_deg = np.zeros((b, self.capacity))
+        self.bearing_sd_deg = np.ones((b, self.capacity))
+        # per row and cycle: highest detected band (-1: none) and its level (eq. 29), dB
+        self.top_band = np.full((b, self.capacity), -1)
+        self.top_level_db = np.full((b, self.capacity), np.nan)
+        # the current tack of each row: first cycle, number (1, 2, ...), and the number of
+        # consecutive cycles on which a maneuver test (eqs. 26-29) has fired
+        self.tack_start = np.zeros(b, dtype=int)
         self.tack = np.ones(b, dtype=int)
-        self.pending = np.zeros(b, dtype=int)
-        self.A = np.zeros((b, 5, 5))
-        self.sk_deg = np.full(b, self.p.rel_course_sd_deg)  # relative-course sd of eq. 25, deg
-        # raw per-cycle estimates for smoothing
-        self.est = {k: np.full((b, self.T), np.nan) for k in ("course", "speed", "x", "y", "vx", "vy")}
-        self.last_range = np.full(b, np.nan)
-        self.last_out = None
+        self.maneuver_pending = np.zeros(b, dtype=int)
+        # (B, 5, 5): sum over the tack of w_i a_i a_i^T, the pseudo-linear bearing term of
+        # eq. 25 as a quadratic form z^T F z in z = (x, y at the tack start, vx, vy, 1)
+        self.bearing_form = np.zeros((b, 5, 5))
+        self.rel_course_sd_deg = np.full(b, self.params.rel_course_sd_deg)  # sK_rho of eq. 25
+        # raw (unsmoothed) estimates of each row and cycle, the input of the smoothing (step 9)
+        self.raw = {k: np.full((b, self.capacity), np.nan)
+                    for k in ("course_deg", "speed_mps", "x_m", "y_m", "vx_mps", "vy_mps")}
+        # smoothed range, course, speed of each cycle: input of the second pass (smooth_passes 2)
+        self.smoothed = ({k: np.full((b, self.capacity), np.nan)
+                          for k in ("range_m", "course_deg", "speed_mps")}
+                         if self.params.smooth_passes > 1 else None)
+        self.last_range_m = np.full(b, np.nan)                 # last smoothed range (NaN: none)
+        self.last_estimates = None                             # the last cycle's output
 
     # ------------------------------------------------------------------ one cycle
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
@@ -110,14 +125,14 @@ class MLBatch:
         K(r) is taken at ``obs_depth_m`` (TL linear in depth; default the grid's observer
         depth), `tracker.tables.GridTables.k_db`.
         """
-        p, n, b = self.p, self.n, self.B
-        if n >= self.T:
-            raise ValueError(f"MLBatch capacity {self.T} cycles exceeded")
-        self.t[n], self.ox[n], self.oy[n] = t_s, obs_x_m, obs_y_m
+        p, n, b = self.params, self.n_cycles, self.n_rows
+        if n >= self.capacity:
+            raise ValueError(f"MLBatch capacity {self.capacity} cycles exceeded")
+        self.t_s[n], self.obs_x_m[n], self.obs_y_m[n] = t_s, obs_x_m, obs_y_m
         brg = np.broadcast_to(np.asarray(bearing_deg, dtype=float), (b,))
-        self.brg[:, n] = brg
-        level = np.broadcast_to(np.asarray(level_db, dtype=float), (b, self.M))
-        snr = np.broadcast_to(np.asarray(snr_db, dtype=float), (b, self.M))
+        self.bearing_deg[:, n] = brg
+        level = np.broadcast_to(np.asarray(level_db, dtype=float), (b, self.n_bands))
+        snr = np.broadcast_to(np.asarray(snr_db, dtype=float), (b, self.n_bands))
         det = np.isfinite(level)
         df = self.bandwidth_hz
         tt = self.sonar.integration_time_s
@@ -131,16 +146,16 @@ class MLBatch:
         miss = ~np.isfinite(sd_p)
         if miss.any():
             q_ind = indicator_snr(np.where(np.isfinite(snr), snr, 10 * np.log10(q_thr)), df, tt)
-            top = np.where(det.any(1), self.M - 1 - np.argmax(det[:, ::-1], axis=1),
+            top = np.where(det.any(1), self.n_bands - 1 - np.argmax(det[:, ::-1], axis=1),
                            np.argmax(q_ind, axis=1))
             qb = np.maximum(q_ind[np.arange(b), top], 1.0)
             sd_p[miss] = bearing_sd_deg(self.sonar.beamwidth_deg, qb)[miss]
         sd_p = np.maximum(sd_p, 1e-4)
-        self.sdp[:, n] = sd_p
-        topb = np.where(det.any(1), self.M - 1 - np.argmax(det[:, ::-1], axis=1), -1)
+        self.bearing_sd_deg[:, n] = sd_p
+        topb = np.where(det.any(1), self.n_bands - 1 - np.argmax(det[:, ::-1], axis=1), -1)
         self.top_band[:, n] = topb
-        self.lvl_top[:, n] = np.where(topb >= 0, level[np.arange(b), np.maximum(topb, 0)], np.nan)
-        self.n = n + 1
+        self.top_level_db[:, n] = np.where(topb >= 0, level[np.arange(b), np.maximum(topb, 0)], np.nan)
+        self.n_cycles = n + 1
 
         # step 1: maneuver detection (eqs. 26-27 and 29), confirmed on consecutive cycles
         self._maneuver(n, sd_p, sd_w)
@@ -149,58 +164,58 @@ class MLBatch:
         r_opt = np.full(b, np.nan)
         r_sd = np.full(b, np.nan)
         k_now = self.tables.k_db(obs_depth_m)
-        for c in np.unique(self.ci):
-            rows = np.flatnonzero(self.ci == c)
-            off, wts = self.offsets[c]
+        for c in np.unique(self.class_index):
+            rows = np.flatnonzero(self.class_index == c)
+            off, wts = self.level_offsets[c]
             r_opt[rows], r_sd[rows] = level_range(
-                level[rows], det[rows], sd_w[rows], self.p0[rows], k_now[c], self.range_axis,
+                level[rows], det[rows], sd_w[rows], self.p0_db[rows], k_now[c], self.range_axis_m,
                 offsets_db=off, weights=wts, gain_db=self.sonar.receiver_gain_db)
-        r_sd = np.maximum(r_sd, self.range_axis[1] - self.range_axis[0])
+        r_sd = np.maximum(r_sd, self.range_axis_m[1] - self.range_axis_m[0])
         have_r = np.isfinite(r_opt)
         # bearings-only cycles keep the last range as a weak prior
-        r_prior = np.where(have_r, r_opt, self.last_range)
-        r_prior_sd = np.where(have_r, r_sd, np.where(np.isfinite(self.last_range),
-                                                     0.5 * self.last_range, np.inf))
+        r_prior = np.where(have_r, r_opt, self.last_range_m)
+        r_prior_sd = np.where(have_r, r_sd, np.where(np.isfinite(self.last_range_m),
+                                                     0.5 * self.last_range_m, np.inf))
 
         # accumulate the pseudo-linear bearing quadratic form of this cycle
-        rho = np.where(np.isfinite(self.last_range), self.last_range,
+        rho = np.where(np.isfinite(self.last_range_m), self.last_range_m,
                        np.where(have_r, r_opt, 10000.0))
         self._accumulate(n, brg, sd_p, rho)
 
         # steps 5-6: relative course and course (eqs. 30, 8, 7)
         obs_speed = math.hypot(obs_vx_mps, obs_vy_mps)
         obs_course = math.degrees(math.atan2(obs_vx_mps, obs_vy_mps)) % 360.0
-        n_tack = n - self.s0 + 1
-        change = np.abs(wrap180(brg - self.brg[np.arange(b), self.s0]))
+        n_tack = n - self.tack_start + 1
+        change = np.abs(wrap180(brg - self.bearing_deg[np.arange(b), self.tack_start]))
         eq30 = (change > p.eq30_factor * sd_p) & (n_tack >= 3)
         if p.curvature_factor > 0 and eq30.any():
             eq30 &= self._curved(n, p.curvature_factor)
         k_rel = np.mod(brg + 180.0, 360.0)                 # reverse bearing
         # sd of the relative course entering eq. 25: sK_rho for eq. 8, wider for the reverse bearing
-        self.sk_deg = np.where(eq30, p.rel_course_sd_deg, p.reverse_course_sd_deg)
+        self.rel_course_sd_deg = np.where(eq30, p.rel_course_sd_deg, p.reverse_course_sd_deg)
         if eq30.any():
             rows = np.flatnonzero(eq30)
             k_rel[rows] = self._rel_course(rows, n)
-        k_fb = course_from_relative_deg(k_rel, self.mV, obs_course, obs_speed)
+        k_fb = course_from_relative_deg(k_rel, self.speed_mean_mps, obs_course, obs_speed)
 
         # step 8 condition: bearing change over the last 3 minutes > 3 sigma_P
-        back = np.searchsorted(self.t[:n + 1], t_s - p.eq25_window_s)
-        back = np.maximum(back, self.s0)
-        change3 = np.abs(wrap180(brg - self.brg[np.arange(b), back]))
+        back = np.searchsorted(self.t_s[:n + 1], t_s - p.eq25_window_s)
+        back = np.maximum(back, self.tack_start)
+        change3 = np.abs(wrap180(brg - self.bearing_deg[np.arange(b), back]))
         use25 = (change3 > p.eq25_factor * sd_p) & (n_tack >= p.eq25_min_cycles) & np.isfinite(r_prior)
 
         u = np.array([np.sin(np.radians(brg)), np.cos(np.radians(brg))])   # (2, B)
         course = k_fb.copy()
-        speed = self.mV.copy()
+        speed = self.speed_mean_mps.copy()
         rng_est = r_prior.copy()
-        course_sd = np.hypot(p.rel_course_sd_deg, self._dk_dv(k_rel, obs_course, obs_speed) * self.sV)
-        speed_sd = self.sV.copy()
+        course_sd = np.hypot(p.rel_course_sd_deg, self._dk_dv(k_rel, obs_course, obs_speed) * self.speed_sd_mps)
+        speed_sd = self.speed_sd_mps.copy()
         range_sd = r_prior_sd.copy()
         # a new tack starts from the last estimates (step 1) until eq. 25 applies on it
-        carry = ~use25 & (self.tack > 1) & (self.last_out is not None)
+        carry = ~use25 & (self.tack > 1) & (self.last_estimates is not None)
         if carry.any():
-            lo = self.last_out
-            dt = t_s - self.t[n - 1]
+            lo = self.last_estimates
+            dt = t_s - self.t_s[n - 1]
             a = np.radians(lo["course_deg"])
             px = lo["x_m"] + lo["speed_mps"] * np.sin(a) * dt
             py = lo["y_m"] + lo["speed_mps"] * np.cos(a) * dt
@@ -222,63 +237,63 @@ class MLBatch:
         y = obs_y_m + rng_est * u[1]
         vx = speed * np.sin(np.radians(course))
         vy = speed * np.cos(np.radians(course))
-        for key, val in (("course", course), ("speed", speed), ("x", x), ("y", y), ("vx", vx),
-                         ("vy", vy)):
-            self.est[key][:, n] = val
+        for key, val in (("course_deg", course), ("speed_mps", speed), ("x_m", x), ("y_m", y),
+                         ("vx_mps", vx), ("vy_mps", vy)):
+            self.raw[key][:, n] = val
         out = self._smooth(n, obs_x_m, obs_y_m, brg)
         out.update(range_sd_m=range_sd, course_sd_deg=course_sd, speed_sd_mps=speed_sd,
                    tack=self.tack.copy(), used_eq25=use25, r_level_m=r_opt, raw_course_deg=course,
                    raw_speed_mps=speed, raw_range_m=rng_est)
-        self.last_range = np.where(np.isfinite(out["range_m"]), out["range_m"], self.last_range)
-        self.last_out = out
+        self.last_range_m = np.where(np.isfinite(out["range_m"]), out["range_m"], self.last_range_m)
+        self.last_estimates = out
         return out
 
     # ------------------------------------------------------------------ pieces
     def _dk_dv(self, k_rel, obs_course, obs_speed):
         """|dK/dV| of eq. 7 at the mean speed, deg per m/s (for the fallback course sd)."""
         h = 0.05
-        k1 = course_from_relative_deg(k_rel, self.mV + h, obs_course, obs_speed)
-        k0 = course_from_relative_deg(k_rel, np.maximum(self.mV - h, 1e-3), obs_course, obs_speed)
+        k1 = course_from_relative_deg(k_rel, self.speed_mean_mps + h, obs_course, obs_speed)
+        k0 = course_from_relative_deg(k_rel, np.maximum(self.speed_mean_mps - h, 1e-3), obs_course, obs_speed)
         return np.abs(wrap180(k1 - k0)) / (2 * h)
 
     def _maneuver(self, n, sd_p, sd_w):
-        p, b = self.p, self.B
+        p, b = self.params, self.n_rows
         rows = np.arange(b)
         fire = np.zeros(b, dtype=bool)
-        ok = (n - self.s0) >= p.maneuver_l
+        ok = (n - self.tack_start) >= p.maneuver_l
         if ok.any():
             i_s, i_l = n - p.maneuver_s, n - p.maneuver_l
-            ts, tl, tn = self.t[i_s], self.t[i_l], self.t[n]
-            ps, pl, pn = self.brg[:, i_s], self.brg[:, i_l], self.brg[:, n]
+            ts, tl, tn = self.t_s[i_s], self.t_s[i_l], self.t_s[n]
+            ps, pl, pn = self.bearing_deg[:, i_s], self.bearing_deg[:, i_l], self.bearing_deg[:, n]
             rate = wrap180(ps - pl) / (ts - tl)                                     # eq. 27
             fire |= ok & (np.abs(wrap180(ps + rate * (tn - ts) - pn)) > p.maneuver_factor * sd_p)
         # eq. 29: level of the highest band vs its mean over F previous cycles but the last 3
-        okl = (n - self.s0) >= p.level_f + 3
+        okl = (n - self.tack_start) >= p.level_f + 3
         if okl.any():
             top = self.top_band[:, n]
             lo = n - 3 - p.level_f
             win_b = self.top_band[:, lo:n - 3]
-            win = np.where(win_b == top[:, None], self.lvl_top[:, lo:n - 3], np.nan)
+            win = np.where(win_b == top[:, None], self.top_level_db[:, lo:n - 3], np.nan)
             cnt = np.isfinite(win).sum(1)
             mean = np.where(cnt > p.level_f // 2, np.nansum(win, 1) / np.maximum(cnt, 1), np.nan)
             sdw = np.maximum(sd_w[rows, np.maximum(top, 0)], p.level_sd_floor_db)
             fire |= okl & (top >= 0) & np.isfinite(mean) & \
-                (np.abs(mean - self.lvl_top[:, n]) > p.maneuver_factor * sdw)
-        self.pending = np.where(fire, self.pending + 1, 0)
-        new = self.pending >= p.maneuver_confirm
+                (np.abs(mean - self.top_level_db[:, n]) > p.maneuver_factor * sdw)
+        self.maneuver_pending = np.where(fire, self.maneuver_pending + 1, 0)
+        new = self.maneuver_pending >= p.maneuver_confirm
         if new.any():
-            self.s0[new] = n - p.maneuver_confirm + 1
+            self.tack_start[new] = n - p.maneuver_confirm + 1
             self.tack[new] += 1
-            self.pending[new] = 0
-            self.A[new] = 0.0
+            self.maneuver_pending[new] = 0
+            self.bearing_form[new] = 0.0
             # rebuild the quadratic form from the confirming cycles on the new tack
             self._rebuild = new
 
     def _rows_a(self, idx_rows, i, brg, sd_p, rho, t0):
         a = np.radians(brg)
         c, s = np.cos(a), np.sin(a)
-        tau = self.t[i] - t0
-        vec = np.stack([c, -s, c * tau, -s * tau, -(c * self.ox[i] - s * self.oy[i])], axis=1)
+        tau = self.t_s[i] - t0
+        vec = np.stack([c, -s, c * tau, -s * tau, -(c * self.obs_x_m[i] - s * self.obs_y_m[i])], axis=1)
         w = 1.0 / (np.square(np.radians(sd_p)) * np.square(rho))
         return w[:, None, None] * vec[:, :, None] * vec[:, None, :]
 
@@ -286,12 +301,12 @@ class MLBatch:
         rebuild = getattr(self, "_rebuild", None)
         if rebuild is not None and rebuild.any():
             rows = np.flatnonzero(rebuild)
-            for i in range(int(self.s0[rows].min()), n):
-                sel = rows[self.s0[rows] <= i]
-                self.A[sel] += self._rows_a(sel, i, self.brg[sel, i], sd_p[sel], rho[sel],
-                                            self.t[self.s0[sel]])
+            for i in range(int(self.tack_start[rows].min()), n):
+                sel = rows[self.tack_start[rows] <= i]
+                self.bearing_form[sel] += self._rows_a(sel, i, self.bearing_deg[sel, i], sd_p[sel], rho[sel],
+                                            self.t_s[self.tack_start[sel]])
             self._rebuild = None
-        self.A += self._rows_a(None, n, brg, sd_p, rho, self.t[self.s0])
+        self.bearing_form += self._rows_a(None, n, brg, sd_p, rho, self.t_s[self.tack_start])
 
     def _curved(self, n, factor):
         """Rows whose bearings over the tack curve significantly (eq. 8 is then determined).
@@ -301,16 +316,16 @@ class MLBatch:
         curvature (a straight bearing trace leaves the relative course undetermined), as eq. 30
         rests on its change.
         """
-        b = self.B
-        lo = int(self.s0.min())
+        b = self.n_rows
+        lo = int(self.tack_start.min())
         idx = np.arange(lo, n + 1)[None, :]
-        on = idx >= self.s0[:, None]
-        t0 = self.t[self.s0][:, None]
-        tc = np.where(on, self.t[None, lo:n + 1] - t0, 0.0)
+        on = idx >= self.tack_start[:, None]
+        t0 = self.t_s[self.tack_start][:, None]
+        tc = np.where(on, self.t_s[None, lo:n + 1] - t0, 0.0)
         scale = np.maximum(tc.max(1, keepdims=True), 1.0)
         x = tc / scale
-        y = wrap180(self.brg[:, lo:n + 1] - self.brg[np.arange(b), self.s0][:, None])
-        w = np.where(on, 1.0 / np.square(self.sdp[:, lo:n + 1]), 0.0)
+        y = wrap180(self.bearing_deg[:, lo:n + 1] - self.bearing_deg[np.arange(b), self.tack_start][:, None])
+        w = np.where(on, 1.0 / np.square(self.bearing_sd_deg[:, lo:n + 1]), 0.0)
         X = np.stack([np.ones_like(x), x, x * x], axis=2)                  # (B, N, 3)
         XtWX = np.einsum("bni,bn,bnj->bij", X, w, X)
         XtWy = np.einsum("bni,bn,bn->bi", X, w, y)
@@ -325,16 +340,16 @@ class MLBatch:
         return ok & (np.abs(coef[:, 2]) > factor * sd_c)
 
     def _rel_course(self, rows, n):
-        s0 = self.s0[rows]
+        s0 = self.tack_start[rows]
         length = n - s0 + 1
-        j = np.arange(self.p.triples)[None, :]
+        j = np.arange(self.params.triples)[None, :]
         span = np.maximum(length // 4, 1)[:, None]
-        i0 = s0[:, None] + (j * span) // self.p.triples
-        i2 = n - (j * span) // self.p.triples
+        i0 = s0[:, None] + (j * span) // self.params.triples
+        i2 = n - (j * span) // self.params.triples
         i1 = (i0 + i2) // 2
         valid = (i0 < i1) & (i1 < i2)
         i0, i1, i2 = (np.clip(v, 0, n) for v in (i0, i1, i2))
-        return relative_course_deg(self.t[:n + 1], self.brg[rows, :n + 1], i0, i1, i2, valid)
+        return relative_course_deg(self.t_s[:n + 1], self.bearing_deg[rows, :n + 1], i0, i1, i2, valid)
 
     @staticmethod
     def _lin_const(f0, f1, c0, c1, C2, k_deg, v):
@@ -346,11 +361,11 @@ class MLBatch:
 
     def _search(self, rows, n, u, k_rel, obs_course, obs_speed, r_prior, r_prior_sd):
         """Minimise eq. 25 over course x speed (range in closed form) for the given rows."""
-        p = self.p
-        A = self.A[rows]
-        tau = self.t[n] - self.t[self.s0[rows]]
+        p = self.params
+        A = self.bearing_form[rows]
+        tau = self.t_s[n] - self.t_s[self.tack_start[rows]]
         g = np.zeros((len(rows), 5))
-        g[:, 0], g[:, 1], g[:, 4] = self.ox[n], self.oy[n], 1.0
+        g[:, 0], g[:, 1], g[:, 4] = self.obs_x_m[n], self.obs_y_m[n], 1.0
         H = np.zeros((len(rows), 5, 2))
         H[:, 0, 0] = H[:, 1, 1] = -tau
         H[:, 2, 0] = H[:, 3, 1] = 1.0
@@ -367,10 +382,10 @@ class MLBatch:
         e = np.einsum("bi,bi->b", ze, Aze)
         inv_var = np.where(np.isfinite(r_prior_sd), 1.0 / np.square(r_prior_sd), 0.0)
         r0 = np.where(np.isfinite(r_prior), r_prior, 0.0)
-        mV, sV = self.mV[rows], self.sV[rows]
-        sk2 = np.square(self.sk_deg[rows])[:, None]
-        r_lo, r_hi = p.range_min_m, self.range_axis[-1]
-        scale = np.square(np.where(np.isfinite(self.last_range[rows]), self.last_range[rows],
+        mV, sV = self.speed_mean_mps[rows], self.speed_sd_mps[rows]
+        sk2 = np.square(self.rel_course_sd_deg[rows])[:, None]
+        r_lo, r_hi = p.range_min_m, self.range_axis_m[-1]
+        scale = np.square(np.where(np.isfinite(self.last_range_m[rows]), self.last_range_m[rows],
                                    np.where(np.isfinite(r_prior), r_prior, 10000.0)))
 
         def cost(k_deg, v):
@@ -457,25 +472,25 @@ class MLBatch:
         With ``jacobian``, also their derivatives by (course deg, speed m/s, range m),
         (b, N + 3, 3): analytic for the bearings, central differences for mK(v) of eq. 7.
         """
-        p = self.p
-        lo = int(self.s0[rows].min())
-        s0 = self.s0[rows]
+        p = self.params
+        lo = int(self.tack_start[rows].min())
+        s0 = self.tack_start[rows]
         idx = np.arange(lo, n + 1)[None, :]
         on = idx >= s0[:, None]
-        a = np.radians(self.brg[rows, n])
-        dt = (self.t[n] - self.t[lo:n + 1])[None, :]
+        a = np.radians(self.bearing_deg[rows, n])
+        dt = (self.t_s[n] - self.t_s[lo:n + 1])[None, :]
         kr = np.radians(k_deg)
         sk, ck = np.sin(kr)[:, None], np.cos(kr)[:, None]
-        dx = (self.ox[n] + r * np.sin(a))[:, None] - v[:, None] * sk * dt - self.ox[None, lo:n + 1]
-        dy = (self.oy[n] + r * np.cos(a))[:, None] - v[:, None] * ck * dt - self.oy[None, lo:n + 1]
+        dx = (self.obs_x_m[n] + r * np.sin(a))[:, None] - v[:, None] * sk * dt - self.obs_x_m[None, lo:n + 1]
+        dy = (self.obs_y_m[n] + r * np.cos(a))[:, None] - v[:, None] * ck * dt - self.obs_y_m[None, lo:n + 1]
         pred = np.degrees(np.arctan2(dx, dy))
-        inv_sd = np.where(on, 1.0 / self.sdp[rows, lo:n + 1], 0.0)
-        res_b = wrap180(self.brg[rows, lo:n + 1] - pred) * inv_sd
+        inv_sd = np.where(on, 1.0 / self.bearing_sd_deg[rows, lo:n + 1], 0.0)
+        res_b = wrap180(self.bearing_deg[rows, lo:n + 1] - pred) * inv_sd
         mk = course_from_relative_deg(k_rel, v, obs_course, obs_speed)
         inv = np.where(np.isfinite(r_sd), 1.0 / r_sd, 0.0)
         res_p = np.stack([(r - np.where(np.isfinite(r0), r0, 0.0)) * inv,
-                          (v - self.mV[rows]) / self.sV[rows],
-                          wrap180(k_deg - mk) / self.sk_deg[rows]], axis=1)
+                          (v - self.speed_mean_mps[rows]) / self.speed_sd_mps[rows],
+                          wrap180(k_deg - mk) / self.rel_course_sd_deg[rows]], axis=1)
         f = np.concatenate([res_b, res_p], axis=1)
         if not jacobian:
             return f
@@ -494,9 +509,9 @@ class MLBatch:
                                                  obs_speed)) / (2 * h)
         Jp = np.zeros((len(rows), 3, 3))
         Jp[:, 0, 2] = inv
-        Jp[:, 1, 1] = 1.0 / self.sV[rows]
-        Jp[:, 2, 0] = 1.0 / self.sk_deg[rows]
-        Jp[:, 2, 1] = -dmk / self.sk_deg[rows]
+        Jp[:, 1, 1] = 1.0 / self.speed_sd_mps[rows]
+        Jp[:, 2, 0] = 1.0 / self.rel_course_sd_deg[rows]
+        Jp[:, 2, 1] = -dmk / self.rel_course_sd_deg[rows]
         return f, np.concatenate([Jb, Jp], axis=1)
 
     def _polish(self, rows, n, res, k_rel, obs_course, obs_speed, r0, r_sd):
@@ -508,15 +523,15 @@ class MLBatch:
         search's interval.
         """
         k, v, r = res[0].copy(), res[1].copy(), res[2].copy()
-        r_hi = self.range_axis[-1]
-        mV, sV = self.mV[rows], self.sV[rows]               # the search's speed interval
-        v_lo = np.maximum(mV - self.p.speed_span_sd * sV, 0.2)
-        v_hi = mV + self.p.speed_span_sd * sV
+        r_hi = self.range_axis_m[-1]
+        mV, sV = self.speed_mean_mps[rows], self.speed_sd_mps[rows]               # the search's speed interval
+        v_lo = np.maximum(mV - self.params.speed_span_sd * sV, 0.2)
+        v_hi = mV + self.params.speed_span_sd * sV
         args = (k_rel, obs_course, obs_speed, r0, r_sd)
         f, J = self._eq25_residuals(rows, n, k, v, r, *args, jacobian=True)
         cost = np.square(f).sum(1)
         lam = np.full(len(rows), 1e-3)
-        for it in range(self.p.polish_iters):
+        for it in range(self.params.polish_iters):
             Jt = J.transpose(0, 2, 1)
             JtJ = Jt @ J
             g = (Jt @ f[:, :, None])[:, :, 0]
@@ -531,8 +546,8 @@ class MLBatch:
                 break                                        # converged everywhere
             k1 = k + step[:, 0]
             v1 = np.clip(v + step[:, 1], v_lo, v_hi)
-            r1 = np.clip(r + step[:, 2], self.p.range_min_m, r_hi)
-            last = it == self.p.polish_iters - 1
+            r1 = np.clip(r + step[:, 2], self.params.range_min_m, r_hi)
+            last = it == self.params.polish_iters - 1
             out = self._eq25_residuals(rows, n, k1, v1, r1, *args, jacobian=not last)
             f1, J1 = (out, None) if last else out
             c1 = np.square(f1).sum(1)
@@ -548,23 +563,23 @@ class MLBatch:
 
     def _smooth(self, n, ox, oy, brg):
         """Robust smoothing over the last L cycles of each row's tack (step 9)."""
-        p, b = self.p, self.B
-        lo = np.maximum(self.s0, n - p.smooth_cycles + 1)
+        p, b = self.params, self.n_rows
+        lo = np.maximum(self.tack_start, n - p.smooth_cycles + 1)
         count = n - lo + 1
         width = p.smooth_cycles
         idx = lo[:, None] + np.arange(width)[None, :]
         idx = np.minimum(idx, n)
-        g = lambda key: np.take_along_axis(self.est[key], idx, axis=1)  # noqa: E731
-        dt = self.t[n] - self.t[idx]
-        px = g("x") + g("vx") * dt
-        py = g("y") + g("vy") * dt
+        g = lambda key: np.take_along_axis(self.raw[key], idx, axis=1)  # noqa: E731
+        dt = self.t_s[n] - self.t_s[idx]
+        px = g("x_m") + g("vx_mps") * dt
+        py = g("y_m") + g("vy_mps") * dt
         rng = np.hypot(px - ox, py - oy)
-        course_raw = g("course")
-        ref = self.est["course"][:, n]
+        course_raw = g("course_deg")
+        ref = self.raw["course_deg"][:, n]
         course_u = ref[:, None] + wrap180(course_raw - ref[:, None])
         out_r = trimmed_mean(rng, count, p.smooth_drop, width)
         out_k = trimmed_mean(course_u, count, p.smooth_drop, width)
-        out_v = trimmed_mean(g("speed"), count, p.smooth_drop, width)
+        out_v = trimmed_mean(g("speed_mps"), count, p.smooth_drop, width)
         if p.smooth_passes > 1:
             out_r, out_k, out_v = self._second_pass(n, out_r, out_k, out_v, count)
         a = np.radians(brg)
@@ -573,15 +588,13 @@ class MLBatch:
                 "bearing_deg": brg.copy()}
 
     def _second_pass(self, n, r, k, v, count):
-        if not hasattr(self, "_s1"):
-            self._s1 = {key: np.full((self.B, self.T), np.nan) for key in ("r", "k", "v")}
-        s1 = self._s1
-        s1["r"][:, n], s1["k"][:, n], s1["v"][:, n] = r, k, v
-        width = self.p.smooth_cycles
-        lo = np.maximum(self.s0, n - width + 1)
+        s1 = self.smoothed
+        s1["range_m"][:, n], s1["course_deg"][:, n], s1["speed_mps"][:, n] = r, k, v
+        width = self.params.smooth_cycles
+        lo = np.maximum(self.tack_start, n - width + 1)
         idx = np.minimum(lo[:, None] + np.arange(width)[None, :], n)
         g = lambda key: np.take_along_axis(s1[key], idx, axis=1)  # noqa: E731
-        ku = k[:, None] + wrap180(g("k") - k[:, None])
-        return (trimmed_mean(g("r"), count, self.p.smooth_drop, width),
-                trimmed_mean(ku, count, self.p.smooth_drop, width),
-                trimmed_mean(g("v"), count, self.p.smooth_drop, width))
+        ku = k[:, None] + wrap180(g("course_deg") - k[:, None])
+        return (trimmed_mean(g("range_m"), count, self.params.smooth_drop, width),
+                trimmed_mean(ku, count, self.params.smooth_drop, width),
+                trimmed_mean(g("speed_mps"), count, self.params.smooth_drop, width))

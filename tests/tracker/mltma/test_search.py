@@ -59,12 +59,12 @@ def test_fast_eq25_search_matches_exhaustive_search(rng):
         n = n_cyc - 1
         assert out["used_eq25"][0]
         k_rel = batch._rel_course(np.array([0]), n)
-        cls = batch.classes[ci]
+        cls = batch.tables.classes[ci]
         off, wts = offset_nodes(cls.noise_sd_db, cls.k_error_sd_db)
         sd_w = level_sd_db(np.full((1, 3), 100.0), batch.bandwidth_hz,
                            batch.sonar.integration_time_s)
-        r_opt, r_sd = level_range(lev[n][None, :], np.ones((1, 3), bool), sd_w, batch.p0[:1],
-                                  batch.k_db[ci], batch.range_axis, offsets_db=off, weights=wts)
+        r_opt, r_sd = level_range(lev[n][None, :], np.ones((1, 3), bool), sd_w, batch.p0_db[:1],
+                                  batch.tables.k_db()[ci], batch.range_axis_m, offsets_db=off, weights=wts)
         r_sd = np.maximum(r_sd, 100.0)
         u = np.array([[math.sin(math.radians(b[n]))], [math.cos(math.radians(b[n]))]])
         res = batch._search(np.array([0]), n, u, k_rel, 90.0, 2.5, r_opt, r_sd)
@@ -75,9 +75,9 @@ def test_fast_eq25_search_matches_exhaustive_search(rng):
         ranges = 5000.0 * 1.01 ** np.arange(250)
         k_e, v_e, r_e, j_e = _exact_eq25(t, ox, oy, b, sd, n, r_opt[0], r_sd[0], cls.speed_mean_mps,
                                     cls.speed_sd_mps, k_rel[0], 90.0, 2.5,
-                                    batch.sk_deg[0], courses, speeds, ranges)
+                                    batch.rel_course_sd_deg[0], courses, speeds, ranges)
         j_f = _exact_eq25(t, ox, oy, b, sd, n, r_opt[0], r_sd[0], cls.speed_mean_mps,
-                          cls.speed_sd_mps, k_rel[0], 90.0, 2.5, batch.sk_deg[0],
+                          cls.speed_sd_mps, k_rel[0], 90.0, 2.5, batch.rel_course_sd_deg[0],
                           k_f, v_f, r_f)[3]
         assert j_f <= j_e + 0.01, (trial, j_f, j_e)
         assert abs((k_f[0] - k_e + 180.0) % 360.0 - 180.0) <= 1.5 * 1.0, (trial, k_f, k_e)

@@ -73,7 +73,7 @@ def test_cycles_without_a_detected_band_track_on_bearings_only():
     r_level = []
     for i in range(len(t)):
         trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
-        r_level.append(float(trk.batch.last_out["r_level_m"][0]))
+        r_level.append(float(trk.batch.last_estimates["r_level_m"][0]))
     r_level = np.array(r_level)
     # no level range where no band is detected; one wherever a band is
     assert np.all(np.isnan(r_level[:40])) and np.all(np.isnan(r_level[80:90]))
