@@ -7,6 +7,7 @@ import pytest
 
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.mltma import MLBatch, course_from_relative_deg
+from tracker.mltma.course import relative_course_on_tack_deg
 from tracker.ranging import level_range, level_sd_db, offset_nodes
 
 
@@ -58,17 +59,19 @@ def test_fast_eq25_search_matches_exhaustive_search(rng):
                                lev[i][None, :], np.full((1, 3), 20.0))
         n = n_cyc - 1
         assert out["used_eq25"][0]
-        k_rel = batch._rel_course(np.array([0]), n)
+        k_rel = relative_course_on_tack_deg(batch.t_s, batch.bearing_deg, batch.tack_start, n,
+                                            batch.params.triples)
         cls = batch.tables.classes[ci]
         off, wts = offset_nodes(cls.noise_sd_db, cls.k_error_sd_db)
         sd_w = level_sd_db(np.full((1, 3), 100.0), batch.bandwidth_hz,
                            batch.sonar.integration_time_s)
-        r_opt, r_sd = level_range(lev[n][None, :], np.ones((1, 3), bool), sd_w, batch.p0_db[:1],
-                                  batch.tables.k_db()[ci], batch.range_axis_m, offsets_db=off, weights=wts)
+        r_opt, r_sd = level_range(lev[n][None, :], np.ones((1, 3), bool), sd_w,
+                                  batch.p0_db[:1], batch.tables.k_db()[ci], batch.range_axis_m,
+                                  offsets_db=off, weights=wts)
         r_sd = np.maximum(r_sd, 100.0)
-        u = np.array([[math.sin(math.radians(b[n]))], [math.cos(math.radians(b[n]))]])
-        res = batch._search(np.array([0]), n, u, k_rel, 90.0, 2.5, r_opt, r_sd)
-        k_f, v_f, r_f = batch._polish(np.array([0]), n, res, k_rel, 90.0, 2.5, r_opt, r_sd)[:3]
+        rows = np.array([0])
+        terms = batch.eq25_terms(rows, k_rel, 90.0, 2.5, r_opt, r_sd)
+        k_f, v_f, r_f = batch.solve_eq25(rows, n, terms)[:3]    # the search, then the polish
         courses = np.arange(0.0, 360.0, 1.0)
         speeds = np.linspace(cls.speed_mean_mps - 3 * cls.speed_sd_mps,
                              cls.speed_mean_mps + 3 * cls.speed_sd_mps, 121)
