@@ -277,7 +277,7 @@ class MLBatch:
         self.rel_course_sd_deg = np.where(eq30, p.rel_course_sd_deg, p.reverse_course_sd_deg)
         if eq30.any():
             rows = np.flatnonzero(eq30)
-            k_rel[rows] = relative_course_on_tack_deg(self.t_s, self.bearing_deg[rows],
+            k_rel[rows] = relative_course_on_tack_deg(self.t_s, self.bearing_deg[rows, :n + 1],
                                                       self.tack_start[rows], n, p.triples)
         return k_rel
 
