@@ -266,7 +266,7 @@ class MLBatch:
             self.obs_x_m[n], self.obs_y_m[n])
 
     def _relative_course(self, n, brg, sd_p):
-        """Steps 5: eq. 8 where eq. 30 and the curvature test pass, else the reverse bearing;
+        """Step 5: eq. 8 where eq. 30 and the curvature test pass, else the reverse bearing;
         sets the relative course's sd in eq. 25 (sK_rho, wider for the reverse bearing)."""
         p, b = self.params, self.n_rows
         eq30 = gates.eq30_passes(brg, self.bearing_deg[np.arange(b), self.tack_start], sd_p,

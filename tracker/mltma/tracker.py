@@ -33,11 +33,11 @@ class MLTracker:
                  params: MLParams | None = None):
         tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
         chosen = tables.class_names if class_names is None else tuple(class_names)
-        self.class_names = tuple(chosen)
-        self.grid_bands = list(tables.band_names)
+        self.class_names = tuple(chosen)                      # one batch row per class
+        self.grid_bands = list(tables.band_names)             # band order of the level arrays
         self.batch = MLBatch(tables, [tables.class_index(c) for c in chosen], capacity, params)
-        self._skipped = 0
-        self._prev = None
+        self._skipped = 0                                     # cycles without a bearing so far
+        self._last_obs = None   # (t_s, obs_x_m, obs_y_m) of the last cycle: observer velocity
 
     def update(self, *, t_s, obs_x_m, obs_y_m, bearing_deg, bearing_sigma_deg=math.nan,
                levels_db: dict | None = None, snrs_db: dict | None = None,
@@ -60,12 +60,12 @@ class MLTracker:
         for name, val in (snrs_db or {}).items():
             sn[self.grid_bands.index(name)] = val
         if obs_velocity_mps is None:
-            if self._prev is None:
+            if self._last_obs is None:
                 obs_velocity_mps = (0.0, 0.0)
             else:
-                pt, px, py = self._prev
+                pt, px, py = self._last_obs
                 obs_velocity_mps = ((obs_x_m - px) / (t_s - pt), (obs_y_m - py) / (t_s - pt))
-        self._prev = (t_s, obs_x_m, obs_y_m)
+        self._last_obs = (t_s, obs_x_m, obs_y_m)
         out = self.batch.update(t_s, obs_x_m, obs_y_m, obs_velocity_mps[0], obs_velocity_mps[1],
                                 bearing_deg, bearing_sigma_deg, lv[None, :], sn[None, :],
                                 obs_depth_m=obs_depth_m)
