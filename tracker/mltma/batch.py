@@ -145,7 +145,8 @@ class MLBatch:
         snr = np.broadcast_to(np.asarray(snr_db, dtype=float), (b, self.n_bands))
         detected = np.isfinite(level)
         top = measurement_sd.highest_detected_band(detected)
-        # steps 3-4: sigma_P (eq. 2) unless the measurement carries it, sigma_dW (eq. 11)
+        # steps 3-4: sd_p = sigma_P (eq. 2) unless the measurement carries it, (B,), deg;
+        # sd_w = sigma_dW (eq. 11), (B, M), dB
         q_thr = measurement_sd.threshold_snr(self.sonar.detection_threshold, self.bandwidth_hz,
                                              self.sonar.integration_time_s)
         sd_w = measurement_sd.level_sd_from_snr_db(snr, q_thr, self.bandwidth_hz,
@@ -173,16 +174,19 @@ class MLBatch:
         obs_speed = math.hypot(obs_vx_mps, obs_vy_mps)
         obs_course = math.degrees(math.atan2(obs_vx_mps, obs_vy_mps)) % 360.0
         k_rel = self._relative_course(n, brg, sd_p)
-        k_fb = course_from_relative_deg(k_rel, self.speed_mean_mps, obs_course, obs_speed)
+        course_fallback_deg = course_from_relative_deg(k_rel, self.speed_mean_mps, obs_course,
+                                                       obs_speed)
 
         # step 8: eq. 25 where the bearing changed enough over 3 minutes, else the fallbacks
         use25 = gates.eq25_applies(t_s, self.t_s, self.bearing_deg, self.tack_start, n, sd_p,
                                    r_prior, window_s=p.eq25_window_s, factor=p.eq25_factor,
                                    min_cycles=p.eq25_min_cycles)
-        u = np.array([np.sin(np.radians(brg)), np.cos(np.radians(brg))])   # (2, B)
-        course = k_fb.copy()
+        bearing_unit = np.array([np.sin(np.radians(brg)), np.cos(np.radians(brg))])   # (2, B)
+        # the fallbacks listed after eq. 25: eq.-7 course at the mean speed, the mean speed,
+        # the eq.-20 range; the course sd is sK_rho widened by the speed sd through eq. 7
+        course = course_fallback_deg.copy()
         speed = self.speed_mean_mps.copy()
-        rng_est = r_prior.copy()
+        range_est_m = r_prior.copy()
         course_sd = np.hypot(p.rel_course_sd_deg, course_speed_slope_deg_per_mps(
             k_rel, self.speed_mean_mps, obs_course, obs_speed) * self.speed_sd_mps)
         speed_sd = self.speed_sd_mps.copy()
@@ -194,18 +198,19 @@ class MLBatch:
                                                        t_s - self.t_s[n - 1], obs_x_m, obs_y_m)
             course = np.where(carry, k_c, course)
             speed = np.where(carry, v_c, speed)
-            rng_est = np.where(carry, r_c, rng_est)
+            range_est_m = np.where(carry, r_c, range_est_m)
         if use25.any():
             rows = np.flatnonzero(use25)
             terms = self.eq25_terms(rows, k_rel[rows], obs_course, obs_speed, r_prior[rows],
                                     r_prior_sd[rows])
-            res = self.solve_eq25(rows, n, terms)
-            course[rows], speed[rows], rng_est[rows] = res[0], res[1], res[2]
-            course_sd[rows], speed_sd[rows], range_sd[rows] = res[3], res[4], res[5]
+            est = self.solve_eq25(rows, n, terms)
+            course[rows], course_sd[rows] = est.course_deg, est.course_sd_deg
+            speed[rows], speed_sd[rows] = est.speed_mps, est.speed_sd_mps
+            range_est_m[rows], range_sd[rows] = est.range_m, est.range_sd_m
 
         # step 9: raw estimates of this cycle (position and velocity) and the smoothing
-        x = obs_x_m + rng_est * u[0]
-        y = obs_y_m + rng_est * u[1]
+        x = obs_x_m + range_est_m * bearing_unit[0]
+        y = obs_y_m + range_est_m * bearing_unit[1]
         vx = speed * np.sin(np.radians(course))
         vy = speed * np.cos(np.radians(course))
         for key, val in (("course_deg", course), ("speed_mps", speed), ("x_m", x), ("y_m", y),
@@ -214,7 +219,7 @@ class MLBatch:
         out = self._smooth(n, obs_x_m, obs_y_m, brg)
         out.update(range_sd_m=range_sd, course_sd_deg=course_sd, speed_sd_mps=speed_sd,
                    tack=self.tack.copy(), used_eq25=use25, r_level_m=r_level,
-                   raw_course_deg=course, raw_speed_mps=speed, raw_range_m=rng_est)
+                   raw_course_deg=course, raw_speed_mps=speed, raw_range_m=range_est_m)
         self.last_range_m = np.where(np.isfinite(out["range_m"]), out["range_m"],
                                      self.last_range_m)
         self.last_estimates = out
