@@ -18,7 +18,9 @@ tau_i = t_i - t_start and (ox_i, oy_i) the observer. The bearing term is z^T F z
 bearings.
 
 For a candidate with velocity v = (vx, vy) at range r along the current bearing p_N from the
-observer (ox_N, oy_N), z = g + H v + r e_u, and z^T F z is quadratic in r:
+observer (ox_N, oy_N), tau_N after the tack start, z = g + H v + r e_u with
+g = (ox_N, oy_N, 0, 0, 1), H v = (-tau_N vx, -tau_N vy, vx, vy, 0) and
+e_u = (sin p_N, cos p_N, 0, 0, 0), so z^T F z is quadratic in r:
 
     z^T F z = e r^2 + 2 r (f0 + f1 . v) + (c0 + 2 c1 . v + v^T C2 v).
 """
