@@ -1,0 +1,18 @@
+"""ML target motion analysis without observer maneuver (Grinenkov & Mashoshin 2024).
+
+tracker.py: MLTracker (one cycle at a time) and track_measurements (a whole file), both
+on batch.py's MLBatch, the state of B rows over T cycles, whose update takes the paper's steps:
+measurement_sd (eqs. 2, 11), maneuver (eqs. 26-27, 29), range_prior (eqs. 20-21), gates (eq. 30,
+curvature, section 4 step 8), course (eqs. 7, 8), eq. 25 by bearing_form + search + polish
+(eq25 holds its terms and exact residuals; window cuts a tack's cycles), smoothing (step 9).
+params: MLParams.
+"""
+
+from tracker.mltma.batch import MLBatch
+from tracker.mltma.course import course_from_relative_deg, relative_course_deg, wrap180
+from tracker.mltma.params import MLParams
+from tracker.mltma.smoothing import trimmed_mean
+from tracker.mltma.tracker import MLTracker, track_measurements
+
+__all__ = ["MLBatch", "MLParams", "MLTracker", "course_from_relative_deg", "relative_course_deg",
+           "track_measurements", "trimmed_mean", "wrap180"]
