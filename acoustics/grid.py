@@ -147,8 +147,8 @@ def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
                                  if run.source_depth_m == cls.depth_m and _fkey(run.freq_hz) in freqs}
     fields: dict[str, np.ndarray] = {}
     by_key = {run.key: run for run in runs}
-    for run, field in iter_runs(runs, **run_options):
-        fields[run.key] = field
+    for run, pressure in iter_runs(runs, **run_options):
+        fields[run.key] = pressure
         for (ic, ib), keys in list(pending.items()):
             if keys <= fields.keys():
                 by_freq = _tl_by_freq(area, [by_key[key] for key in keys], fields)

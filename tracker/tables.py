@@ -299,14 +299,16 @@ class GridTables:
         """K(r) of every class and band at an observer depth (and bearing), dB, (C, M, R).
 
         ``None`` depth means the grid's observer depth; a grid of K alone gives its K at any
-        depth. A bearing-dependent grid needs ``bearing_deg`` (from the observer to the target).
+        depth. A bearing-dependent grid needs ``bearing_deg`` (from the observer to the target);
+        an array of B bearings gives (C, M, B, R).
         """
         self._need_bearing(bearing_deg)
         if self.by_bearing:
             if depth_m is not None:
                 self.check_depth(depth_m)
             j0, j1, w1 = bearing_weights(self.bearing_deg, bearing_deg)
-            return _mix(self.k_grid_db[:, :, j0], self.k_grid_db[:, :, j1], w1)
+            # (C, M, R), or (C, M, B, R) for B bearings
+            return _mix(self.k_grid_db[:, :, j0], self.k_grid_db[:, :, j1], np.asarray(w1)[..., None])
         if depth_m is None or self.tl_db is None:
             return self.k_grid_db
         d = float(depth_m)

@@ -160,8 +160,10 @@ class MLBatch:
         new_tack = self._detect_maneuver(n, sd_p, sd_w)
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
+        # K at the row's bearing from the observer on a bearing-dependent grid: (C, M, B, R)
+        k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg if self.tables.by_bearing else None)
         r_level, r_level_sd = level_ranges_m(
-            level, detected, sd_w, self.p0_db, self.class_index, self.tables.k_db(obs_depth_m),
+            level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)
         r_prior, r_prior_sd = range_prior_m(r_level, r_level_sd, self.last_range_m)
 

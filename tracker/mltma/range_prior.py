@@ -24,8 +24,9 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
     p0_db : ndarray, shape (B,)
         Class mean P0 of each row, dB re 1 uPa.
     class_index : ndarray of int, shape (B,)
-    k_db : ndarray, shape (C, M, R)
-        K(r) of each class and band at the observer's depth, dB.
+    k_db : ndarray, shape (C, M, R), or (C, M, B, R) with one K per row
+        K(r) of each class and band at the observer's depth, dB; per row on a bearing-dependent
+        grid (K at the row's bearing).
     range_axis_m : ndarray, shape (R,)
     level_offsets : list of (offsets_db, weights)
         Eq. 21 quadrature of each class (`tracker.ranging.offset_nodes`).
@@ -43,8 +44,9 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
     for c in np.unique(class_index):
         rows = np.flatnonzero(class_index == c)
         off, wts = level_offsets[c]
-        r_opt[rows], r_sd[rows] = level_range(
-            level_db[rows], detected[rows], level_sd_db[rows], p0_db[rows], k_db[c], range_axis_m,
+        k_class = k_db[c] if k_db.ndim == 3 else np.moveaxis(k_db[c][:, rows], 1, 0)  # (M, R) or
+        r_opt[rows], r_sd[rows] = level_range(                                    # (rows, M, R)
+            level_db[rows], detected[rows], level_sd_db[rows], p0_db[rows], k_class, range_axis_m,
             offsets_db=off, weights=wts, gain_db=gain_db)
     return r_opt, np.maximum(r_sd, range_axis_m[1] - range_axis_m[0])
 
