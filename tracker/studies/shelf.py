@@ -1,0 +1,184 @@
+"""Tracking in a range-dependent area: the bearing-dependent grid against the usual shortcut.
+
+A target is simulated in the built-in ``shelf-break`` area on its bearing-dependent grid (the
+sea as the tables know it: K at the target's bearing and range from the observer). The same
+measurements are then tracked twice, by the same trackers:
+
+- with that grid;
+- with an isotropic grid built from the origin's own sound-speed profile and water depth, as
+  if the whole area were that one column over a flat bottom (the usual shortcut:
+  `origin_area`).
+
+The position error of each is averaged over Monte Carlo runs (RMSE against time), for the ML
+motion analysis of Grinenkov & Mashoshin (``ml``, the true class hypothesis) and the particle
+filter with bearings and SPL of Iglesis & de Montella (``rpf``). The level error dK of eq. 31 is
+drawn once per run from the class's ``k_error_sd_db``, as in their section 4.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from acoustics.build import build_grid_file
+from envdata.area import Area, Water
+from envdata.areafile import load_area
+from envdata.files import atomic_paths
+from envdata.radials import area_radials
+from envdata.ssp import SoundSpeedProfile
+from tracker.mltma import MLBatch
+from tracker.rpf import RpfConfig, run_batch
+from tracker.rpf.track import cycle_profiles
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate_batch
+from tracker.tables import GridTables
+
+AREA = "shelf-break"
+SCENARIO = "shelf-tv"
+GRIDS = ("bearing", "isotropic")
+METHODS = ("ml", "rpf")
+#: Times (min after the first cycle) at which the summary gives the RMSE.
+REPORT_MIN = (5, 10, 20, 30)
+
+
+def origin_area(area: Area) -> Area:
+    """The usual shortcut: ``area`` as one column over a flat bottom, the origin's own.
+
+    The water depth is the bottom at the origin, the sound-speed profile the section's column
+    nearest the origin cut at that depth (linear in depth), and the radials go: a grid without
+    bearings.
+    """
+    radial = area_radials(area)[0]
+    depth = float(np.interp(0.0, radial.range_m, radial.bottom_depth_m))
+    column = radial.speed_mps[:, int(np.argmin(np.abs(radial.ssp_range_m)))]
+    z = radial.ssp_depth_m
+    keep = z < depth
+    ssp = SoundSpeedProfile(depth_m=tuple(float(v) for v in np.append(z[keep], depth)),
+                            speed_mps=tuple(float(v) for v in np.append(
+                                np.round(column[keep], 3), round(float(np.interp(depth, z, column)), 3))),
+                            kind="table")
+    doc = dataclasses.replace(area, water=Water(depth_m=depth, ssp=ssp), origin=None, bearings=None,
+                              name=f"{area.name}-origin",
+                              description=f"{area.name} as its origin's column over a flat bottom "
+                                          f"({depth:.0f} m): the usual shortcut").to_dict()
+    from envdata.areafile import parse_area
+
+    return parse_area(doc, f"{area.name}-origin")
+
+
+def _ml_errors(tables: GridTables, sim, cls_index: int) -> np.ndarray:
+    """Position error of the ML tracker, true class, every run and cycle, m (E, T)."""
+    e, t = sim.bearing_deg.shape
+    batch = MLBatch(tables, np.full(e, cls_index), t)
+    vx = np.gradient(sim.obs_x_m, sim.t_s)
+    vy = np.gradient(sim.obs_y_m, sim.t_s)
+    err = np.full((e, t), np.nan)
+    for i in range(t):
+        out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
+                           sim.bearing_deg[:, i], sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :],
+                           sim.snr_db[:, i, :], obs_depth_m=sim.obs_depth_m)
+        err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
+    return err
+
+
+def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.random.Generator,
+                n_particles: int) -> np.ndarray:
+    """Position error of the particle filter (bearings and the band's SPL), m (E, T)."""
+    e, t = sim.bearing_deg.shape
+    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
+                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
+    target = tables.classes[cls_index]
+    # the class's speed statistics and level errors (eq. 11's ~1.1 dB and dK); a range prior
+    # around the first range with 25 % sd, the same whichever grid is tracked with
+    r0 = float(np.mean(sim.range_m[:, 0]))
+    cfg = RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
+                    level_sigma_db=float(np.hypot(1.1, target.k_error_sd_db)),
+                    range_mean_m=r0, range_sd_m=0.25 * r0, speed_mean_mps=target.speed_mean_mps,
+                    speed_sd_mps=target.speed_sd_mps, shrink=True)
+    err = np.empty((e, t))
+    for run in range(e):  # each run its own measured bearings, so its own K profiles
+        bearing = np.radians(sim.bearing_deg[run])
+        profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m),
+                                  sim.bearing_deg[run])
+        res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
+                        level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles,
+                        cfg=cfg, rng=rng, source_level_model="p0", p0_db=target.noise_mean_db,
+                        p0_sd_db=target.noise_sd_db)
+        mean = res.mean[0]
+        err[run] = np.hypot(mean[:, 0] + obs[:, 0] - sim.x_m[run], mean[:, 1] + obs[:, 1] - sim.y_m[run])
+    return err
+
+
+def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
+        progress: bool = False) -> dict:
+    """The study: build (or reuse) both grids in ``out_dir``, simulate ``runs`` runs on the
+    bearing-dependent one, track them with both; write ``shelf_rmse.csv``, ``shelf.json`` and
+    ``shelf_rmse.png`` (all or none) and return the summary."""
+    start = time.perf_counter()
+    out = Path(out_dir)
+    area = load_area(AREA)
+    grids = {"bearing": build_grid_file(area, out / f"{AREA}-bellhop.nc", workers=workers,
+                                        progress=progress)["file"],
+             "isotropic": build_grid_file(origin_area(area), out / f"{AREA}-origin-bellhop.nc",
+                                          workers=workers, progress=progress)["file"]}
+    from acoustics.io import open_grid
+
+    tables = {name: GridTables.from_grid(open_grid(path), path) for name, path in grids.items()}
+    sc = load_scenario(SCENARIO)
+    truth = tables["bearing"]
+    cls_index = truth.class_index(sc.target_class)
+    band = 0  # FB1, the band heard farthest
+    rng = np.random.default_rng(seed)
+    sim = simulate_batch(sc, truth, rng, dk_db=rng.normal(0.0, truth.classes[cls_index].k_error_sd_db,
+                                                              runs))
+    errors = {}
+    for name, tab in tables.items():
+        errors[("ml", name)] = _ml_errors(tab, sim, tab.class_index(sc.target_class))
+        errors[("rpf", name)] = _rpf_errors(tab, sim, tab.class_index(sc.target_class), band,
+                                            np.random.default_rng([seed, GRIDS.index(name)]), n_particles)
+    minutes = (sim.t_s - sim.t_s[0]) / 60.0
+    frame = pd.DataFrame({"t_min": minutes})
+    for (method, grid), err in errors.items():
+        frame[f"{method}_{grid}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
+    summary = {"scenario": sc.name, "area": AREA, "runs": runs, "seed": seed, "n_particles": n_particles,
+               "band": truth.band_names[band], "class": sc.target_class,
+               "origin_depth_m": float(tables["isotropic"].area.water.depth_m),
+               "grids": {k: str(v) for k, v in grids.items()},
+               "rmse_m": {f"{method}_{grid}": {f"{m:g}": float(np.interp(m, minutes,
+                                                                         frame[f"{method}_{grid}_rmse_m"]))
+                                               for m in REPORT_MIN}
+                          for method in METHODS for grid in GRIDS},
+               "mean_rmse_after_5min_m": {f"{method}_{grid}": float(np.sqrt(np.nanmean(
+                   errors[(method, grid)][:, minutes >= 5.0] ** 2))) for method in METHODS for grid in GRIDS},
+               "seconds": round(time.perf_counter() - start, 1)}
+    files = [out / "shelf_rmse.csv", out / "shelf.json", out / "shelf_rmse.png"]
+    from tracker.studies.shelf_plot import rmse_figure
+
+    fig = rmse_figure(frame, summary)
+    from acoustics.figures import save_figure
+
+    with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):
+        frame.to_csv(csv_tmp, index=False, float_format="%.6g")
+        json_tmp.write_text(json.dumps(summary, indent=1) + "\n")
+        save_figure(fig, png_tmp, atomic=False)
+    summary["files"] = [str(f) for f in files]
+    summary["summary"] = _text(summary)
+    return summary
+
+
+def _text(summary: dict) -> str:
+    lines = [f"shelf study: {summary['runs']} runs of {summary['scenario']} in {summary['area']} "
+             f"(class {summary['class']}, SPL band {summary['band']}); position RMSE, m, at "
+             + ", ".join(f"{m} min" for m in REPORT_MIN) + ":"]
+    for key, by_min in summary["rmse_m"].items():
+        lines.append(f"  {key:>14}: " + "  ".join(f"{v:8.0f}" for v in by_min.values())
+                     + f"   (mean after 5 min {summary['mean_rmse_after_5min_m'][key]:.0f} m)")
+    lines.append(f"  the isotropic grid is the origin's column over a flat bottom of "
+                 f"{summary['origin_depth_m']:.0f} m")
+    return "\n".join(lines)
+
