@@ -33,6 +33,8 @@ from envdata.radials import geodesic_points
 
 #: Bearing resolution of the map between radials, deg.
 MAP_STEP_DEG = 1.0
+#: Where any band is detected (apart from the bands' own colours and from land).
+ANY_BAND_COLOR = "#a6cee3"
 
 
 def map_bearings(grid_bearings_deg) -> np.ndarray:
@@ -79,7 +81,7 @@ def map_figure(ds: xr.Dataset, *, what: What | str = What.K, classes: list[str] 
     n_panels = len(classes) + (bathymetry is not None)
     ncols = n_panels if n_panels <= 3 else math.ceil(n_panels / 2)
     nrows = math.ceil(n_panels / ncols)
-    fig = new_figure(figsize=(4.7 * ncols + 0.4, 4.8 * nrows + 1.1), layout="constrained")
+    fig = new_figure(figsize=(4.7 * ncols + 0.4, 5.2 * nrows + 1.2), layout="constrained")
     axes = [fig.add_subplot(nrows, ncols, i + 1, projection="polar") for i in range(len(classes))]
     where = (f"area {ds.attrs['area']}, origin {origin_label(ds)}, observer at "
              f"{float(ds.attrs['observer_depth_m']):g} m\nbearing clockwise from true north, range in km; "
@@ -128,9 +130,9 @@ def _detection_panels(ds, fig, axes, classes, bearings, bottom, r_km, outlines):
         dm = detection_map(ds, c, bearings)
         terms = dm.terms
         any_km = np.append(dm.range_m, dm.range_m[0]) / 1000.0
-        ax.fill(theta, np.nan_to_num(any_km, nan=0.0), color="tab:orange", alpha=0.25, zorder=0,
+        ax.fill(theta, np.nan_to_num(any_km, nan=0.0), color=ANY_BAND_COLOR, alpha=0.45, zorder=0,
                 label="any band")
-        line, = ax.plot(theta, any_km, color="tab:orange", lw=3.0, alpha=0.55, zorder=4)
+        line, = ax.plot(theta, any_km, color="k", lw=3.0, alpha=0.25, zorder=4)
         line.set_gid(f"detection:{c}")
         for i, b in enumerate(band_names):
             km = np.append(dm.band_range_m[i], dm.band_range_m[i][0]) / 1000.0
@@ -139,11 +141,21 @@ def _detection_panels(ds, fig, axes, classes, bearings, bottom, r_km, outlines):
             line.set_gid(f"detection:{c}:{b}")
         outlines[c] = dm.range_m
         _setting(ds, ax, bearings, bottom, r_km)
-        ax.set_title(f"class {class_label(ds, c)}, {dm.terms.level_label}", fontsize=9.5)
+        ax.set_title(f"class {class_label(ds, c)}, {dm.terms.level_label}\n{_span(dm.range_m)}", fontsize=9.5)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8,
                title="detected out to (the outer circle is the grid's last range)", title_fontsize=8)
     return terms
+
+
+def _span(range_m: np.ndarray) -> str:
+    """How far any band is detected, over the bearings, for a panel's title."""
+    found = range_m[np.isfinite(range_m)] / 1000.0
+    if not found.size:
+        return "detected nowhere"
+    if found.min() == found.max():
+        return f"any band detected out to {found.max():g} km"
+    return f"any band detected out to {found.min():g}-{found.max():g} km"
 
 
 def _setting(ds: xr.Dataset, ax, bearings: np.ndarray, bottom: np.ndarray, r_km: np.ndarray) -> None:
@@ -214,7 +226,7 @@ def _latlon_panel(ds: xr.Dataset, ax, bathy: ElevationGrid, outlines: dict[str, 
     ax.set_xlabel(f"longitude, {DEG}E")
     ax.set_ylabel(f"latitude, {DEG}N")
     ax.tick_params(labelsize=7)
-    ax.legend(fontsize=7, loc="lower left", framealpha=0.85)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
     ax.figure.colorbar(mesh, ax=ax, shrink=0.75, label="water depth in the file, m")
     ax.set_title(f"bathymetry file {bathy.path.name}: depth contours, land (tan)"
                  + (f"\n{note}" if note else ""), fontsize=8.5)

@@ -5,7 +5,8 @@ interpolated between radials. This is that rule for the figures, which sit below
 the layers (``tracker.tables.bearing_weights`` is the same rule on the trackers' side): the two
 radials around a bearing (clockwise), weighted linearly by the angle from each; a radial of
 weight 0 does not count, even where it holds NaN, so a bearing on a radial gives that radial's
-values exactly.
+values exactly. A TL section takes the nearest radial instead (``nearest_radial``): TL over two
+different bottoms does not mix.
 """
 
 from __future__ import annotations
@@ -68,13 +69,8 @@ def at_bearings(values, bearings_deg: np.ndarray, bearing_deg) -> np.ndarray:
     return np.where(w <= 0.0, a0, np.where(w >= 1.0, a1, (1.0 - w) * a0 + w * a1))
 
 
-def describe_bearing(bearings_deg: np.ndarray, bearing_deg: float) -> str:
-    """Where a bearing lies among the radials, for a title: on one, or between which two."""
+def nearest_radial(bearings_deg: np.ndarray, bearing_deg: float) -> int:
+    """Index of the radial nearest to a bearing, across 0/360 (halfway: the one before it,
+    counter-clockwise)."""
     j0, j1, w1 = bearing_weights(bearings_deg, bearing_deg)
-    grid = np.asarray(bearings_deg, dtype=float)
-    if float(w1) <= 0.0:
-        return f"on the radial {grid[int(j0)]:g}\N{DEGREE SIGN}"
-    if float(w1) >= 1.0:
-        return f"on the radial {grid[int(j1)]:g}\N{DEGREE SIGN}"
-    return (f"linear between the radials {grid[int(j0)]:g}\N{DEGREE SIGN} and "
-            f"{grid[int(j1)]:g}\N{DEGREE SIGN}")
+    return int(j1) if float(w1) > 0.5 else int(j0)

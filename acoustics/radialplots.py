@@ -54,7 +54,8 @@ def plot_bearing_grid(ds: xr.Dataset, out: str | Path, *, what: What | str = Wha
     band : str, optional
         The band of the K map and of the section (default: the first band).
     bearing_deg : float, optional
-        The section's bearing, deg in [0, 360); no section without it.
+        The section's bearing, deg in [0, 360): the radial nearest to it is drawn; no section
+        without it.
     bathymetry : ElevationGrid, optional
         The bathymetry file's cells around the origin (``acoustics.gridbathymetry``): adds the
         latitude-longitude panel to the map.

@@ -50,8 +50,8 @@ def register(sub, common) -> None:
                     help="the map: K(r) in --band (k, the default) or the detection range per band, "
                          "each class at its mean level (detection); bearing-dependent grids")
     pl.add_argument("--bearing", type=float, metavar="DEG",
-                    help="also write STEM-section.png: TL over depth and range along this bearing, deg "
-                         "in [0, 360), linear between the radials around it (bearing-dependent grids)")
+                    help="also write STEM-section.png: TL over depth and range on the radial nearest "
+                         "to this bearing, deg in [0, 360) (bearing-dependent grids)")
     pl.add_argument("--bathymetry", type=Path, metavar="FILE",
                     help="bathymetry file for the map's latitude-longitude panel (default: the file the "
                          "grid records, if found by its name and sha256)")
