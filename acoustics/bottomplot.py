@@ -34,7 +34,8 @@ def bottom_figure(ds: xr.Dataset) -> Figure:
     deepest = float(np.nanmax(bottom)) if np.isfinite(bottom).any() else obs
     fig = new_figure(figsize=(14.0, 5.4), layout="constrained")
     ax, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
-    cmap = matplotlib.colormaps["twilight"]
+    # a cyclic scale dark enough everywhere for lines on white (twilight fades to white at north)
+    cmap = ListedColormap(matplotlib.colormaps["hsv"](np.linspace(0.0, 1.0, 256))[:, :3] * 0.8)
     coasts = []
     for b, row in zip(bearings, bottom):
         line, = ax.plot(r_km, row, color=cmap(float(b) / 360.0), lw=1.3)
@@ -62,8 +63,9 @@ def bottom_figure(ds: xr.Dataset) -> Figure:
     ticks = bearings if bearings.size <= 12 else np.arange(0, 360, 45)
     cb.set_ticks(ticks)
     ax.set_title("bottom along each radial, one line per bearing", fontsize=9.5)
-    mesh = ax2.pcolormesh(r_km, bearings, bottom, shading="nearest", cmap="viridis_r", rasterized=True)
-    ax2.pcolormesh(r_km, bearings, np.where(np.isfinite(bottom), np.nan, 1.0), shading="nearest",
+    r_edges, b_edges = _edges(r_km, 0.1), _edges(bearings, 10.0)
+    mesh = ax2.pcolormesh(r_edges, b_edges, bottom, cmap="viridis_r", rasterized=True)
+    ax2.pcolormesh(r_edges, b_edges, np.where(np.isfinite(bottom), np.nan, 1.0),
                    cmap=ListedColormap([LAND_COLOR]), vmin=0, vmax=1, rasterized=True)
     levels = contour_levels(bottom)
     if levels and bearings.size > 1:
@@ -74,6 +76,17 @@ def bottom_figure(ds: xr.Dataset) -> Figure:
     ax2.set_ylabel(f"radial bearing, {DEG} from true north")
     ax2.set_title("water depth by radial, each row one radial (tan: land beyond the coast)", fontsize=9.5)
     fig.colorbar(mesh, ax=ax2, pad=0.01, label="water depth, m")
-    fig.suptitle(f"area {ds.attrs['area']}: the bottom (bottom_depth_m) along the {bearings.size} radials "
+    radials = "radial" if bearings.size == 1 else "radials"
+    fig.suptitle(f"area {ds.attrs['area']}: the bottom (bottom_depth_m) along the {bearings.size} {radials} "
                  f"from {origin_label(ds)}", fontsize=10.5)
     return fig
+
+
+def _edges(centres: np.ndarray, width_if_one: float) -> np.ndarray:
+    """Cell edges halfway between centres (the outer cells as wide as their neighbours); one
+    centre gets a cell ``width_if_one`` wide."""
+    c = np.asarray(centres, dtype=float)
+    if c.size == 1:
+        return np.array([c[0] - width_if_one / 2, c[0] + width_if_one / 2])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])

@@ -260,3 +260,20 @@ def test_the_plot_paths_sit_beside_the_map():
     assert bearing_plot_paths(Path("out/a.b.png"), section=True) == {
         "map": Path("out/a.b.png"), "bottom": Path("out/a.b-bottom.png"), "section": Path("out/a.b-section.png")}
     assert bearing_plot_paths("map") == {"map": Path("map"), "bottom": Path("map-bottom.png")}
+
+
+def test_one_radial_over_a_flat_bottom_plots_too(tiny_area, tmp_path):
+    """No contours to draw, no land, one row in the range-bearing image (Urick: no BELLHOP)."""
+    doc = tiny_area.to_dict()
+    doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
+    doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
+    doc["bearings"] = {"bearing_deg": [30.0]}
+    grid = acoustics.build_grid(envdata.parse_area(doc, "one-radial"), model="urick")
+    written = plot_bearing_grid(grid, tmp_path / "one.png", what="detection", bearing_deg=200.0)
+    assert all(png_size(p)[0] > 1000 for p in written.values())
+    fig = bottom_figure(grid)
+    image = fig.axes[1].collections[0]  # the range-bearing image: one row, the water depth
+    assert_allclose(np.asarray(image.get_array()).ravel(), tiny_area.water.depth_m)
+    assert np.ptp(image.get_coordinates()[..., 1]) > 0.0  # the row has a height: it shows
+    dm = detection_map(grid, "SHIP", [30.0, 210.0])
+    assert dm.range_m[0] == dm.range_m[1]  # one radial serves every bearing
