@@ -21,8 +21,8 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
-from acoustics.radialstyle import grid_area
 from acoustics.radialinterp import at_bearings
+from acoustics.radialstyle import grid_area
 from envdata.classes import SourceLevelModel, TargetClass, ross_source_level_db
 
 

@@ -16,6 +16,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from acoustics.bottomplot import bottom_figure
+from acoustics.figures import save_figure
 from acoustics.mapplot import map_figure
 from acoustics.radialstyle import DPI, What, check_plot_options, grid_source
 from acoustics.sectionplot import section_figure
@@ -91,4 +92,4 @@ def write_figures(figures: dict[Path, Figure], dpi: int = DPI) -> None:
     targets = list(figures)
     with atomic_paths(targets) as temps:
         for tmp, target in zip(temps, targets):
-            figures[target].savefig(tmp, format="png", dpi=dpi)
+            save_figure(figures[target], tmp, dpi=dpi, atomic=False)  # atomic_paths renames them
