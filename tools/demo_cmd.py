@@ -1,4 +1,5 @@
-"""``tmakit demo``: the main job on the built-in default area."""
+"""``tmakit demo``: the main job on the built-in default area, and the map of a bearing-dependent
+area (the built-in shelf break)."""
 
 from __future__ import annotations
 
@@ -8,13 +9,24 @@ from pathlib import Path
 import acoustics
 import envdata
 from acoustics.build import build_grid_file
+from acoustics.bottomplot import bottom_figure
+from acoustics.gridbathymetry import find_bathymetry, load_around_origin
+from acoustics.mapplot import map_figure
 from acoustics.plot import plot_grid
+from acoustics.radialplots import write_figures
+from acoustics.radialstyle import What
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report, want_progress
 
+#: The built-in area whose bearing-dependent grid the demo maps.
+MAP_AREA = "shelf-break"
+#: Its figures, each written as MAP_AREA-NAME.png.
+MAP_FIGURES = ("k", "detection", "bottom")
+
 
 def register(sub, common) -> None:
-    p = sub.add_parser("demo", parents=[common], help="build and plot the default area's grids")
+    p = sub.add_parser("demo", parents=[common],
+                       help=f"build and plot the default area's grids, and map the {MAP_AREA} area")
     p.add_argument("--out", type=Path, default=Path("out/demo"), metavar="DIR")
     p.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     p.add_argument("--force", action="store_true",
@@ -29,6 +41,11 @@ def run(args) -> Report:
     area = envdata.load_area(envdata.DEFAULT_AREA)
     for cls in area.classes:
         check_output_file(args.out / f"{envdata.DEFAULT_AREA}-{cls.name}.png", Kind.PNG, force=args.force)
+    map_grid = args.out / f"{MAP_AREA}-bellhop.nc"
+    check_output_file(map_grid, Kind.NETCDF, force=args.force)
+    map_pngs = {what: args.out / f"{MAP_AREA}-{what}.png" for what in MAP_FIGURES}
+    for png in map_pngs.values():
+        check_output_file(png, Kind.PNG, force=args.force)
     args.out.mkdir(parents=True, exist_ok=True)
     info = build_grid_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers,
                            progress=want_progress(args))
@@ -38,7 +55,26 @@ def run(args) -> Report:
         png = args.out / f"{envdata.DEFAULT_AREA}-{cls_name}.png"
         plot_grid(ds, png, cls_name=str(cls_name))
         plots.append(str(png))
+    map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
+    _map_area(acoustics.open_grid(map_grid), map_grid, map_pngs)
+    plots.extend(str(p) for p in map_pngs.values())
     state = "up to date" if info["up_to_date"] else f"built in {info['wall_seconds']:.1f} s"
+    map_state = "up to date" if map_info["up_to_date"] else f"built in {map_info['wall_seconds']:.1f} s"
     summary = (f"demo: area {envdata.DEFAULT_AREA}: grid {grid_path} ({state})\n"
+               f"      area {MAP_AREA}: grid {map_grid} ({map_state})\n"
                + "\n".join(f"  plot {p}" for p in plots))
-    return Report(summary, {"grid": info, "plots": plots})
+    return Report(summary, {"grid": info, "map_grid": map_info, "plots": plots})
+
+
+def _map_area(ds, grid_path: Path, pngs: dict[str, Path]) -> None:
+    """The bearing-dependent area's K map, detection map and bottom, written all or none."""
+    lat0, lon0 = float(ds.attrs["origin_lat_deg"]), float(ds.attrs["origin_lon_deg"])
+    choice = find_bathymetry(ds, grid_path=grid_path)
+    bathymetry = (load_around_origin(choice, lat0, lon0, float(ds["range"].values[-1]))
+                  if choice is not None else None)
+    note = f"{choice.how}; sha256 as the grid records" if choice is not None else ""
+    figures = {pngs["k"]: map_figure(ds, what=What.K, bathymetry=bathymetry, bathymetry_note=note),
+               pngs["detection"]: map_figure(ds, what=What.DETECTION, bathymetry=bathymetry,
+                                             bathymetry_note=note),
+               pngs["bottom"]: bottom_figure(ds)}
+    write_figures(figures)

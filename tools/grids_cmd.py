@@ -10,6 +10,7 @@ import numpy as np
 import acoustics
 import envdata
 from acoustics.build import build_grid_file
+from acoustics.radialstyle import What, check_plot_options
 from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
 
@@ -34,11 +35,27 @@ def register(sub, common) -> None:
     s.add_argument("file", type=Path, metavar="FILE")
     s.set_defaults(func=run_show)
 
-    pl = gsub.add_parser("plot", parents=[common], help="plot TL fields and K(r) curves")
+    pl = gsub.add_parser("plot", parents=[common], help="plot TL fields and K(r) curves; for a "
+                         "bearing-dependent grid also the map around the origin and the bottom")
     pl.add_argument("file", type=Path, metavar="FILE")
-    pl.add_argument("--out", type=Path, required=True, metavar="PNG")
-    pl.add_argument("--class", dest="cls_name", help="class whose TL field to draw (default: the first)")
-    pl.add_argument("--force", action="store_true", help="replace --out even if it is not a PNG")
+    pl.add_argument("--out", type=Path, required=True, metavar="PNG",
+                    help="the plot; for a bearing-dependent grid the map, with STEM-bottom.png (and "
+                         "STEM-section.png with --bearing) written beside it")
+    pl.add_argument("--class", dest="cls_name",
+                    help="class whose TL field (or section) to draw, the only class on the map "
+                         "(default: the first; every class on the map)")
+    pl.add_argument("--band", help="band of the K(r) map and the section (bearing-dependent grids; "
+                                   "default: the first)")
+    pl.add_argument("--what", choices=[w.value for w in What],
+                    help="the map: K(r) in --band (k, the default) or the detection range per band, "
+                         "each class at its mean level (detection); bearing-dependent grids")
+    pl.add_argument("--bearing", type=float, metavar="DEG",
+                    help="also write STEM-section.png: TL over depth and range on the radial nearest "
+                         "to this bearing, deg in [0, 360) (bearing-dependent grids)")
+    pl.add_argument("--bathymetry", type=Path, metavar="FILE",
+                    help="bathymetry file for the map's latitude-longitude panel (default: the file the "
+                         "grid records, if found by its name and sha256)")
+    pl.add_argument("--force", action="store_true", help="replace the outputs even if they are not PNGs")
     pl.set_defaults(func=run_plot)
 
 
@@ -91,8 +108,47 @@ def run_plot(args) -> Report:
 
     check_output_file(args.out, Kind.PNG, force=args.force)
     ds = acoustics.open_grid(args.file)
+    if "bearing" in ds.dims:
+        return _plot_bearing_grid(args, ds)
+    for option, value in (("--bearing", args.bearing), ("--band", args.band), ("--what", args.what),
+                          ("--bathymetry", args.bathymetry)):
+        if value is not None:
+            raise envdata.InputError(f"{args.file}: {option} is for a bearing-dependent grid; this grid has "
+                                     f"no bearings (its area has no [origin]), its TL is the same along "
+                                     f"every bearing")
     if args.cls_name is not None and args.cls_name not in ds["class"].values:
         raise envdata.InputError(f"{args.file}: --class {args.cls_name!r} is not a class of the grid "
                                  f"({', '.join(map(str, ds['class'].values))})")
     plot_grid(ds, args.out, cls_name=args.cls_name)
     return Report(f"wrote {args.out}", {"file": str(args.out)})
+
+
+def _plot_bearing_grid(args, ds) -> Report:
+    """The map, the bottom and the section of a bearing-dependent grid (acoustics.radialplots)."""
+    from acoustics.gridbathymetry import find_bathymetry, load_around_origin
+    from acoustics.radialplots import bearing_plot_paths, plot_bearing_grid
+
+    check_plot_options(ds, cls_name=args.cls_name, band=args.band, bearing_deg=args.bearing)
+    paths = bearing_plot_paths(args.out, section=args.bearing is not None)
+    for path in paths.values():
+        check_output_file(path, Kind.PNG, force=args.force)
+    choice = find_bathymetry(ds, given=args.bathymetry, grid_path=args.file)
+    bathymetry, note = None, ""
+    if choice is not None:
+        lat0, lon0 = float(ds.attrs["origin_lat_deg"]), float(ds.attrs["origin_lon_deg"])
+        bathymetry = load_around_origin(choice, lat0, lon0, float(ds["range"].values[-1]))
+        note = (f"{choice.how}; sha256 as the grid records" if choice.matches
+                else "given; not the file the grid was built from (sha256 differs)")
+    what = What(args.what or What.K)
+    written = plot_bearing_grid(ds, args.out, what=what, cls_name=args.cls_name, band=args.band,
+                                bearing_deg=args.bearing, bathymetry=bathymetry, bathymetry_note=note)
+    lines = [f"wrote {path} ({key})" for key, path in written.items()]
+    if choice is not None:
+        lines.append(f"  bathymetry {choice.path} ({note})")
+    else:
+        lines.append("  no bathymetry file at hand: the map has no latitude-longitude panel "
+                     "(--bathymetry FILE adds it)")
+    data = {"files": {key: str(path) for key, path in written.items()}, "what": str(what),
+            "bathymetry": None if choice is None else {"file": str(choice.path), "found": choice.how,
+                                                       "matches_grid": choice.matches}}
+    return Report("\n".join(lines), data)

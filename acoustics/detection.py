@@ -1,0 +1,180 @@
+"""Detection range of a target class along each bearing of a bearing-dependent grid.
+
+DESIGN.md "Area file" (the meanings tests rely on) and Grinenkov & Mashoshin eqs. 2, 11, 12:
+the band level is W = P0 + K(r) + H; the band SNR after the array is
+
+    10 lg q = W - H - (N_band - DI) = P0 + K(r) - (N_band - DI),
+
+N_band the area's sea noise in the band and DI the array's directivity index; the indicator SNR
+is Q = q sqrt(df T) (df the band's width, 1 Hz for one frequency; T the integration time), and a
+band is detected where Q >= the sonar's detection threshold. The detection range along a bearing
+is the largest grid range where the band (or, for the class, any band) is detected, as in the
+simulator (``tracker.simulate.max_detection_range_m``, which the tracker layer keeps for its own
+grids); the figures sit below the tracker, so the few lines live here for them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from acoustics.errors import GridFileError
+from acoustics.radialinterp import at_bearings
+from acoustics.radialstyle import grid_area
+from envdata.classes import SourceLevelModel, TargetClass, ross_source_level_db
+
+
+def band_snr_db(k_db, p0_db, noise_band_db, directivity_index_db: float) -> np.ndarray:
+    """Band SNR 10 lg q = P0 + K(r) - (N_band - DI), dB (eqs. 11-12; H cancels)."""
+    return np.asarray(p0_db, dtype=float) + np.asarray(k_db, dtype=float) - (
+        np.asarray(noise_band_db, dtype=float) - directivity_index_db)
+
+
+def indicator_snr(snr_db, bandwidth_hz, integration_time_s: float) -> np.ndarray:
+    """Indicator SNR Q = q sqrt(df T) of eq. 2, linear, from the band SNR 10 lg q in dB."""
+    q = 10.0 ** (np.asarray(snr_db, dtype=float) / 10.0)
+    return q * np.sqrt(np.asarray(bandwidth_hz, dtype=float) * integration_time_s)
+
+
+def k_needed_db(p0_db, noise_band_db, directivity_index_db: float, bandwidth_hz,
+                integration_time_s: float, threshold: float) -> np.ndarray:
+    """The K(r) at which a band reaches the detection threshold, dB: Q = threshold solved for K.
+
+    10 lg q = 10 lg(threshold / sqrt(df T)), so K = 10 lg(threshold / sqrt(df T)) - P0 + N_band - DI;
+    a band with K(r) at or above this is detected.
+    """
+    snr_needed = 10.0 * np.log10(threshold / np.sqrt(np.asarray(bandwidth_hz, dtype=float)
+                                                     * integration_time_s))
+    return snr_needed - np.asarray(p0_db, dtype=float) + np.asarray(noise_band_db, dtype=float) \
+        - directivity_index_db
+
+
+def farthest_m(range_m, detected) -> np.ndarray:
+    """The largest range (last axis) where ``detected`` holds, m; NaN where it never does."""
+    det = np.asarray(detected, dtype=bool)
+    r = np.broadcast_to(np.asarray(range_m, dtype=float), det.shape)
+    best = np.max(np.where(det, r, -np.inf), axis=-1)
+    return np.where(np.isfinite(best), best, np.nan)
+
+
+def class_mean_level(cls: TargetClass) -> tuple[float, str]:
+    """The class's mean source level for a detection map, dB, and how the title names it.
+
+    'p0' classes: ``noise_mean_db`` (P0, spectral level at 1 kHz); 'ross' classes: the Ross level
+    at the class's mean speed (at the band centre, as their K is referred).
+    """
+    if cls.source_level_model is SourceLevelModel.ROSS:
+        level = float(ross_source_level_db(cls.speed_mean_mps))
+        return level, f"Ross SL {level:.1f} dB at {cls.speed_mean_mps:g} m/s"
+    return float(cls.noise_mean_db), f"P0 {cls.noise_mean_db:g} dB"
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DetectionTerms:
+    """What decides detection for one class in the bands of a grid (grid band order).
+
+    Attributes
+    ----------
+    p0_db : float
+        The class's mean level (``class_mean_level``), dB re 1 uPa.
+    level_label : str
+        How a title names that level.
+    noise_band_db : ndarray, shape (M,)
+        Sea noise in each band, dB re 1 uPa.
+    bandwidth_hz : ndarray, shape (M,)
+        df of each band, Hz (1 Hz for one frequency).
+    directivity_index_db, integration_time_s, threshold : float
+        The sonar's DI, dB; T, s; and the indicator-SNR threshold, linear.
+    """
+
+    p0_db: float
+    level_label: str
+    noise_band_db: np.ndarray
+    bandwidth_hz: np.ndarray
+    directivity_index_db: float
+    integration_time_s: float
+    threshold: float
+
+    def detected(self, k_db) -> np.ndarray:
+        """Where a band is detected, for K(r) of shape (..., M, R) in dB; NaN K never is."""
+        snr = band_snr_db(k_db, self.p0_db, self.noise_band_db[:, None], self.directivity_index_db)
+        q_ind = indicator_snr(snr, self.bandwidth_hz[:, None], self.integration_time_s)
+        return np.nan_to_num(q_ind, nan=0.0) >= self.threshold
+
+    def k_needed_db(self) -> np.ndarray:
+        """The K(r) each band needs to be detected, dB, shape (M,)."""
+        return k_needed_db(self.p0_db, self.noise_band_db, self.directivity_index_db,
+                           self.bandwidth_hz, self.integration_time_s, self.threshold)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DetectionMap:
+    """Detection ranges of one class at its mean level, per band and bearing.
+
+    Attributes
+    ----------
+    cls_name : str
+    terms : DetectionTerms
+        The level, noise and sonar used.
+    bearing_deg : ndarray, shape (B,)
+        Bearings, deg, clockwise from true north at the origin.
+    band_names : tuple of str
+    band_range_m : ndarray, shape (M, B)
+        Largest range at which each band is detected, m; NaN where it is nowhere.
+    range_m : ndarray, shape (B,)
+        Largest range at which any band is detected, m; NaN where none is.
+    """
+
+    cls_name: str
+    terms: DetectionTerms
+    bearing_deg: np.ndarray
+    band_names: tuple[str, ...]
+    band_range_m: np.ndarray
+    range_m: np.ndarray
+
+
+def detection_terms(ds: xr.Dataset, cls_name: str) -> DetectionTerms:
+    """The detection terms of a class of a grid, from the area stored in it."""
+    area = grid_area(ds)
+    by_class = {c.name: c for c in area.classes}
+    if cls_name not in by_class:
+        raise GridFileError(f"{ds.encoding.get('source', area.name)}: class {cls_name!r} is not in "
+                            f"the grid's area_json ({', '.join(by_class)})")
+    bands = {b.name: b for b in area.bands}
+    band_names = [str(b) for b in ds["band"].values]
+    p0, label = class_mean_level(by_class[cls_name])
+    sonar = area.sonar
+    return DetectionTerms(p0_db=p0, level_label=label,
+                          noise_band_db=np.array([area.noise.band_level_db(bands[n]) for n in band_names]),
+                          bandwidth_hz=np.array([bands[n].width_hz for n in band_names]),
+                          directivity_index_db=sonar.directivity_index_db,
+                          integration_time_s=sonar.integration_time_s,
+                          threshold=sonar.detection_threshold)
+
+
+def detection_map(ds: xr.Dataset, cls_name: str, bearing_deg) -> DetectionMap:
+    """Detection ranges of a class at its mean level on a bearing-dependent grid.
+
+    K(r) is taken between radials as the trackers take it (``acoustics.radialinterp``), then the
+    detection rule of the module docstring is applied per bearing; beyond land K is NaN, which
+    is never detected.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A grid with a ``bearing`` dimension (``acoustics.open_grid``).
+    cls_name : str
+        A class of the grid.
+    bearing_deg : array_like, shape (B,)
+        Bearings to evaluate, deg.
+    """
+    terms = detection_terms(ds, cls_name)
+    bearings = np.atleast_1d(np.asarray(bearing_deg, dtype=float))
+    k = ds["k_db"].sel({"class": cls_name}).transpose("bearing", "band", "range").values
+    det = terms.detected(at_bearings(k, ds["bearing"].values, bearings))     # (B, M, R)
+    rng = ds["range"].values
+    return DetectionMap(cls_name=cls_name, terms=terms, bearing_deg=bearings,
+                        band_names=tuple(str(b) for b in ds["band"].values),
+                        band_range_m=farthest_m(rng, det).T, range_m=farthest_m(rng, det.any(axis=1)))
