@@ -8,9 +8,8 @@ the band level is W = P0 + K(r) + H; the band SNR after the array is
 N_band the area's sea noise in the band and DI the array's directivity index; the indicator SNR
 is Q = q sqrt(df T) (df the band's width, 1 Hz for one frequency; T the integration time), and a
 band is detected where Q >= the sonar's detection threshold. The detection range along a bearing
-is the largest grid range where the band (or, for the class, any band) is detected, as in the
-simulator (``tracker.simulate.max_detection_range_m``, which the tracker layer keeps for its own
-grids); the figures sit below the tracker, so the few lines live here for them.
+is the largest grid range where the band (or, for the class, any band) is detected. The
+simulator and the ML tracker take the indicator SNR from here too: the formula lives once.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """A bearing-dependent grid between its radials: linear in bearing, across 0/360 deg.
 
 DESIGN.md "Range- and bearing-dependent areas": the trackers and the simulator take K
-interpolated between radials. This is that rule for the figures, which sit below the tracker in
-the layers (``tracker.tables.bearing_weights`` is the same rule on the trackers' side): the two
+interpolated between radials. It is the one rule for the figures and the trackers
+(``tracker.tables`` imports it): the two
 radials around a bearing (clockwise), weighted linearly by the angle from each; a radial of
 weight 0 does not count, even where it holds NaN, so a bearing on a radial gives that radial's
 values exactly. A TL section takes the nearest radial instead (``nearest_radial``): TL over two
@@ -64,9 +64,12 @@ def at_bearings(values, bearings_deg: np.ndarray, bearing_deg) -> np.ndarray:
     """
     v = np.asarray(values, dtype=float)
     j0, j1, w1 = bearing_weights(bearings_deg, bearing_deg)
-    a0, a1 = v[j0], v[j1]
-    w = np.reshape(w1, np.shape(w1) + (1,) * (v.ndim - 1))
-    return np.where(w <= 0.0, a0, np.where(w >= 1.0, a1, (1.0 - w) * a0 + w * a1))
+    return mix(v[j0], v[j1], np.reshape(w1, np.shape(w1) + (1,) * (v.ndim - 1)))
+
+
+def mix(a0, a1, w1):
+    """(1 - w1) a0 + w1 a1, where a value of weight 0 does not count (even a NaN)."""
+    return np.where(w1 <= 0.0, a0, np.where(w1 >= 1.0, a1, (1.0 - w1) * a0 + w1 * a1))
 
 
 def nearest_radial(bearings_deg: np.ndarray, bearing_deg: float) -> int:

@@ -84,17 +84,35 @@ def run_show(args) -> Report:
              f"  range {float(ds['range'][0]):g}-{float(ds['range'][-1]):g} m, "
              f"depth {float(ds['depth'][0]):g}-{float(ds['depth'][-1]):g} m",
              f"  created {ds.attrs.get('created', '?')}, source_hash {ds.attrs['source_hash'][:16]}...",
-             f"  BELLHOP: {ds.attrs.get('bellhop_version', '-')}",
-             "  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km) + " (BELLHOP / Urick):"]
+             f"  BELLHOP: {ds.attrs.get('bellhop_version', '-')}"]
+    by_bearing = "bearing" in ds.dims
+    if by_bearing:
+        bottom = ds["bottom_depth_m"].values
+        lines.append(f"  origin {ds.attrs['origin_lat_deg']:g} N, {ds.attrs['origin_lon_deg']:g} E; "
+                     f"{ds.sizes['bearing']} radials; bottom {np.nanmin(bottom):.0f}-{np.nanmax(bottom):.0f} m; "
+                     f"{np.mean(np.isnan(bottom)):.0%} of the range cells beyond land")
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km)
+                     + " (BELLHOP median over bearings / Urick; - where no bearing has K):")
+    else:
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km) + " (BELLHOP / Urick):")
     k_table = {}
+    at_m = [r * 1000.0 for r in ranges_km]  # np.interp: xarray's .interp needs scipy
     for cls_name in ds["class"].values:
         for band in ds["band"].values:
             sel = {"class": cls_name, "band": band}
-            at_m = [r * 1000.0 for r in ranges_km]  # np.interp: xarray's .interp needs scipy
-            kb = np.interp(at_m, ds["range"].values, ds["k_db"].sel(sel).values)
+            k = ds["k_db"].sel(sel).values
+            if by_bearing:  # (bearing, range): the median over the radials that have K there
+                along = np.stack([np.interp(at_m, ds["range"].values, row) for row in k])
+                finite = np.isfinite(along).any(axis=0)
+                kb = np.full(len(at_m), np.nan)
+                kb[finite] = np.nanmedian(along[:, finite], axis=0)
+            else:
+                kb = np.interp(at_m, ds["range"].values, k)
             ku = np.interp(at_m, ds["range"].values, ds["k_urick_db"].sel(sel).values)
-            k_table[f"{cls_name}/{band}"] = {"k_db": kb.round(2).tolist(), "k_urick_db": ku.round(2).tolist()}
-            lines.append(f"    {cls_name:>5} {band:>5}: " + "  ".join(f"{a:7.1f}/{b:6.1f}" for a, b in zip(kb, ku)))
+            k_table[f"{cls_name}/{band}"] = {"k_db": [None if not np.isfinite(v) else round(float(v), 2) for v in kb],
+                                             "k_urick_db": ku.round(2).tolist()}
+            lines.append(f"    {cls_name:>5} {band:>5}: " + "  ".join(
+                f"{'-' if not np.isfinite(a) else f'{a:.1f}':>7}/{b:6.1f}" for a, b in zip(kb, ku)))
     data = {"file": str(args.file), "attrs": {k: (v.item() if isinstance(v, np.generic) else v)
                                               for k, v in ds.attrs.items() if k != "area_json"},
             "dims": {k: int(v) for k, v in ds.sizes.items()},

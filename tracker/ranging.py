@@ -37,12 +37,6 @@ def level_sd_db(q, bandwidth_hz, integration_time_s):
                            / (q * np.sqrt(np.asarray(bandwidth_hz) * integration_time_s)))
 
 
-def indicator_snr(snr_db, bandwidth_hz, integration_time_s):
-    """Indicator SNR Q = q sqrt(df T) from the power SNR 10 lg q, dB (DESIGN.md)."""
-    return 10.0 ** (np.asarray(snr_db, dtype=float) / 10.0) * np.sqrt(
-        np.asarray(bandwidth_hz) * integration_time_s)
-
-
 def offset_nodes(noise_sd_db: float, k_error_sd_db: float, n: int = 5):
     """Quadrature nodes of eq. 21 over p in mP0 +- 2 sP0 and dK in +- 2 sigma_dK.
 

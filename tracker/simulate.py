@@ -24,6 +24,7 @@ from envdata.files import atomic_paths
 from envdata.limits import check_memory
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
+from acoustics.detection import indicator_snr
 from tracker.ranging import bearing_sd_deg, level_sd_db
 from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
 from tracker.tables import GridTables
@@ -121,7 +122,7 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.G
     snr_db = w_true - sonar.receiver_gain_db - noise
     q = 10.0 ** (snr_db / 10.0)
     df = tables.bandwidth_hz
-    q_ind = np.nan_to_num(q * np.sqrt(df * sonar.integration_time_s), nan=0.0)
+    q_ind = np.nan_to_num(indicator_snr(snr_db, df, sonar.integration_time_s), nan=0.0)
     det = q_ind >= sonar.detection_threshold
     sd_w = level_sd_db(q, df, sonar.integration_time_s)
     level = np.where(det, w_true + rng.standard_normal(w_true.shape) * sd_w, np.nan)
@@ -173,15 +174,3 @@ def write_simulation(out_dir: str | os.PathLike, m: Measurements, truth: pd.Data
         write_measurements(tmp_m, m, atomic=False)
         truth.loc[:, list(TRUTH_COLUMNS)].to_csv(tmp_t, index=False, float_format="%.6f")
     return {key: str(path) for key, path in files.items()}
-
-
-def max_detection_range_m(grid: xr.Dataset | GridTables, cls_name: str, p0_db: float) -> float:
-    """Largest grid range at which any band of a class at noise P0 is detected, m."""
-    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
-    sonar = tables.area.sonar
-    k = tables.k_db()[tables.class_index(cls_name)]
-    snr = p0_db + k - (tables.noise_band_db - sonar.directivity_index_db)[:, None]
-    q_ind = 10.0 ** (snr / 10.0) * np.sqrt(tables.bandwidth_hz[:, None] * sonar.integration_time_s)
-    det = (q_ind >= sonar.detection_threshold).any(axis=0)
-    rr = tables.range_m
-    return float(rr[det].max()) if det.any() else math.nan

@@ -32,6 +32,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+from acoustics.radialinterp import bearing_weights, mix
 from acoustics.kcurve import spectral_term_db
 from envdata.area import Area
 from envdata.areafile import area_from_json
@@ -73,36 +74,6 @@ class LevelProfile:
         r = np.asarray(range_m, dtype=float)
         k = np.interp(r, self.range_m, self.k_db)
         return np.where(r > self.range_m[-1], k - BEYOND_GRID_PENALTY_DB, k)
-
-
-def bearing_weights(bearings_deg: np.ndarray, bearing_deg) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The two radials around each bearing and the weight of the second, linear across 0/360.
-
-    Parameters
-    ----------
-    bearings_deg : ndarray, shape (N,)
-        The grid's radials, deg, increasing in [0, 360).
-    bearing_deg : array_like
-        Bearings to interpolate at, deg (any value; taken modulo 360).
-
-    Returns
-    -------
-    j0, j1 : ndarray of int
-        Indices of the radials before and after each bearing (clockwise).
-    w1 : ndarray
-        Weight of radial ``j1``; ``1 - w1`` that of ``j0``.
-    """
-    b = np.mod(np.asarray(bearing_deg, dtype=float), 360.0)
-    n = bearings_deg.size
-    if n == 1:
-        zero = np.zeros(b.shape, dtype=int)
-        return zero, zero, np.zeros(b.shape)
-    j1 = np.searchsorted(bearings_deg, b, side="right") % n
-    j0 = (j1 - 1) % n
-    span = np.mod(bearings_deg[j1] - bearings_deg[j0], 360.0)
-    span = np.where(span == 0.0, 360.0, span)
-    w1 = np.mod(b - bearings_deg[j0], 360.0) / span
-    return j0, j1, w1
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -308,7 +279,7 @@ class GridTables:
                 self.check_depth(depth_m)
             j0, j1, w1 = bearing_weights(self.bearing_deg, bearing_deg)
             # (C, M, R), or (C, M, B, R) for B bearings
-            return _mix(self.k_grid_db[:, :, j0], self.k_grid_db[:, :, j1], np.asarray(w1)[..., None])
+            return mix(self.k_grid_db[:, :, j0], self.k_grid_db[:, :, j1], np.asarray(w1)[..., None])
         if depth_m is None or self.tl_db is None:
             return self.k_grid_db
         d = float(depth_m)
@@ -342,7 +313,7 @@ class GridTables:
         j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, r.shape))
         along0 = (1.0 - fr) * kc[:, j0, i] + fr * kc[:, j0, i1]
         along1 = (1.0 - fr) * kc[:, j1, i] + fr * kc[:, j1, i1]
-        return np.moveaxis(_mix(along0, along1, w1), 0, -1)
+        return np.moveaxis(mix(along0, along1, w1), 0, -1)
 
     def level_profile(self, ic: int, ib: int, depth_m: float | None = None,
                       bearing_deg: float | None = None) -> LevelProfile:
@@ -391,11 +362,6 @@ class GridTables:
     def _need_tl(self) -> None:
         if self.tl_db is None:
             raise GridFileError(f"{self.source}: the grid holds K(r) alone, no tl_db")
-
-
-def _mix(a0, a1, w1):
-    """(1 - w1) a0 + w1 a1, where a value of weight 0 does not count (even a NaN)."""
-    return np.where(w1 <= 0.0, a0, np.where(w1 >= 1.0, a1, (1.0 - w1) * a0 + w1 * a1))
 
 
 def _bilinear(table: np.ndarray, z: np.ndarray, x: np.ndarray, d: np.ndarray,

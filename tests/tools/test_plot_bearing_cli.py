@@ -145,3 +145,18 @@ def test_the_demo_checks_the_map_outputs_before_any_work(capsys, tmp_path):
     line = run_error(capsys, "demo", "--out", out)
     assert "shelf-break-bellhop.nc: exists and is not a tmakit netCDF file" in line
     assert [p.name for p in out.iterdir()] == ["shelf-break-bellhop.nc"]
+
+
+def test_grids_show_summarises_a_bearing_dependent_grid(shelf_grid_file, capsys):
+    from tools import cli
+
+    assert cli.main(["grids", "show", str(shelf_grid_file), "--json"]) == 0
+    import json
+
+    data = json.loads(capsys.readouterr().out)
+    assert data["dims"]["bearing"] == 4
+    k = data["k"]["TV/FB1"]["k_db"]
+    assert len(k) == len(data["ranges_km"]) and all(v is None or v < 0 for v in k)
+    assert cli.main(["grids", "show", str(shelf_grid_file)]) == 0
+    text = capsys.readouterr().out
+    assert "radials" in text and "median over bearings" in text

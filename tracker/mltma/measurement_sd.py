@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from tracker.ranging import bearing_sd_deg, indicator_snr, level_sd_db
+from acoustics.detection import indicator_snr
+from tracker.ranging import bearing_sd_deg, level_sd_db
 
 
 def threshold_snr(detection_threshold, bandwidth_hz, integration_time_s):
