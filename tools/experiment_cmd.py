@@ -1,4 +1,4 @@
-"""``tmakit experiment gm|idm SCENARIO [--runs N] --out DIR [--seed N] [--workers N]
+"""``tmakit experiment gm|idm|shelf SCENARIO [--runs N] --out DIR [--seed N] [--workers N]
 [--level-sigma-db DB]``."""
 
 from __future__ import annotations
@@ -8,6 +8,8 @@ from pathlib import Path
 
 from acoustics.build import build_grid_file as build_file
 from envdata.errors import InputError
+from envdata.limits import check_memory
+from tools.outputs import check_output_dir
 from tools.report import Report, want_progress
 
 
@@ -15,11 +17,14 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p = subparsers.add_parser(
         "experiment", parents=[common], help="the papers' Monte Carlo studies",
         description="gm: the 11 x 11 x 11 design of Grinenkov & Mashoshin (eqs. 32-34); "
-                    "idm: the Iglesis & de Montella scenarios.")
-    p.add_argument("study", choices=("gm", "idm"))
+                    "idm: the Iglesis & de Montella scenarios; shelf: tracking in the shelf-break "
+                    "area with its bearing-dependent grid and with the origin's column over a "
+                    "flat bottom (docs/shelf.md).")
+    p.add_argument("study", choices=("gm", "idm", "shelf"))
     p.add_argument("scenario", help="scenario name or TOML file")
     p.add_argument("--runs", type=int, default=None,
-                   help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs")
+                   help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs (1000); "
+                        "shelf: runs (100)")
     p.add_argument("--grid", metavar="FILE", help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -30,17 +35,48 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.set_defaults(func=run_experiment)
 
 
+#: Most Monte Carlo runs a study takes (a larger number is a typing mistake).
+MAX_RUNS = 1_000_000
+
+
+def _check_runs(runs: int, cycles: int, bytes_per_run_cycle: float, what: str) -> None:
+    """Refuse a run count out of range, or one whose arrays would not fit the machine."""
+    if not 1 <= runs <= MAX_RUNS:
+        raise InputError(f"--runs: must be in [1, {MAX_RUNS}], got {runs}")
+    check_memory(runs * cycles * bytes_per_run_cycle, f"{what}: {runs} runs of {cycles} cycles")
+
+
 def run_experiment(args) -> Report:
+    if args.workers < 1:
+        raise InputError(f"--workers: must be >= 1, got {args.workers}")
+    check_output_dir(args.out)
+    if args.study == "shelf":
+        from tracker.scenario import load_scenario
+        from tracker.studies import shelf
+
+        if args.level_sigma_db is not None or args.grid is not None:
+            raise InputError("--level-sigma-db, --grid: the shelf study builds its own two grids")
+        if args.scenario != shelf.SCENARIO:
+            raise InputError(f"shelf: the study is written for scenario {shelf.SCENARIO!r}, got "
+                             f"{args.scenario!r}")
+        runs = 100 if args.runs is None else args.runs
+        _check_runs(runs, load_scenario(shelf.SCENARIO).times_s().size, 8.0 * 40, "shelf")
+        res = shelf.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
+                        progress=want_progress(args))
+        return Report(res["summary"], res)
     if args.study == "idm":
         from tracker.studies import idm as idm_experiment
 
         if args.level_sigma_db is not None:  # before a grid is built
             idm_experiment.check_level_sigma(args.level_sigma_db)
+        runs = 1000 if args.runs is None else args.runs
+        # per run and cycle: measurements, and each filter's estimates (the chunks bound the rest)
+        _check_runs(runs, idm_experiment.get_scenario(args.scenario).t_s.size, 8.0 * 40, "idm")
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
                               workers=args.workers, progress=want_progress(args))["file"]
-        res = idm_experiment.run(args.scenario, runs=1000 if args.runs is None else args.runs,
+        res = idm_experiment.run(args.scenario, runs=runs,
                                  out_dir=Path(args.out), seed=args.seed, progress=want_progress(args),
                                  workers=args.workers, grid=grid,
                                  level_sigma_db=(idm_experiment.PAPER_LEVEL_SIGMA_DB
@@ -57,11 +93,13 @@ def run_experiment(args) -> Report:
     n = round(runs ** (1.0 / 3.0))
     if runs < 1 or n ** 3 != runs:
         raise InputError(f"--runs: must be a cube n^3 (e.g. 27, 125, 1331), got {runs}")
+    from tracker.scenario import load_scenario
+
+    # per run and cycle: squared errors and estimates of course, speed and range per class
+    _check_runs(runs, load_scenario(args.scenario).times_s().size, 8.0 * 6 * 3 * 4, "gm")
     if args.grid is None:
         raise InputError("--grid: the gm experiment needs the propagation grid of the "
                          "scenario's area (tmakit grids build ocean-deep)")
-    if args.workers < 1:
-        raise InputError(f"--workers: must be >= 1, got {args.workers}")
     res = gm_experiment.run(args.scenario, grid_path=args.grid, n=n, out_dir=args.out,
                             seed=args.seed, workers=args.workers, progress=want_progress(args))
     return Report(res["summary"], res)

@@ -116,15 +116,15 @@ def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.rand
 
 def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
         progress: bool = False) -> dict:
-    """The study: build (or reuse) both grids in ``out_dir``, simulate ``runs`` runs on the
+    """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs on the
     bearing-dependent one, track them with both; write ``shelf_rmse.csv``, ``shelf.json`` and
     ``shelf_rmse.png`` (all or none) and return the summary."""
     start = time.perf_counter()
     out = Path(out_dir)
     area = load_area(AREA)
-    grids = {"bearing": build_grid_file(area, out / f"{AREA}-bellhop.nc", workers=workers,
+    grids = {"bearing": build_grid_file(area, out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
                                         progress=progress)["file"],
-             "isotropic": build_grid_file(origin_area(area), out / f"{AREA}-origin-bellhop.nc",
+             "isotropic": build_grid_file(origin_area(area), out / "grids" / f"{AREA}-origin-bellhop.nc",
                                           workers=workers, progress=progress)["file"]}
     from acoustics.io import open_grid
 

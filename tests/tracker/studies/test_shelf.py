@@ -1,0 +1,45 @@
+"""The shelf study: a target in a range-dependent area, tracked with both kinds of grid."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import acoustics
+import envdata
+from tools import cli
+from tracker.studies.shelf import origin_area
+
+pytestmark = [pytest.mark.bellhop, pytest.mark.slow]
+
+
+def test_the_shortcut_is_the_origins_column_over_a_flat_bottom():
+    area = envdata.load_area("shelf-break")
+    flat = origin_area(area)
+    assert not flat.is_bearing_dependent and flat.water.is_flat
+    # the origin sits on the upper slope, some 540-600 m deep
+    assert 500.0 < flat.water.depth_m < 650.0
+    assert flat.water.ssp.bottom_m == flat.water.depth_m
+    assert [c.name for c in flat.classes] == [c.name for c in area.classes]
+    assert envdata.area_from_json(envdata.area_to_json(flat)) == flat
+
+
+def test_the_study_through_the_command_line(tmp_path, capsys):
+    out = tmp_path / "shelf"
+    assert cli.main(["experiment", "shelf", "shelf-tv", "--runs", "3", "--out", str(out),
+                     "--workers", "2", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert sorted(p.name for p in out.iterdir()) == ["grids", "shelf.json", "shelf_rmse.csv",
+                                                       "shelf_rmse.png"]
+    bearing = acoustics.open_grid(out / "grids" / "shelf-break-bellhop.nc")
+    flat = acoustics.open_grid(out / "grids" / "shelf-break-origin-bellhop.nc")
+    assert "bearing" in bearing.dims and "bearing" not in flat.dims
+    errors = summary["mean_rmse_after_5min_m"]
+    # the shortcut misplaces the transport by kilometres: the slope and the basin change K
+    # by tens of dB from what one column over a flat bottom gives
+    assert errors["ml_isotropic"] > 3.0 * errors["ml_bearing"]
+    assert errors["rpf_isotropic"] > 2.0 * errors["rpf_bearing"]
+    assert np.isfinite(list(errors.values())).all()
+    assert (out / "shelf_rmse.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
