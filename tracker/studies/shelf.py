@@ -44,6 +44,9 @@ GRIDS = ("bearing", "isotropic")
 METHODS = ("ml", "rpf")
 #: Times (min after the first cycle) at which the summary gives the RMSE.
 REPORT_MIN = (5, 10, 20, 30)
+#: Where the summary compares the two grids' K(r) of the target's class in the first band.
+K_BEARINGS_DEG = (0.0, 90.0, 150.0, 180.0)
+K_RANGES_M = (5000.0, 10000.0, 15000.0, 20000.0)
 
 
 def origin_area(area: Area) -> Area:
@@ -155,6 +158,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                           for method in METHODS for grid in GRIDS},
                "mean_rmse_after_5min_m": {f"{method}_{grid}": float(np.sqrt(np.nanmean(
                    errors[(method, grid)][:, minutes >= 5.0] ** 2))) for method in METHODS for grid in GRIDS},
+               "k_difference_db": _k_difference(tables, cls_index, band),
                "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "shelf_rmse.csv", out / "shelf.json", out / "shelf_rmse.png"]
     from tracker.studies.shelf_plot import rmse_figure
@@ -169,6 +173,18 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     summary["files"] = [str(f) for f in files]
     summary["summary"] = _text(summary)
     return summary
+
+
+def _k_difference(tables: dict, cls_index: int, band: int) -> dict:
+    """K(r) of the bearing-dependent grid less the shortcut's, dB, at `K_BEARINGS_DEG` x
+    `K_RANGES_M` ({bearing: {range km: dB}}; None where the grid has no K, beyond land)."""
+    out = {}
+    flat = tables["isotropic"].k_at(cls_index, np.array(K_RANGES_M))[:, band]
+    for bearing in K_BEARINGS_DEG:
+        k = tables["bearing"].k_at(cls_index, np.array(K_RANGES_M), bearing_deg=bearing)[:, band]
+        out[f"{bearing:g}"] = {f"{r / 1000:g}": (None if not np.isfinite(d) else round(float(d), 2))
+                               for r, d in zip(K_RANGES_M, k - flat)}
+    return out
 
 
 def _text(summary: dict) -> str:
