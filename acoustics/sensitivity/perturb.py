@@ -2,9 +2,13 @@
 
 A perturbation names what is uncertain and how much (a standard deviation). Each ensemble
 member draws its own standard-normal numbers from ``np.random.default_rng([seed, member])``
-and makes a perturbed ``Area`` with ``dataclasses.replace``; every draw is truncated at
-+-4 sd (redrawn outside), so a spec is checked once, at its +-4 sd extremes, against the
-nominal area and a member never fails half-way through a study.
+and makes a perturbed ``Area`` with ``dataclasses.replace``. Every draw is truncated: at +-4 sd,
+and at the physical range of what it changes (a bottom attenuation below 0, a class below the
+bottom, a temperature below freezing, a profile folded by a displacement): a draw that makes
+the area invalid is redrawn, so a member never fails half-way through a study and draws far
+from a limit are the plain normal ones. `check_perturbations` refuses, before any work, a spec
+whose truncation would swallow its distribution (fewer than `MIN_VALID_FRACTION` of a normal's
+draws within +-4 sd give a valid area, e.g. sd 450 m/s on a 1600 m/s bottom).
 
 Spec syntax (``--perturb``), ``KIND:KEY=VALUE,KEY=VALUE``, or a TOML file of ``[[perturb]]``
 tables with ``kind = "..."`` and the same keys:
@@ -47,7 +51,9 @@ from envdata.tomlfile import read_toml
 from envdata.errors import AreaError, InputError
 from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile
 
-TRUNCATE_SD = 4.0  # draws beyond +-4 sd are redrawn; specs are checked at these extremes
+TRUNCATE_SD = 4.0  # draws beyond +-4 sd are redrawn
+MIN_VALID_FRACTION = 0.25  # a spec must give a valid area for this much of a normal's mass in +-4 sd
+MAX_REDRAWS = 10_000  # redraws of one perturbation of one member before the member is given up
 ISOTHERMAL_GRADIENT_PER_S = 0.0163  # dc/dz of isothermal, isohaline sea water (pressure term), 1/s
 REFERENCE_SALINITY_PSU = 35.0  # salinity assumed when a profile's temperature is inferred from its speed
 
@@ -231,16 +237,23 @@ def check_study_area(area: Area) -> None:
 def default_perturbations(area: Area) -> list[Perturbation]:
     """A profile measured well, an uncertain bottom and target depth (see docs/sensitivity.md)."""
     check_study_area(area)
-    specs = ["displace:sd_m=10", "temperature:sd_c=0.3,scale_m=300", "bottom-speed:sd_mps=30",
+    depth = area.water.depth_m
+    # a 10 m displacement, less in shallow water (|d| pi / depth <= 0.5 at 4 sd: no truncation)
+    specs = [f"displace:sd_m={min(10.0, 0.04 * depth):g}", "temperature:sd_c=0.3,scale_m=300", "bottom-speed:sd_mps=30",
              "bottom-density:sd_gcc=0.1", "bottom-attenuation:sd_db_per_wavelength=0.2",
-             f"water-depth:sd_m={0.01 * area.water.depth_m:g}", "source-depth:sd_frac=0.15",
+             f"water-depth:sd_m={0.01 * depth:g}", "source-depth:sd_frac=0.15",
              "observer-depth:sd_m=2"]
     out = [p for s in specs for p in parse_spec(s)]
     return [dataclasses.replace(p, source="default perturbations") for p in out]
 
 
 def check_perturbations(area: Area, perturbations: list[Perturbation]) -> None:
-    """Raise PerturbationError unless every spec keeps ``area`` physical at its +-4 sd extremes."""
+    """Raise PerturbationError unless every spec gives ``area`` a valid member often enough.
+
+    Each spec is applied to the nominal area on a grid of draws over +-4 sd (for EOF modes, all
+    modes alike and alternating in sign); the normal's mass on the valid draws must be at
+    least `MIN_VALID_FRACTION`. The error names the draw nearest to 0 that fails, and why.
+    """
     check_study_area(area)
     seen: dict[Kind, str] = {}
     for p in perturbations:
@@ -248,20 +261,37 @@ def check_perturbations(area: Area, perturbations: list[Perturbation]) -> None:
             raise PerturbationError(f"{p.source}: perturbation {p.kind} given twice "
                                     f"(also in {seen[p.kind]})")
         seen[p.kind] = p.source
+    grid = np.linspace(-TRUNCATE_SD, TRUNCATE_SD, 161)
+    weights = np.exp(-0.5 * grid ** 2)
     for p in perturbations:
         patterns = [np.ones(p.n_draws)]
         if p.n_draws > 1:
             patterns.append((-1.0) ** np.arange(p.n_draws))
         for pattern in patterns:
-            for sign in (-1.0, 1.0):
-                xi = sign * TRUNCATE_SD * pattern
-                try:
-                    _apply_one(area, p, xi)
-                except PerturbationError:
-                    raise
-                except AreaError as exc:
-                    raise PerturbationError(f"{p.source}: perturbation {p.describe()}: at {sign * TRUNCATE_SD:+g} sd "
-                                            f"the area becomes invalid: {exc}") from None
+            failures = {}
+            for x in grid:
+                reason = _invalid_reason(area, p, x * pattern)
+                if reason is not None:
+                    failures[float(x)] = reason
+            valid = np.array([float(x) not in failures for x in grid])
+            fraction = float(weights[valid].sum() / weights.sum())
+            if fraction < MIN_VALID_FRACTION:
+                x = min(failures, key=abs)
+                raise PerturbationError(
+                    f"{p.source}: perturbation {p.describe()}: only {100 * fraction:.0f} % of its draws "
+                    f"within +-{TRUNCATE_SD:g} sd give a valid area (need {100 * MIN_VALID_FRACTION:.0f} %); "
+                    f"lower the sd (at {x:+.2f} sd: {failures[x]})")
+
+
+def _invalid_reason(area: Area, p: Perturbation, xi: np.ndarray) -> str | None:
+    """Why ``xi`` makes ``area`` invalid under ``p`` (without the spec's own prefix), or None."""
+    try:
+        _apply_one(area, p, xi)
+    except (AreaError, PerturbationError) as exc:
+        text = str(exc)
+        prefix = f"{p.source}: perturbation {p.describe()}: "
+        return text[len(prefix):] if text.startswith(prefix) else text
+    return None
 
 
 # --------------------------------------------------------------------------- applying
@@ -281,10 +311,24 @@ def draw(perturbations: list[Perturbation], rng: np.random.Generator) -> list[np
 
 def perturb_area(area: Area, perturbations: list[Perturbation],
                  rng: np.random.Generator) -> tuple[Area, dict[str, float]]:
-    """One ensemble member: the perturbed area and the drawn parameters (name -> value, units in name)."""
+    """One ensemble member: the perturbed area and the drawn parameters (name -> value, units in name).
+
+    A draw that makes the area invalid is redrawn (from the same generator, after the first
+    draws: a member whose first draws are all valid is what the plain normal draws give).
+    """
     params: dict[str, float] = {}
     for p, xi in zip(_ordered(perturbations), draw(perturbations, rng)):
-        area, values = _apply_one(area, p, xi)
+        for _ in range(MAX_REDRAWS):
+            try:
+                area_p, values = _apply_one(area, p, xi)
+                break
+            except (AreaError, PerturbationError) as exc:  # outside the physical range: draw again
+                last = exc
+                xi = draw([p], rng)[0]
+        else:
+            raise PerturbationError(f"{p.source}: perturbation {p.describe()}: no valid draw in "
+                                    f"{MAX_REDRAWS} tries on this member ({last})")
+        area = area_p
         params.update(values)
     return area, params
 

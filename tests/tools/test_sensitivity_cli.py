@@ -57,10 +57,26 @@ def test_small_study_writes_the_study_plots_and_the_measured_k_error(tmp_path, c
     assert "measured k_error_sd_db (area file): SUB" in text and "level-ranging (eq. 20)" in text
 
 
+@pytest.mark.bellhop
+def test_default_perturbations_run_on_an_ordinary_sandy_bottom(tmp_path, capsys):
+    # 0.5 dB/wavelength with the default sd 0.2: a plain normal draw goes negative below -2.5 sd
+    text = (DATA / "tiny-munk.toml").read_text().replace("attenuation_db_per_wavelength = 0.8",
+                                                          "attenuation_db_per_wavelength = 0.5")
+    area = tmp_path / "sandy.toml"
+    area.write_text(text.replace('name = "tiny-munk"', 'name = "sandy"'))
+    out = tmp_path / "s.nc"
+    assert main(["sensitivity", str(area), "--members", "4", "--out", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["members"] == 4
+    assert "bottom-attenuation:sd_db_per_wavelength=0.2" in data["perturbations"]
+    ds = sens.open_study(out)
+    assert (ds["bottom_attenuation_db_per_wavelength"] >= 0).all()
+
+
 @pytest.mark.parametrize("name, match", [
     ("negative-sd.toml", r"negative-sd.toml: \[\[perturb\]\] #1: perturbation displace: sd_m must be a finite "
                          r"number >= 0, got -5.0"),
-    ("nonpositive-speed.toml", r"perturbation bottom-speed:sd_mps=450: makes the bottom speed non-positive"),
+    ("nonpositive-speed.toml", r"perturbation bottom-speed:sd_mps=20000: only \d+ % of its draws .* lower the sd"),
     ("nonmonotonic.toml", r"makes the profile non-monotonic in depth"),
     ("syntax-error.toml", r"syntax-error.toml: TOML syntax error"),
 ])

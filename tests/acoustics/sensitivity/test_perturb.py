@@ -77,28 +77,101 @@ def test_malformed_spec_files_name_file_table_key_and_value(name, match):
 
 
 @pytest.mark.parametrize("name, match", [
-    ("nonpositive-speed.toml", r"perturbation bottom-speed:sd_mps=450: makes the bottom speed non-positive "
-                               r"\(-200 m/s at -4 sd\)"),
-    ("water-speed-nonpositive.toml", r"perturbation eof:sd_mps=500,modes=2,depth_m=1000: makes a speed "
-                                     r"non-positive \(-\d+\.\d m/s at 0 m\)"),
-    ("nonmonotonic.toml", r"perturbation displace:sd_m=100: a displacement of -400 m in 1000 m of water makes "
-                          r"the profile non-monotonic in depth"),
+    ("nonpositive-speed.toml", r"perturbation bottom-speed:sd_mps=20000: only \d+ % of its draws within \+-4 sd "
+                               r"give a valid area \(need 25 %\); lower the sd \(at -0.0\d sd: \[bottom\] speed_mps"),
+    ("water-speed-nonpositive.toml", r"perturbation eof:sd_mps=500,modes=2,depth_m=1000: only \d+ % .*makes the "
+                                     r"speed \d+\.\d m/s at 0 m, outside \[1400, 1650\] m/s"),
+    ("nonmonotonic.toml", r"perturbation displace:sd_m=2000: only \d+ % .*a displacement of [-\d.]+ m in 1000 m "
+                          r"of water makes the profile non-monotonic in depth"),
     ("duplicate-kind.toml", r"duplicate-kind.toml: \[\[perturb\]\] #2: perturbation displace given twice"),
-    ("too-deep-water.toml", r"perturbation water-depth:sd_m=250: water depth 0 m is not below the deepest "
-                            r"class or observer at 150 m"),
 ])
-def test_unphysical_specs_are_rejected_at_their_4_sd_extremes(tiny_area, name, match):
+def test_specs_that_truncation_would_swallow_are_rejected(tiny_area, name, match):
     specs = pt.parse_spec(str(BAD / name))
     with pytest.raises(PerturbationError, match=match):
         pt.check_perturbations(tiny_area, specs)
 
 
 def test_unphysical_temperature_and_source_depth_are_rejected(tiny_area):
-    with pytest.raises(PerturbationError, match=r"temperature:sd_c=15,scale_m=200: at [+-]4 sd the area becomes "
-                                                r"invalid: temperature -?\d+\.\d+ degC at 0 m is outside"):
-        pt.check_perturbations(tiny_area, pt.parse_spec("temperature:sd_c=15"))
-    with pytest.raises(PerturbationError, match=r"source-depth:sd_frac=0.3: makes the class depths non-positive"):
-        pt.check_perturbations(tiny_area, pt.parse_spec("source-depth:sd_frac=0.3"))
+    with pytest.raises(PerturbationError, match=r"temperature:sd_c=200,scale_m=200: only \d+ % .*temperature "
+                                                r"-?\d+\.\d+ degC at \d+ m is outside"):
+        pt.check_perturbations(tiny_area, pt.parse_spec("temperature:sd_c=200"))
+    with pytest.raises(PerturbationError, match=r"source-depth:sd_frac=30: only \d+ % .*makes the class depths "
+                                                r"non-positive"):
+        pt.check_perturbations(tiny_area, pt.parse_spec("source-depth:sd_frac=30"))
+
+
+def test_draws_are_truncated_at_the_physical_range_and_plain_normal_elsewhere(tiny_area):
+    # sd 250 m of water depth: a plain normal would put the bottom above the 150 m class below
+    # -3.4 sd; sd 0.5 dB/wavelength on the 0.8 dB/wavelength bottom: negative below -1.6 sd
+    specs = [*pt.parse_spec(str(DATA / "perturb" / "wide-water-depth.toml")),
+             *pt.parse_spec("bottom-attenuation:sd_db_per_wavelength=0.5")]
+    pt.check_perturbations(tiny_area, specs)
+    depth, att, xis = [], [], []
+    for member in range(2000):
+        rng = np.random.default_rng([9, member])
+        first = pt.draw(specs, rng)
+        area, params = pt.member_area(tiny_area, specs, 9, member)
+        depth.append(params["water_depth_m"])
+        att.append(params["bottom_attenuation_db_per_wavelength"])
+        xis.append([float(x[0]) for x in first])
+    depth, att, xis = np.array(depth), np.array(att), np.array(xis)
+    assert depth.min() > 150.0 and att.min() >= 0.0
+    # a member whose first draws are valid keeps them: the plain normal draws
+    plain = xis[:, 1] > -1.6
+    assert_allclose(att[plain], 0.8 + 0.5 * xis[plain, 1], atol=1e-9)
+    # about Phi(-1.6) = 5.5 % of the members are redrawn
+    assert 0.035 < 1.0 - plain.mean() < 0.075
+    assert not np.allclose(att[~plain], 0.8 + 0.5 * xis[~plain, 1])
+
+
+def _variant(doc_changes):
+    import json
+
+    import envdata
+
+    doc = envdata.load_area(DATA / "tiny-munk.toml").to_dict()
+    doc_changes(doc)
+    return envdata.area_from_json(json.dumps(doc))
+
+
+def _sandy(doc):
+    doc["bottom"]["attenuation_db_per_wavelength"] = 0.5
+
+
+def _lossless(doc):
+    doc["bottom"]["attenuation_db_per_wavelength"] = 0.0
+
+
+def _soft(doc):
+    doc["bottom"].update(speed_mps=1000.0, density_gcc=1.0)
+
+
+def _near_surface_observer(doc):
+    doc["observer"]["depth_m"] = 1.0
+
+
+def _near_bottom_classes(doc):
+    for c in doc["classes"]:
+        c["depth_m"] = 995.0
+
+
+def _shallow_cold(doc):
+    # 40 m of near-freezing water (1440 m/s), observer at 2 m, classes at 38 and 5 m
+    doc["water"] = {"depth_m": 40.0, "ssp_depth_m": [0.0, 40.0], "ssp_speed_mps": [1440.0, 1441.0]}
+    doc["observer"]["depth_m"] = 2.0
+    doc["classes"][0]["depth_m"], doc["classes"][1]["depth_m"] = 38.0, 5.0
+    doc["grid"]["depth_step_m"] = 5.0
+
+
+@pytest.mark.parametrize("change", [_sandy, _lossless, _soft, _near_surface_observer, _near_bottom_classes,
+                                    _shallow_cold])
+def test_default_perturbations_work_on_valid_areas_near_their_limits(change):
+    area = _variant(change)
+    specs = pt.default_perturbations(area)
+    pt.check_perturbations(area, specs)
+    for member in range(30):
+        member_area, _ = pt.member_area(area, specs, 11, member)
+        assert 0.0 < member_area.observer.depth_m < member_area.water.depth_m
 
 
 def test_members_are_reproducible_and_independent_of_order_of_computation(tiny_area):
