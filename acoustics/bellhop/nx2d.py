@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import tempfile
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -26,15 +27,12 @@ from acoustics.bellhop.envfile import RunSpec
 from acoustics.bellhop.exe import find_bellhop3d
 from acoustics.bellhop.runner import BASE, run_env
 from acoustics.bellhop.shd3d import read_shd3d
+from acoustics.errors import BellhopError
 from acoustics.executor import TaskStats, run_tasks
 from acoustics.grid import _fkey, run_frequencies_hz, run_timeout_s
+from acoustics.radialgrid import BOX_MARGIN, DEFAULT_STEP_M
 from acoustics.runs import Run
 from envdata.area import Area
-
-#: Ray step when the area does not set ``[propagation] step_m``, m (as ``acoustics.radialgrid``).
-DEFAULT_STEP_M = 25.0
-#: Rays stop this far beyond the last grid range, relative and m (as ``acoustics.radialgrid``).
-BOX_MARGIN = (1.01, 10.0)
 
 
 @dataclass(frozen=True)
@@ -66,11 +64,12 @@ class Nx2dStats:
 
 
 def box_range_m(area: Area) -> float:
-    """Rays stop where |x| or |y| reaches this, m: the 2-D runs' range box."""
+    """Rays stop where |x| or |y| reaches this, m: the 2-D runs' range box (``radialgrid.BOX_MARGIN``)."""
     return float(area.grid.range_m().max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
 
 
 def ray_step_m(area: Area) -> float:
+    """The area's ``[propagation] step_m``, else the 2-D runs' default, m."""
     prop = area.propagation
     return prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
 
@@ -120,8 +119,6 @@ def execute_nx2d_run(item: Nx2dRun, exe: str | None = None) -> tuple[np.ndarray,
     Raises BellhopError with BELLHOP3D's own message (from ``runner.run_env``), or when the shade
     file is unreadable or holds other bearings than were asked for.
     """
-    from acoustics.errors import BellhopError
-
     exe = exe if exe is not None else str(find_bellhop3d().path)
     run = item.run
     with tempfile.TemporaryDirectory(prefix="tmakit-bellhop3d-") as tmp:
@@ -162,8 +159,6 @@ def nx2d_fields(area: Area, receivers_m, *, workers: int = 1, bearing_groups: in
     stats : Nx2dStats, optional
         Filled with timings.
     """
-    import time
-
     stats = stats if stats is not None else Nx2dStats()
     exe = exe if exe is not None else str(find_bellhop3d().path)
     if env is None:
