@@ -1,7 +1,8 @@
-"""Finding the BELLHOP executable and describing it.
+"""Finding the BELLHOP and BELLHOP3D executables and describing them.
 
-Search order: the ``BELLHOP_EXE`` environment variable, the project's own install location
-(``<venv>/share/tmakit/bellhop``, filled by ``python -m tools.install_bellhop``), then ``PATH``.
+Search order: the ``BELLHOP_EXE`` (``BELLHOP3D_EXE``) environment variable, the project's own
+install location (``<venv>/share/tmakit/bellhop``, filled by ``python -m tools.install_bellhop``
+with both executables of one aubellhop release), then ``PATH``.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ MANIFEST_NAME = "install.json"
 @dataclass(frozen=True, slots=True)
 class BellhopExe:
     path: Path
-    found_by: str  # "BELLHOP_EXE", "install" or "PATH"
+    found_by: str  # "BELLHOP_EXE" (or "BELLHOP3D_EXE"), "install" or "PATH"
     version: str   # e.g. "aubellhop 0.2.1 (wheel)"; "unknown" for a binary we did not install
     sha256: str
 
@@ -37,23 +38,35 @@ def installed_exe_path() -> Path:
     return INSTALL_DIR / "aubellhop" / "bin" / "bellhop.exe"
 
 
+def installed_exe3d_path() -> Path:
+    return INSTALL_DIR / "aubellhop" / "bin" / "bellhop3d.exe"
+
+
 def find_bellhop() -> BellhopExe:
     """Locate BELLHOP or raise BellhopError saying where we looked."""
-    env = os.environ.get("BELLHOP_EXE")
+    return _find("BELLHOP", "BELLHOP_EXE", installed_exe_path(), ("bellhop.exe", "bellhop"))
+
+
+def find_bellhop3d() -> BellhopExe:
+    """Locate BELLHOP3D (its Nx2D mode traces all radials in one run) or raise BellhopError."""
+    return _find("BELLHOP3D", "BELLHOP3D_EXE", installed_exe3d_path(), ("bellhop3d.exe", "bellhop3d"))
+
+
+def _find(program: str, variable: str, installed: Path, names: tuple[str, ...]) -> BellhopExe:
+    env = os.environ.get(variable)
     if env:
         path = Path(env)
         if not (path.is_file() and os.access(path, os.X_OK)):
-            raise BellhopError(f"BELLHOP_EXE={env}: not an executable file")
-        return _describe(path, "BELLHOP_EXE")
-    installed = installed_exe_path()
+            raise BellhopError(f"{variable}={env}: not an executable file")
+        return _describe(path, variable)
     if installed.is_file():
         return _describe(installed, "install")
-    for name in ("bellhop.exe", "bellhop"):
+    for name in names:
         found = shutil.which(name)
         if found:
             return _describe(Path(found), "PATH")
-    raise BellhopError(f"BELLHOP executable not found: BELLHOP_EXE is unset, {installed} does not exist "
-                       f"and no bellhop.exe is on PATH; run 'make test' or "
+    raise BellhopError(f"{program} executable not found: {variable} is unset, {installed} does not exist "
+                       f"and no {names[0]} is on PATH; run 'make test' or "
                        f"'python -m tools.install_bellhop' to install it")
 
 
@@ -66,7 +79,9 @@ def _describe(path: Path, found_by: str) -> BellhopExe:
     if manifest.is_file():
         try:
             info = json.loads(manifest.read_text())
-            if info.get("sha256") == digest:
+            # "sha256" is bellhop.exe's; "sha256_by_name" names each installed executable
+            known = {info.get("sha256"), *info.get("sha256_by_name", {}).values()}
+            if digest in known:
                 version = f"aubellhop {info['version']} ({info['source']})"
         except (ValueError, KeyError):
             pass
