@@ -13,6 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import say, write  # noqa: E402
+
 
 def main() -> None:
     import acoustics
@@ -43,12 +46,13 @@ def main() -> None:
         trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
         lat.append(time.perf_counter() - t0)
     lat_ms = 1000.0 * np.median(lat[-20:])       # 220-240 bearings on the tack
-    print(f"ml_cycle_latency_3_classes_240_bearings: {lat_ms:.2f} ms")
-    print(f"ml_class_cycles_per_second: {3.0 / (lat_ms / 1000.0):.0f} 1/s")
+    say("ml_cycle_latency_3_classes_240_bearings", float(lat_ms), "ms (median of the last 20 cycles)")
+    say("ml_class_cycles_per_second", 3.0 / (lat_ms / 1000.0), "1/s")
     t0 = time.perf_counter()
     run("gm-tv-30km", grid_path=path, n=11, out_dir=out / "gm-experiment", workers=2)
-    print(f"gm_experiment_1331_runs_2_workers: {time.perf_counter() - t0:.1f} s")
+    say("gm_experiment_1331_runs_2_workers", time.perf_counter() - t0, "s")
 
 
 if __name__ == "__main__":
     main()
+    write("gm")

@@ -23,12 +23,13 @@ from acoustics.bellhop.exe import find_bellhop
 from acoustics.grid import plan_runs, receiver_depths_m
 from acoustics.kcurve import band_frequencies_hz
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import median, say, write  # noqa: E402
+
 REPO = Path(__file__).resolve().parents[1]
+REPEATS = 3  # timings interleaved and repeated; the figures are medians
 
 
-def say(name: str, value, unit: str = "") -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
 
 
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
@@ -70,19 +71,28 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "g.nc"
         # -- speed and memory of the default area ----------------------------------------------
-        wall1, rss1, info1 = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "1",
-                                              "--force"])
-        wall2, rss2, info2 = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "2",
-                                              "--force"])
         runs = plan_runs(area)
-        raw = raw_bellhop_seconds([r.env for r in runs], exe)
+        w1, w2, raws, rss = [], [], [], []
+        for _ in range(REPEATS):  # interleaved, so that a change of load hits all three alike
+            wall1, rss1, _ = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "1",
+                                              "--force"])
+            wall2, rss2, _ = cli_with_rusage(["grids", "build", area.name, "--out", str(out), "--workers", "2",
+                                              "--force"])
+            w1.append(wall1)
+            w2.append(wall2)
+            raws.append(raw_bellhop_seconds([r.env for r in runs], exe))
+            rss.append(max(rss1, rss2))
+        wall1, wall2, raw = median(w1), median(w2), median(raws)
+        say("repeats", REPEATS)
         say("ocean_deep_runs", len(runs), "BELLHOP runs")
-        say("ocean_deep_build_1_worker", wall1, "s")
-        say("ocean_deep_build_2_workers", wall2, "s")
-        say("ocean_deep_raw_bellhop_sum", raw, "s")
-        say("overhead_build_over_raw_bellhop", wall1 / raw, "ratio (target <= 1.10)")
-        say("parallel_speedup_2_vs_1_workers", wall1 / wall2, "x (target >= 1.7)")
-        say("ocean_deep_peak_rss", max(rss1, rss2), "MiB (target < 1024)")
+        say("ocean_deep_build_1_worker", wall1, "s (median)", runs=w1)
+        say("ocean_deep_build_2_workers", wall2, "s (median)", runs=w2)
+        say("ocean_deep_raw_bellhop_sum", raw, "s (median)", runs=raws)
+        say("overhead_build_over_raw_bellhop", median([a / b for a, b in zip(w1, raws)]),
+            "ratio, median of pairs (target <= 1.10)")
+        say("parallel_speedup_2_vs_1_workers", median([a / b for a, b in zip(w1, w2)]),
+            "x, median of pairs (target >= 1.7)")
+        say("ocean_deep_peak_rss", max(rss), "MiB (target < 1024)")
         grid = acoustics.open_grid(out)
 
     # -- the naive loop: classes x bands x frequencies at BELLHOP's automatic beam count ----------
@@ -147,3 +157,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    write("grids")

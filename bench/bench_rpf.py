@@ -34,6 +34,8 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import say, write  # noqa: E402
 
 STONESOUP_STEPS = 30
 
@@ -87,9 +89,6 @@ print(json.dumps({"elapsed_s": elapsed, "steps": steps, "n": n, "resampled": res
 '''
 
 
-def say(name: str, value, unit: str = "") -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
 
 
 def _scenario():
@@ -225,3 +224,4 @@ def main(argv=None) -> None:
 
 if __name__ == "__main__":
     main()
+    write("rpf")

@@ -4,13 +4,18 @@ Prints one line per figure, ``name: value unit``; the ratios are measured side b
 one run. A 16-member study of ``ocean-deep`` with the default perturbations on 1 and then 2
 local worker threads (target: at least 1.7x), the overhead of the executor over the sum of
 BELLHOP run times (target: at most 10 %), the measured K error per class and band, and the
-accuracy of K by reciprocity against the direct K. Takes about three minutes on 2 idle cores.
+accuracy of K by reciprocity against the direct K. The studies on 1 and 2 workers are
+interleaved and repeated (``--repeats``, default 3); the figures are medians. Writes
+docs/results/sensitivity.json. Takes about ten minutes on 2 idle cores.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -18,12 +23,12 @@ import envdata
 from acoustics import sensitivity as sens
 from acoustics.sensitivity.perturb import default_perturbations
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import median, say, write  # noqa: E402
+
 MEMBERS = 16
 
 
-def say(name: str, value, unit: str = "") -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
 
 
 def study(area, workers: int):
@@ -33,7 +38,10 @@ def study(area, workers: int):
     return ds, stats, time.perf_counter() - start
 
 
-def main() -> None:
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args(argv)
     area = envdata.load_area(envdata.DEFAULT_AREA)
     say("cores", os.cpu_count() or 1)
     say("load_average_1min_at_start", os.getloadavg()[0])
@@ -49,17 +57,31 @@ def main() -> None:
     say("k_bellhop_seconds_reciprocity_all_classes", t_recip, "s")
 
     # -- 1 worker vs 2 workers, same study -----------------------------------------------------------
-    ds1, st1, wall1 = study(area, 1)
-    ds2, st2, wall2 = study(area, 2)
-    same = bool(np.array_equal(ds1["k_db"].values, ds2["k_db"].values))
+    walls = {1: [], 2: []}
+    bellhop = {1: [], 2: []}
+    same = True
+    for _ in range(args.repeats):  # interleaved: a load change hits both alike
+        for workers in (1, 2):
+            ds, st, wall = study(area, workers)
+            walls[workers].append(wall)
+            bellhop[workers].append(st.bellhop_seconds)
+            if workers == 1:
+                ds1 = ds
+            else:
+                ds2 = ds
+                same = same and bool(np.array_equal(ds1["k_db"].values, ds2["k_db"].values))
+    wall1, wall2 = median(walls[1]), median(walls[2])
     say("study_members", MEMBERS)
-    say("study_1_worker_wall", wall1, "s")
-    say("study_1_worker_bellhop_sum", st1.bellhop_seconds, "s")
-    say("study_2_workers_wall", wall2, "s")
-    say("study_2_workers_bellhop_sum", st2.bellhop_seconds, "s")
-    say("speedup_2_vs_1_workers", wall1 / wall2, "x")
-    say("overhead_1_worker_wall_over_bellhop_sum", 100.0 * (wall1 / st1.bellhop_seconds - 1.0), "%")
-    say("overhead_2_workers_wall_x2_over_bellhop_sum", 100.0 * (2.0 * wall2 / st2.bellhop_seconds - 1.0), "%")
+    say("repeats", args.repeats)
+    say("study_1_worker_wall", wall1, "s (median)", runs=walls[1])
+    say("study_1_worker_bellhop_sum", median(bellhop[1]), "s (median)", runs=bellhop[1])
+    say("study_2_workers_wall", wall2, "s (median)", runs=walls[2])
+    say("study_2_workers_bellhop_sum", median(bellhop[2]), "s (median)", runs=bellhop[2])
+    say("speedup_2_vs_1_workers", median([a / b for a, b in zip(walls[1], walls[2])]), "x (median of pairs)")
+    say("overhead_1_worker_wall_over_bellhop_sum",
+        median([100.0 * (w / b - 1.0) for w, b in zip(walls[1], bellhop[1])]), "%")
+    say("overhead_2_workers_wall_x2_over_bellhop_sum",
+        median([100.0 * (2.0 * w / b - 1.0) for w, b in zip(walls[2], bellhop[2])]), "%")
     say("results_identical_1_vs_2_workers", same)
     say("load_average_1min_at_end", os.getloadavg()[0])
 
@@ -76,3 +98,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    write("sensitivity")

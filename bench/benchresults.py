@@ -1,0 +1,56 @@
+"""What a benchmark measured: printed as ``name: value unit`` lines, written to docs/results/NAME.json.
+
+Each ``bench_NAME.py`` calls `say` for every figure and `write` once at the end; the JSON file
+holds the figures with their units, the machine's cores, its load average at the start and the
+end (the machines are shared: read a ratio measured side by side, not an absolute time), the
+commit and the date. The docs quote these files.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import statistics
+import subprocess
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+RESULTS_DIR = REPO / "docs" / "results"
+
+_figures: dict[str, dict] = {}
+_load_at_start = os.getloadavg()[0]
+
+
+def say(name: str, value, unit: str = "", *, runs: list[float] | None = None) -> None:
+    """Print one figure and keep it for `write`; ``runs`` are the repeats a median came from."""
+    text = f"{value:.4g}" if isinstance(value, float) else str(value)
+    print(f"{name}: {text} {unit}".rstrip(), flush=True)
+    entry = {"value": value, "unit": unit}
+    if runs is not None:
+        entry["runs"] = [round(float(r), 4) for r in runs]
+    _figures[name] = entry
+
+
+def median(values) -> float:
+    return float(statistics.median(values))
+
+
+def write(name: str, **context) -> Path:
+    """Write the figures said so far to docs/results/NAME.json (atomically) and return its path."""
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
+                                text=True, timeout=10).stdout.strip() or None
+    except OSError:
+        commit = None
+    data = {"bench": f"bench/bench_{name}.py", "commit": commit,
+            "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "cores": os.cpu_count(), "load_average_at_start": round(_load_at_start, 2),
+            "load_average_at_end": round(os.getloadavg()[0], 2), **context, "results": _figures}
+    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
+    path = RESULTS_DIR / f"{name}.json"
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(data, indent=1, default=str) + "\n")
+    tmp.replace(path)
+    print(f"# wrote {path.relative_to(REPO)}", flush=True)
+    return path
