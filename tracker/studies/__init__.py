@@ -9,6 +9,11 @@ neither the trackers nor matplotlib):
   Cramér-Rao bounds (``tmakit experiment idm``); `idm_scenarios` holds its scenarios,
   `idm_columns` the filter names of its CSV and JSON columns, and `idm_plot` draws its RMSE
   figure.
+- `schmidt`: the Schmidt et al. worked example of a stationary target located from bearings
+  (first leg, error quadrilateral, Monte Carlo mean), written to ``docs/results/locate.json``
+  by ``python -m tracker.studies.schmidt``.
+- `shelf`: tracking in the shelf-break area with its bearing-dependent grid and with the
+  origin's column over a flat bottom (``tmakit experiment shelf``); `shelf_plot` draws it.
 
 Data flows one way: the plots import the data definitions (scenarios, columns), never the
 experiments; an experiment imports its plot module only where it draws.
