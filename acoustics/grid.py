@@ -8,11 +8,7 @@ Otherwise every quadrature frequency of every band is its own run.
 
 from __future__ import annotations
 
-import hashlib
-import json
 import math
-from dataclasses import dataclass, field
-from enum import StrEnum
 from pathlib import Path
 
 import numpy as np
@@ -21,37 +17,18 @@ import xarray as xr
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.bellhop.runner import default_timeout_s
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.dataset import TMAKIT_VERSION, flat_dataset
-from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights, spectral_term_db
-from acoustics.runs import Run, RunStats, execute_runs, iter_runs
+from acoustics.dataset import flat_dataset
+from acoustics.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key,
+                               run_frequencies_hz, run_timeout_s, source_hash)
+from acoustics.kcurve import spectral_term_db
+from acoustics.radialgrid import build_radial_grid
+from acoustics.runs import Run, execute_runs, iter_runs
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
 from envdata.datafiles import input_file_digests
 from envdata.limits import check_memory
 
-GRID_FORMAT_VERSION = 1
-
-
-class Model(StrEnum):
-    BELLHOP = "bellhop"
-    URICK = "urick"
-
-
-@dataclass
-class BuildStats(RunStats):
-    """What a build did: runs planned and reused, BELLHOP time, total wall time."""
-
-    runs: list[Run] = field(default_factory=list)
-
-
-def run_frequencies_hz(area: Area, band) -> np.ndarray:
-    """Frequencies BELLHOP must run for ``band``: the centre (shortcut) or every quadrature point."""
-    prop = area.propagation
-    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
-        return np.array([band.center_hz])
-    return band_frequencies_hz(band, prop.freqs_per_band)
 
 
 def receiver_depths_m(area: Area) -> np.ndarray:
@@ -91,7 +68,7 @@ def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance
         receiver_depths = receiver_depths_m(area)
     ranges = tuple(float(r) for r in area.grid.range_m())
     # a frequency shared by two bands (an edge) is one run
-    groups = list(dict.fromkeys((float(sd), _fkey(f)) for sd in source_depths_m for band in area.bands
+    groups = list(dict.fromkeys((float(sd), freq_key(f)) for sd in source_depths_m for band in area.bands
                                 for f in run_frequencies_hz(area, band)))
     n_pieces = [pieces or 1] * len(groups)
     if pieces is None and balance and len(groups) % 2 == 1:
@@ -112,13 +89,6 @@ def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance
     return runs
 
 
-def run_timeout_s(area: Area, n_beams: int, n_receivers: int) -> float:
-    """The limit of one BELLHOP run: the area's ``[propagation] run_timeout_s`` or a generous
-    default scaled to the run's beams x receivers (``bellhop.runner.default_timeout_s``), s."""
-    limit = area.propagation.run_timeout_s
-    return limit if limit is not None else default_timeout_s(n_beams, n_receivers)
-
-
 def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:
     """TL of a whole beam fan from its slices' pressure fields (see ``fan_slices``), dB."""
     if mode is TlMode.COHERENT:
@@ -131,7 +101,7 @@ def _tl_by_freq(area: Area, runs: list[Run], fields: dict[str, np.ndarray], rows
     """{run frequency: TL field} of one source depth's runs, slices combined."""
     groups: dict[float, list[np.ndarray]] = {}
     for run in {run.key: run for run in runs}.values():  # each slice once
-        groups.setdefault(_fkey(run.freq_hz), []).append(fields[run.key][rows])
+        groups.setdefault(freq_key(run.freq_hz), []).append(fields[run.key][rows])
     prop = area.propagation
     return {f: combined_tl_db(parts, prop.mode, prop.tl_max_db) for f, parts in groups.items()}
 
@@ -142,9 +112,9 @@ def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
     pending = {}
     for ic, cls in enumerate(area.classes):
         for ib, band in enumerate(area.bands):
-            freqs = {_fkey(f) for f in run_frequencies_hz(area, band)}
+            freqs = {freq_key(f) for f in run_frequencies_hz(area, band)}
             pending[(ic, ib)] = {run.key for run in runs
-                                 if run.source_depth_m == cls.depth_m and _fkey(run.freq_hz) in freqs}
+                                 if run.source_depth_m == cls.depth_m and freq_key(run.freq_hz) in freqs}
     fields: dict[str, np.ndarray] = {}
     by_key = {run.key: run for run in runs}
     for run, pressure in iter_runs(runs, **run_options):
@@ -160,30 +130,6 @@ def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
                 del fields[key]
 
 
-def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]) -> np.ndarray:
-    """Band TL for ``cls`` from the run TL fields of one source depth, keyed by run frequency."""
-    prop = area.propagation
-    freqs = band_frequencies_hz(band, prop.freqs_per_band)
-    weights = band_weights(cls, freqs)
-    range_km = area.grid.range_m() / 1000.0
-    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
-        # TL(f_i) = TL(f_c) + (alpha_i - alpha_c) r, so the band intensity factors into the
-        # centre intensity times a function of range alone: sum_i w_i 10^(-(alpha_i - alpha_c) r / 10)
-        fc = band.center_hz
-        base = tl_by_freq[_fkey(fc)].astype(np.float64)
-        d_alpha = absorption_db_per_km(freqs, prop.absorption) - absorption_db_per_km(fc, prop.absorption)
-        gain = weights @ 10.0 ** (-np.outer(d_alpha, range_km) / 10.0)
-        band_tl = base - 10.0 * np.log10(gain)
-        return np.minimum(band_tl, prop.tl_max_db)
-    else:
-        per_freq = np.stack([tl_by_freq[_fkey(f)].astype(np.float64) for f in freqs])
-    return band_average_tl_db(per_freq, weights, prop.tl_max_db)
-
-
-def _fkey(freq_hz: float) -> float:
-    return round(float(freq_hz), 6)
-
-
 def grid_size_bytes(area: Area) -> float:
     """Memory a grid build of ``area`` needs at its peak, bytes (an estimate).
 
@@ -194,17 +140,6 @@ def grid_size_bytes(area: Area) -> float:
     n_range = round(area.grid.range_max_m / area.grid.range_step_m)
     cells = float(n_depth) * n_range
     return 8.0 * len(area.classes) * len(area.bands) * cells + 48.0 * cells
-
-
-def source_hash(area: Area, model: Model, bellhop_sha256: str | None,
-                input_files: dict | None = None) -> str:
-    """Hash of everything that determines the grid's numbers: the area, the model, BELLHOP,
-    and the sha256 of the area's data files (``envdata.datafiles.input_file_digests``)."""
-    payload = {"area": area.to_dict(), "model": str(model), "format": GRID_FORMAT_VERSION,
-               "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256}
-    if input_files:
-        payload["inputs"] = {role: info["sha256"] for role, info in input_files.items()}
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
 def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
@@ -239,8 +174,6 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     """
     model = Model(model)
     if area.is_bearing_dependent:
-        from acoustics.radialgrid import build_radial_grid
-
         return build_radial_grid(area, model=model, workers=workers, scheduler=scheduler,
                                  cache_dir=cache_dir, progress=progress, stats=stats)
     check_memory(grid_size_bytes(area), f"the grid of area {area.name}")

@@ -35,8 +35,8 @@ from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.dataset import grid_attrs, grid_coords
-from acoustics.grid import (BuildStats, Model, _fkey, band_tl_from_runs, run_frequencies_hz,
-                            run_timeout_s, source_hash)
+from acoustics.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key, run_frequencies_hz,
+                               run_timeout_s, source_hash)
 from acoustics.kcurve import spectral_term_db
 from acoustics.runs import Run, iter_runs
 from acoustics.urick import k_urick_db
@@ -78,7 +78,7 @@ def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray
     rng = area.grid.range_m()
     box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
     step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
-    freqs = list(dict.fromkeys(_fkey(f) for band in area.bands for f in run_frequencies_hz(area, band)))
+    freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
     runs, where = [], {}
     for j, radial in enumerate(radials):
         for f in freqs:

@@ -29,7 +29,7 @@ from acoustics.bellhop.runner import BASE, run_env
 from acoustics.bellhop.shd3d import read_shd3d
 from acoustics.errors import BellhopError
 from acoustics.executor import TaskStats, run_tasks
-from acoustics.grid import _fkey, run_frequencies_hz, run_timeout_s
+from acoustics.bandruns import freq_key, run_frequencies_hz, run_timeout_s
 from acoustics.radialgrid import BOX_MARGIN, DEFAULT_STEP_M
 from acoustics.runs import Run
 from envdata.area import Area
@@ -91,7 +91,7 @@ def plan_nx2d_runs(area: Area, env: BoxEnvironment, receivers_m, *, bearing_grou
         raise ValueError(f"bearing_groups: must be in [1, {len(bearings)}], got {bearing_groups}")
     rng = area.grid.range_m()
     receivers = tuple(float(z) for z in receivers_m)
-    freqs = list(dict.fromkeys(_fkey(f) for band in area.bands for f in run_frequencies_hz(area, band)))
+    freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
     groups = [tuple(int(i) for i in g) for g in np.array_split(np.arange(len(bearings)), bearing_groups)]
     out = []
     for f in freqs:

@@ -19,7 +19,7 @@ import numpy as np
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.grid import (BuildStats, _fkey, band_tl_from_runs, build_grid, run_frequencies_hz,
+from acoustics.grid import (BuildStats, freq_key, band_tl_from_runs, build_grid, run_frequencies_hz,
                             run_timeout_s)
 from acoustics.kcurve import spectral_term_db
 from acoustics.sensitivity.perturb import member_area
@@ -100,7 +100,7 @@ def compute_k(area: Area, *, reciprocity_min_depth_m: float = RECIPROCITY_MIN_DE
             result = run_env(env_text(area, spec), exe=exe, timeout_s=run_timeout_s(
                 area, spec.n_beams, len(spec.source_depth_m) * len(receivers) * len(ranges)))
             seconds += result.seconds
-            by_freq[_fkey(f)] = tl_from_pressure(result.field.pressure, prop.tl_max_db)
+            by_freq[freq_key(f)] = tl_from_pressure(result.field.pressure, prop.tl_max_db)
         for ic, cls in enumerate(area.classes):
             isrc, ircv = where[cls.name]
             tl = {key: field[isrc, ircv][None, :] for key, field in by_freq.items()}
