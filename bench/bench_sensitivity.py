@@ -21,7 +21,7 @@ import numpy as np
 
 import envdata
 from acoustics import sensitivity as sens
-from acoustics.sensitivity.perturb import default_perturbations
+from acoustics.sensitivity.perturbspec import default_perturbations
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
 from benchresults import median, say, write  # noqa: E402

@@ -1,6 +1,6 @@
 """Environmental sensitivity studies: an ensemble of perturbed areas through BELLHOP, and what it says.
 
-``perturb`` (what is uncertain), ``spec`` (what determines a study), ``members`` (one member's
+``perturbspec`` (what is uncertain), ``perturb`` (drawing it into member areas), ``spec`` (what determines a study), ``members`` (one member's
 K(r)), ``study`` (the ensemble on threads or a Dask cluster, and its dataset), ``summaries``,
 ``files``, ``writeback`` (the measured K error into an area file), ``plot`` and ``studyfile`` (a
 study's files from the command line's options, written all or none).
@@ -8,7 +8,7 @@ study's files from the command line's options, written all or none).
 
 from acoustics.sensitivity.files import StudyFileError, open_study, write_study
 from acoustics.sensitivity.members import MemberResult, compute_k, compute_member, k_runs
-from acoustics.sensitivity.perturb import PerturbationError
+from acoustics.sensitivity.perturbspec import PerturbationError
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from acoustics.sensitivity.study import StudyStats, run_study
 from acoustics.sensitivity.studyfile import output_files, run_study_file

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.dataset import TMAKIT_VERSION
-from acoustics.sensitivity.perturb import Perturbation, check_perturbations
+from acoustics.sensitivity.perturb import check_perturbations
+from acoustics.sensitivity.perturbspec import Perturbation
 from envdata.area import Area
 from envdata.errors import InputError
 

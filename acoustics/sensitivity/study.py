@@ -25,7 +25,7 @@ from acoustics.bellhop.exe import find_bellhop
 from acoustics.executor import ResultCache, TaskStats, run_tasks
 from acoustics.dataset import TMAKIT_VERSION, now_iso
 from acoustics.sensitivity.members import MemberResult, compute_member, member_key
-from acoustics.sensitivity.perturb import Perturbation
+from acoustics.sensitivity.perturbspec import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from envdata.area import Area
 

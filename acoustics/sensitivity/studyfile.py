@@ -18,7 +18,7 @@ import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.build import remove_cache, resume_dir
 from acoustics.sensitivity.files import write_study
-from acoustics.sensitivity.perturb import default_perturbations, parse_spec
+from acoustics.sensitivity.perturbspec import default_perturbations, parse_spec
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from acoustics.sensitivity.study import StudyStats, run_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize

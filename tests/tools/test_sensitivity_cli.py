@@ -128,7 +128,8 @@ def test_unreachable_scheduler_is_a_clear_error_within_seconds(tmp_path):
 
 
 def test_default_perturbations_are_valid_for_the_builtin_areas():
-    from acoustics.sensitivity.perturb import check_perturbations, default_perturbations
+    from acoustics.sensitivity.perturb import check_perturbations
+    from acoustics.sensitivity.perturbspec import default_perturbations
 
     areas = [envdata.load_area(name) for name in envdata.builtin_area_names()]
     flat = [area for area in areas if not area.is_bearing_dependent]

@@ -5,14 +5,14 @@ from __future__ import annotations
 import pytest
 
 from acoustics import sensitivity as sens
-from acoustics.sensitivity import perturb as pt
+from acoustics.sensitivity import perturbspec as ps
 
 TINY_SPECS = ("displace:sd_m=10", "temperature:sd_c=0.3,scale_m=300", "bottom-speed:sd_mps=30",
               "source-depth:sd_frac=0.15", "observer-depth:sd_m=2")
 
 
 def specs(*texts):
-    return [p for text in texts for p in pt.parse_spec(text)]
+    return [p for text in texts for p in ps.parse_spec(text)]
 
 
 @pytest.fixture(scope="session")

@@ -13,23 +13,24 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 from acoustics.sensitivity import perturb as pt
-from acoustics.sensitivity.perturb import PerturbationError
+from acoustics.sensitivity import perturbspec as ps
+from acoustics.sensitivity.perturbspec import PerturbationError
 from tests.conftest import DATA, MALFORMED
 
 BAD = MALFORMED / "perturb"
 
 
 def test_inline_spec_parses_keys_defaults_and_numbers():
-    [p] = pt.parse_spec("temperature:sd_c=0.5")
-    assert p.kind is pt.Kind.TEMPERATURE and p.sd == 0.5 and p.option("scale_m") == 200.0
-    [p] = pt.parse_spec(" eof:sd_mps=1.5,modes=2,depth_m=800 ")
+    [p] = ps.parse_spec("temperature:sd_c=0.5")
+    assert p.kind is ps.Kind.TEMPERATURE and p.sd == 0.5 and p.option("scale_m") == 200.0
+    [p] = ps.parse_spec(" eof:sd_mps=1.5,modes=2,depth_m=800 ")
     assert (p.sd, p.option("modes"), p.option("depth_m"), p.n_draws) == (1.5, 2.0, 800.0, 2)
     assert p.param_names() == ["eof_a1_mps", "eof_a2_mps"]
-    assert pt.parse_spec(p.describe()) == [dataclasses.replace(p, source=f"--perturb {p.describe()}")]
+    assert ps.parse_spec(p.describe()) == [dataclasses.replace(p, source=f"--perturb {p.describe()}")]
 
 
 def test_file_spec_reads_every_table(tiny_area):
-    specs = pt.parse_spec(str(DATA / "perturb" / "tiny-study.toml"))
+    specs = ps.parse_spec(str(DATA / "perturb" / "tiny-study.toml"))
     assert [p.kind.value for p in specs] == ["displace", "temperature", "bottom-speed", "source-depth"]
     assert specs[1].option("scale_m") == 300.0
     pt.check_perturbations(tiny_area, specs)
@@ -52,7 +53,7 @@ def test_file_spec_reads_every_table(tiny_area):
 ])
 def test_malformed_inline_specs_name_the_spec_key_and_value(text, match):
     with pytest.raises(PerturbationError, match=match):
-        pt.parse_spec(text)
+        ps.parse_spec(text)
 
 
 @pytest.mark.parametrize("name, match", [
@@ -73,7 +74,7 @@ def test_malformed_inline_specs_name_the_spec_key_and_value(text, match):
 ])
 def test_malformed_spec_files_name_file_table_key_and_value(name, match):
     with pytest.raises(PerturbationError, match=match):
-        pt.parse_spec(str(BAD / name))
+        ps.parse_spec(str(BAD / name))
 
 
 @pytest.mark.parametrize("name, match", [
@@ -86,7 +87,7 @@ def test_malformed_spec_files_name_file_table_key_and_value(name, match):
     ("duplicate-kind.toml", r"duplicate-kind.toml: \[\[perturb\]\] #2: perturbation displace given twice"),
 ])
 def test_specs_that_truncation_would_swallow_are_rejected(tiny_area, name, match):
-    specs = pt.parse_spec(str(BAD / name))
+    specs = ps.parse_spec(str(BAD / name))
     with pytest.raises(PerturbationError, match=match):
         pt.check_perturbations(tiny_area, specs)
 
@@ -94,17 +95,17 @@ def test_specs_that_truncation_would_swallow_are_rejected(tiny_area, name, match
 def test_unphysical_temperature_and_source_depth_are_rejected(tiny_area):
     with pytest.raises(PerturbationError, match=r"temperature:sd_c=200,scale_m=200: only \d+ % .*temperature "
                                                 r"-?\d+\.\d+ degC at \d+ m is outside"):
-        pt.check_perturbations(tiny_area, pt.parse_spec("temperature:sd_c=200"))
+        pt.check_perturbations(tiny_area, ps.parse_spec("temperature:sd_c=200"))
     with pytest.raises(PerturbationError, match=r"source-depth:sd_frac=30: only \d+ % .*makes the class depths "
                                                 r"non-positive"):
-        pt.check_perturbations(tiny_area, pt.parse_spec("source-depth:sd_frac=30"))
+        pt.check_perturbations(tiny_area, ps.parse_spec("source-depth:sd_frac=30"))
 
 
 def test_draws_are_truncated_at_the_physical_range_and_plain_normal_elsewhere(tiny_area):
     # sd 250 m of water depth: a plain normal would put the bottom above the 150 m class below
     # -3.4 sd; sd 0.5 dB/wavelength on the 0.8 dB/wavelength bottom: negative below -1.6 sd
-    specs = [*pt.parse_spec(str(DATA / "perturb" / "wide-water-depth.toml")),
-             *pt.parse_spec("bottom-attenuation:sd_db_per_wavelength=0.5")]
+    specs = [*ps.parse_spec(str(DATA / "perturb" / "wide-water-depth.toml")),
+             *ps.parse_spec("bottom-attenuation:sd_db_per_wavelength=0.5")]
     pt.check_perturbations(tiny_area, specs)
     depth, att, xis = [], [], []
     for member in range(2000):
@@ -167,7 +168,7 @@ def _shallow_cold(doc):
                                     _shallow_cold])
 def test_default_perturbations_work_on_valid_areas_near_their_limits(change):
     area = _variant(change)
-    specs = pt.default_perturbations(area)
+    specs = ps.default_perturbations(area)
     pt.check_perturbations(area, specs)
     for member in range(30):
         member_area, _ = pt.member_area(area, specs, 11, member)
@@ -175,7 +176,7 @@ def test_default_perturbations_work_on_valid_areas_near_their_limits(change):
 
 
 def test_members_are_reproducible_and_independent_of_order_of_computation(tiny_area):
-    specs = pt.default_perturbations(tiny_area)
+    specs = ps.default_perturbations(tiny_area)
     a3, p3 = pt.member_area(tiny_area, specs, 7, 3)
     pt.member_area(tiny_area, specs, 7, 0)
     b3, q3 = pt.member_area(tiny_area, specs, 7, 3)
@@ -191,7 +192,7 @@ def test_members_are_reproducible_and_independent_of_order_of_computation(tiny_a
 
 
 def test_zero_sd_leaves_the_area_unchanged_except_resampling(tiny_area):
-    specs = [p for s in ("bottom-speed:sd_mps=0", "observer-depth:sd_m=0", "displace:sd_m=0") for p in pt.parse_spec(s)]
+    specs = [p for s in ("bottom-speed:sd_mps=0", "observer-depth:sd_m=0", "displace:sd_m=0") for p in ps.parse_spec(s)]
     area, params = pt.perturb_area(tiny_area, specs, np.random.default_rng(1))
     assert area.bottom == tiny_area.bottom and area.observer == tiny_area.observer
     z = np.asarray(area.water.ssp.depth_m)
@@ -200,14 +201,14 @@ def test_zero_sd_leaves_the_area_unchanged_except_resampling(tiny_area):
 
 
 def test_draws_are_truncated_at_4_sd():
-    [p] = pt.parse_spec("eof:sd_mps=1,modes=10")
+    [p] = ps.parse_spec("eof:sd_mps=1,modes=10")
     xi = np.concatenate([pt.draw([p], np.random.default_rng([3, m]))[0] for m in range(3000)])
     assert np.abs(xi).max() <= pt.TRUNCATE_SD
     assert abs(xi.std() - 1.0) < 0.03  # 30000 draws: sd of the sample sd ~ 0.004; truncation at 4 removes 0.06 %
 
 
 def test_displacement_moves_the_profile_by_the_mode_1_shape(tiny_area):
-    [p] = pt.parse_spec("displace:sd_m=10")
+    [p] = ps.parse_spec("displace:sd_m=10")
     area, values = pt._apply_one(tiny_area, p, np.array([2.0]))
     d = values["displace_dz_m"]
     assert d == 20.0
@@ -219,7 +220,7 @@ def test_displacement_moves_the_profile_by_the_mode_1_shape(tiny_area):
 
 
 def test_mixed_layer_is_isothermal_with_the_pressure_gradient(tiny_area):
-    [p] = pt.parse_spec("mixed-layer:sd_m=10,mean_m=60")
+    [p] = ps.parse_spec("mixed-layer:sd_m=10,mean_m=60")
     area, values = pt._apply_one(tiny_area, p, np.array([1.0]))
     h = values["mixed_layer_depth_m"]
     assert h == 70.0
@@ -231,7 +232,7 @@ def test_mixed_layer_is_isothermal_with_the_pressure_gradient(tiny_area):
 
 
 def test_temperature_change_is_converted_with_teos10(tiny_area):
-    [p] = pt.parse_spec("temperature:sd_c=1,scale_m=100000")
+    [p] = ps.parse_spec("temperature:sd_c=1,scale_m=100000")
     area, _ = pt._apply_one(tiny_area, p, np.array([1.0]))
     z = np.array([0.0, 500.0])
     dc = area.water.ssp.speed_at(z) - tiny_area.water.ssp.speed_at(z)
@@ -260,7 +261,7 @@ def test_temperature_change_is_converted_with_teos10(tiny_area):
 
 
 def test_water_depth_cuts_or_extends_the_profile(tiny_area):
-    [p] = pt.parse_spec("water-depth:sd_m=20")
+    [p] = ps.parse_spec("water-depth:sd_m=20")
     deeper, v = pt._apply_one(tiny_area, p, np.array([2.0]))
     assert v["water_depth_m"] == 1040.0 and deeper.water.ssp.bottom_m == 1040.0
     z, c = tiny_area.water.ssp.depth_m, tiny_area.water.ssp.speed_mps
@@ -279,7 +280,7 @@ def test_specs_that_pass_the_check_always_give_valid_members(tiny_area, seed, me
                          f"eof:sd_mps={2 * sd},modes=3,depth_m=600", f"salinity:sd_psu={0.2 * sd}",
                          f"bottom-attenuation:sd_db_per_wavelength={0.2 * sd}",
                          f"source-depth:sd_frac={0.2 * sd}", f"observer-depth:sd_m={20 * sd}")
-             for p in pt.parse_spec(s)]
+             for p in ps.parse_spec(s)]
     pt.check_perturbations(tiny_area, specs)
     area, params = pt.member_area(tiny_area, specs, seed, member)
     z = np.asarray(area.water.ssp.depth_m)

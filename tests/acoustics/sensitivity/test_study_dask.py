@@ -10,7 +10,7 @@ import time
 import pytest
 import xarray as xr
 
-from acoustics.sensitivity import perturb as pt
+from acoustics.sensitivity import perturbspec as ps
 from acoustics import sensitivity as sens
 from envdata.errors import InputError
 
@@ -21,7 +21,7 @@ SPECS = ("displace:sd_m=10", "bottom-speed:sd_mps=30", "bottom-attenuation:sd_db
 
 
 def specs():
-    return [p for text in SPECS for p in pt.parse_spec(text)]
+    return [p for text in SPECS for p in ps.parse_spec(text)]
 
 
 @pytest.fixture(scope="module")
