@@ -9,12 +9,6 @@ from pathlib import Path
 import acoustics
 import envdata
 from acoustics.build import build_grid_file
-from acoustics.bottomplot import bottom_figure
-from acoustics.gridbathymetry import find_bathymetry, load_around_origin
-from acoustics.mapplot import map_figure
-from acoustics.plot import plot_grid
-from acoustics.radialplots import write_figures
-from acoustics.radialstyle import What
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report, want_progress
 
@@ -49,6 +43,8 @@ def run(args) -> Report:
     args.out.mkdir(parents=True, exist_ok=True)
     info = build_grid_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers,
                            progress=want_progress(args))
+    from acoustics.plot import plot_grid  # matplotlib: imported only by the commands that draw
+
     ds = acoustics.open_grid(grid_path)
     plots = []
     for cls_name in ds["class"].values:
@@ -68,6 +64,12 @@ def run(args) -> Report:
 
 def _map_area(ds, grid_path: Path, pngs: dict[str, Path]) -> None:
     """The bearing-dependent area's K map, detection map and bottom, written all or none."""
+    from acoustics.bottomplot import bottom_figure
+    from acoustics.gridbathymetry import find_bathymetry, load_around_origin
+    from acoustics.mapplot import map_figure
+    from acoustics.radialplots import write_figures
+    from acoustics.radialstyle import What
+
     lat0, lon0 = float(ds.attrs["origin_lat_deg"]), float(ds.attrs["origin_lon_deg"])
     choice = find_bathymetry(ds, grid_path=grid_path)
     bathymetry = (load_around_origin(choice, lat0, lon0, float(ds["range"].values[-1]))
