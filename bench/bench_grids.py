@@ -1,7 +1,10 @@
-"""Benchmarks of the propagation grids (issue: speed, memory, and what each shortcut costs).
+"""Speed and memory of the propagation grids of the default area, and the naive loop they replace.
 
-Run with ``make bench`` (or ``python bench/bench_grids.py``). Prints one line per figure, ``name: value unit``; ratios are measured
-side by side in this one run. Takes about three minutes on 2 cores.
+Run with ``make bench`` (or ``python bench/bench_grids.py``). Prints one line per figure, ``name:
+value unit``, and writes docs/results/grids.json. ``grids build`` on 1 and 2 workers and the raw
+BELLHOP runs on the same .env files are interleaved and repeated; the figures are medians
+(ratios: medians of the side-by-side pairs). What the build's shortcuts cost in accuracy is
+bench_accuracy.py. Takes about five minutes on 2 cores.
 """
 
 from __future__ import annotations
@@ -15,9 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
 
-import acoustics
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.grid import plan_runs, receiver_depths_m
@@ -58,11 +59,6 @@ def raw_bellhop_seconds(envs: list[str], exe: Path) -> float:
     return total
 
 
-def k_difference(a, b) -> tuple[float, float, float]:
-    d = np.abs(np.asarray(a) - np.asarray(b)).ravel()
-    return float(np.median(d)), float(np.percentile(d, 95)), float(np.sqrt(np.mean(d ** 2)))
-
-
 def main() -> None:
     exe = find_bellhop().path
     area = envdata.load_area(envdata.DEFAULT_AREA)
@@ -93,7 +89,8 @@ def main() -> None:
         say("parallel_speedup_2_vs_1_workers", median([a / b for a, b in zip(w1, w2)]),
             "x, median of pairs (target >= 1.7)")
         say("ocean_deep_peak_rss", max(rss), "MiB (target < 1024)")
-        grid = acoustics.open_grid(out)
+        # the command's fixed cost (start-up, writing the netCDF), the same on any number of workers
+        say("ocean_deep_fixed_cost_w1_minus_raw", median([a - b for a, b in zip(w1, raws)]), "s")
 
     # -- the naive loop: classes x bands x frequencies at BELLHOP's automatic beam count ----------
     receivers = receiver_depths_m(area).size * area.grid.range_m().size
@@ -116,43 +113,6 @@ def main() -> None:
     say("naive_loop_estimate", naive_s, f"s ({len(area.classes) * len(area.bands) * area.propagation.freqs_per_band}"
         " runs at automatic beam counts)")
     say("speedup_over_naive_loop", naive_s / wall2, "x")
-
-    # -- what each shortcut costs in K(r) accuracy, against the full computation ---------------
-    prop = area.propagation
-    full = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0, frequency_shortcut=False))
-    beams_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, frequency_shortcut=False))
-    shortcut_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0))
-    k_full = acoustics.build_k(full, reciprocity=False, workers=ncores)
-    k_beams = acoustics.build_k(beams_only, reciprocity=False, workers=ncores)
-    k_short = acoustics.build_k(shortcut_only, reciprocity=False, workers=ncores)
-    k_recip = acoustics.build_k(area, reciprocity=True, workers=ncores)
-    for name, k in (("default_grid", grid["k_db"]), ("fixed_beam_fan", k_beams),
-                    ("frequency_shortcut", k_short)):
-        med, p95, rms = k_difference(k, k_full)
-        say(f"k_error_{name}_vs_full_median", med, "dB")
-        say(f"k_error_{name}_vs_full_p95", p95, "dB")
-    # how many beams incoherent K(r) needs (one run per band; reference: BELLHOP's own count)
-    for n_beams in (250, 500, 1000, 1500, 3000):
-        fan = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=n_beams))
-        start = time.perf_counter()
-        k_fan = acoustics.build_k(fan, reciprocity=False, workers=ncores)
-        seconds = time.perf_counter() - start
-        med, p95, _ = k_difference(k_fan, k_full)
-        say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")
-        say(f"k_error_{n_beams}_beams_vs_full_p95", p95, f"dB ({seconds:.1f} s for K alone)")
-    # the whole TL field of one class and band against the full computation
-    nps, fb1 = area.classes[0], area.bands[0]
-    one = dict(classes=(nps,), bands=(fb1,))
-    tl_default = grid["tl_db"].sel({"class": nps.name, "band": fb1.name}).values
-    tl_full = acoustics.build_grid(dataclasses.replace(full, **one), workers=ncores)["tl_db"].values[0, 0]
-    audible = tl_full < 120.0  # leave out deep shadows, where no band would be detected
-    d = np.abs(tl_default - tl_full)[audible]
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
-    for cls in area.classes:
-        med, p95, _ = k_difference(k_recip.sel({"class": cls.name}), grid["k_db"].sel({"class": cls.name}))
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_p95", p95, "dB")
 
 
 if __name__ == "__main__":
