@@ -74,8 +74,11 @@ def read_input_bytes(path: str | os.PathLike, what: str, error: type[ValueError]
 
 
 def _temporary_beside(target: Path) -> Path:
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    except OSError as exc:  # name the file the user asked for, not the temporary one
+        raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", str(target)) from None
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)

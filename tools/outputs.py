@@ -9,6 +9,7 @@ kind of file (a tmakit netCDF, a PNG, a track CSV, ...) or empty; anything else 
 from __future__ import annotations
 
 import os
+import tempfile
 from enum import StrEnum
 from pathlib import Path
 
@@ -59,6 +60,14 @@ def _check_folder(folder: Path, shown: Path) -> None:
         raise InputError(f"{shown}: cannot write: {probe} is a file, not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise InputError(f"{shown}: cannot write: no permission to write in {probe}")
+    # permissions do not tell everything (a read-only or virtual file system, or root): try
+    try:
+        fd, name = tempfile.mkstemp(prefix=".tmakit-probe-", dir=probe)
+    except OSError as exc:
+        raise InputError(f"{shown}: cannot write: cannot create a file in {probe} "
+                         f"({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(name)
 
 
 def check_output_dir(path: str | os.PathLike) -> Path:
