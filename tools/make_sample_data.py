@@ -30,16 +30,23 @@ cooler (-0.5 degC, wind-driven mixing) and fresher (-0.3, river water), fading o
 
 ``envdata/areas/data/`` gets the August fields in WOA's own split (a temperature and a salinity
 file, one time step each) and the relief; ``write_monthly`` writes all twelve months in one file.
+
+A CTD cast at the origin in August, the same water continuous in depth, for the tests
+(``--cast tests/data/casts``): ``shelf-ctd.cnv`` in Sea-Bird's layout, binned to 5 m down to 500 m,
+and ``shelf-ctd.csv``, the same numbers in tmakit's CSV; ``cast_scans`` gives the cast as the CTD
+records it, scan by scan, down and back up.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 from pathlib import Path
 
 import numpy as np
 
-from tools.sample_layouts import WOA_LEVELS_M, WOA_MONTHLY_LEVELS, gebco_axis_deg, write_gebco, write_woa
+from tools.sample_layouts import (WOA_LEVELS_M, WOA_MONTHLY_LEVELS, gebco_axis_deg, write_cnv, write_gebco,
+                                  write_woa)
 
 ORIGIN_LAT_DEG = 43.0
 ORIGIN_LON_DEG = 5.0
@@ -58,6 +65,10 @@ WOA_LON_DEG = np.arange(4.125, 5.9, 0.25)
 DATA = Path(__file__).resolve().parents[1] / "envdata" / "areas" / "data"
 RELIEF_FILE = "shelf-break_gebco_15s.nc"
 WOA_FILE = "shelf-break_woa_{kind}{month:02d}_04.nc"
+CAST_STEM = "shelf-ctd"
+CAST_START = datetime.datetime(2024, 8, 14, 6, 12, 9)
+CAST_BOTTOM_M = 500.0  # the origin's floor is ~540 m down
+CAST_BIN_M = 5.0
 
 
 def local_km(lat_deg, lon_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -176,10 +187,80 @@ def write_monthly(folder: Path, stem: str = "shelf-break_woa_monthly") -> tuple[
     return paths[0], paths[1]
 
 
+def cast_ts(depth_m) -> tuple[np.ndarray, np.ndarray]:
+    """In-situ temperature and practical salinity at the origin in August, at ``depth_m``."""
+    at = (np.array([ORIGIN_LAT_DEG]), np.array([ORIGIN_LON_DEG]))
+    return temperature_c(8, depth_m, *at)[:, 0, 0], salinity_psu(8, depth_m, *at)[:, 0, 0]
+
+
+def write_cast(folder: Path) -> tuple[Path, Path]:
+    """The binned down-cast at the origin: ``shelf-ctd.cnv`` (Sea-Bird) and ``shelf-ctd.csv``.
+
+    The .cnv holds pressure, depth (the bin centres), T, S and Loop Edit's flag column, as SBE
+    Data Processing's Bin Average writes them; the CSV the same depths, T and S to the same
+    decimals, so that both read to the same numbers.
+    """
+    import gsw
+
+    depth = np.arange(CAST_BIN_M, CAST_BOTTOM_M + CAST_BIN_M / 2, CAST_BIN_M)
+    t, s = cast_ts(depth)
+    pressure = gsw.p_from_z(-depth, ORIGIN_LAT_DEG)
+    cnv = write_cnv(folder / f"{CAST_STEM}.cnv",
+                    {"prDM": pressure, "depSM": depth, "t090C": t, "sal00": s, "flag": np.zeros(depth.size)},
+                    latitude_deg=ORIGIN_LAT_DEG, longitude_deg=ORIGIN_LON_DEG, start=CAST_START,
+                    interval=f"meters: {CAST_BIN_M:g}", station="shelf-break origin", bin_size_m=CAST_BIN_M)
+    csv = folder / f"{CAST_STEM}.csv"
+    rows = [f"{z:.3f},{tz:.4f},{sz:.4f}" for z, tz, sz in zip(depth, t, s)]
+    csv.write_text("# The shelf-break origin in August binned to 5 m, the numbers of shelf-ctd.cnv "
+                   "(tools/make_sample_data.py; synthetic)\n"
+                   "depth_m,temperature_c,salinity_psu\n" + "\n".join(rows) + "\n")
+    return cnv, csv
+
+
+def cast_scans(*, rate_hz: float = 4.0, descent_mps: float = 1.0, bottom_m: float = CAST_BOTTOM_M,
+               heave_m: float = 1.5, heave_period_s: float = 8.0, upcast_warmer_c: float = 0.3) -> dict:
+    """The cast at the origin as the CTD records it, scan by scan: Sea-Bird columns -> values.
+
+    A few scans on deck (pressure below 0, salinity ~0), the down-cast at ``descent_mps`` with the
+    ship's heave (``heave_m`` at ``heave_period_s``: the CTD goes back up now and then, so depths
+    do not increase scan by scan), then the up-cast, ``upcast_warmer_c`` warmer (a reader that
+    mixes it in is caught). ``flag`` is 0: the file has not been through Loop Edit.
+    """
+    import gsw
+
+    dt = 1.0 / rate_hz
+    down_s = np.arange(0.0, (bottom_m - 2.0) / descent_mps, dt)
+    down = 2.0 + descent_mps * down_s + heave_m * np.sin(2 * np.pi * down_s / heave_period_s)
+    down = np.maximum(down, 0.3)
+    up = bottom_m - descent_mps * np.arange(dt, (bottom_m - 2.0) / descent_mps, dt)
+    deck = np.full(8, -0.2)
+    depth = np.concatenate([deck, down, up])
+    t, s = cast_ts(np.clip(depth, 0.0, None))
+    t[: deck.size], s[: deck.size] = 26.0, 0.01  # air
+    t[deck.size + down.size:] += upcast_warmer_c
+    pressure = gsw.p_from_z(-depth, ORIGIN_LAT_DEG)
+    return {"prDM": pressure, "depSM": depth, "t090C": t, "sal00": s,
+            "timeS": dt * np.arange(depth.size), "flag": np.zeros(depth.size)}
+
+
+def write_scans(path: Path, columns: dict, *, rate_hz: float = 4.0, **kwargs) -> Path:
+    """Write ``cast_scans``'s columns (or a selection of them, or others) as an unbinned .cnv."""
+    return write_cnv(path, columns, latitude_deg=ORIGIN_LAT_DEG, longitude_deg=ORIGIN_LON_DEG,
+                     start=CAST_START, interval=f"seconds: {1.0 / rate_hz:g}", station="shelf-break origin",
+                     **kwargs)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=DATA, help="folder to write to (default: %(default)s)")
+    parser.add_argument("--cast", type=Path, metavar="FOLDER",
+                        help="write the sample CTD cast (shelf-ctd.cnv, shelf-ctd.csv) to FOLDER instead")
     args = parser.parse_args(argv)
+    if args.cast is not None:
+        args.cast.mkdir(parents=True, exist_ok=True)
+        for path in write_cast(args.cast):
+            print(f"{path}: {path.stat().st_size / 1024:.0f} kB")
+        return 0
     args.out.mkdir(parents=True, exist_ok=True)
     write_relief(args.out / RELIEF_FILE)
     for path in (args.out / RELIEF_FILE, *write_month_split(args.out, 8)):

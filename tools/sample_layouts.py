@@ -11,10 +11,16 @@ gives (synthetic: these files say in their titles that they are not GEBCO or WOA
   ``_FillValue`` 9.96921e36 below the sea floor and on land; float32 ``lat``/``lon``/``depth``
   with bounds; ``time`` in "months since 1955-01-01 00:00:00" (no calendar, undecodable) with
   ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month).
+- Sea-Bird ``.cnv`` (a CTD cast as SBE Data Processing writes it): ``*`` instrument and NMEA
+  header lines, ``**`` user lines, ``#`` lines (``nquan``, ``nvalues``, one ``name N = short:
+  long [unit]`` per column, ``span``, ``interval``, ``start_time``, ``bad_flag``), ``*END*``, then
+  the scans in fixed-width columns of 11 characters; Windows line ends; a missing or bad value and
+  a scan Loop Edit marks bad hold ``bad_flag`` (-9.990e-29).
 """
 
 from __future__ import annotations
 
+import datetime
 from pathlib import Path
 
 import numpy as np
@@ -165,3 +171,101 @@ def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, va
                          "grid_mapping": "crs", "units": units})
             field = data + offset
             v[:, :, :, :] = np.where(np.isfinite(field), field, WOA_FILL).astype(np.float32)
+
+
+#: Sea-Bird's bad_flag: a missing or bad value, and the ``flag`` of a scan Loop Edit marks bad.
+SEABIRD_BAD_FLAG = -9.990e-29
+#: The .cnv columns these files can hold: Sea-Bird's short name -> (its long name and unit, the
+#: format of its values); ``{lat}`` is the latitude depth was computed at.
+SEABIRD_COLUMNS = {
+    "prDM": ("Pressure, Digiquartz [db]", "{:11.3f}"),
+    "depSM": ("Depth [salt water, m], lat = {lat:.2f}", "{:11.3f}"),
+    "t090C": ("Temperature [ITS-90, deg C]", "{:11.4f}"),
+    "t068C": ("Temperature [IPTS-68, deg C]", "{:11.4f}"),
+    "sal00": ("Salinity, Practical [PSU]", "{:11.4f}"),
+    "timeS": ("Time, Elapsed [seconds]", "{:11.3f}"),
+    "flag": (" 0.000e+00", "{:11.3e}"),  # Sea-Bird writes "flag:  0.000e+00"
+}
+
+
+def _nmea_position(value_deg: float, hemispheres: str, width: int) -> str:
+    hemisphere = hemispheres[0] if value_deg >= 0.0 else hemispheres[1]
+    degrees, minutes = divmod(round(abs(value_deg) * 60.0, 2), 60.0)  # "43 00.00 N"
+    return f"{int(degrees):0{width}d} {minutes:05.2f} {hemisphere}"
+
+
+def write_cnv(path: str | Path, columns: dict, *, latitude_deg: float, longitude_deg: float,
+              start: datetime.datetime, interval: str, station: str, bin_size_m: float | None = None,
+              names: dict[str, str] | None = None) -> Path:
+    """Write a CTD cast in Sea-Bird's ``.cnv`` layout (ASCII, Windows line ends).
+
+    Parameters
+    ----------
+    columns : dict
+        Sea-Bird short name (a key of `SEABIRD_COLUMNS`) -> values, one per scan, in column order;
+        `SEABIRD_BAD_FLAG` is written as Sea-Bird writes it. No rows: the header alone.
+    latitude_deg, longitude_deg : float
+        The NMEA position of the header (and the latitude of ``depSM``'s name line).
+    start : datetime
+        The time of the first scan (UTC).
+    interval : str
+        Sea-Bird's ``# interval`` value: ``"seconds: 0.25"`` for scans, ``"meters: 5"`` when binned.
+    station : str
+        The ``** Station:`` line.
+    bin_size_m : float, optional
+        Write the ``binavg_*`` lines of a file binned by depth.
+    names : dict, optional
+        Short name -> the name written in its ``# name`` line instead (a file with another column).
+    """
+    path = Path(path)
+    names = names or {}
+    data = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
+    rows = len(next(iter(data.values()))) if data else 0
+    stamp = start.strftime("%b %d %Y %H:%M:%S")
+    lines = ["* Sea-Bird SBE 9 Data File:",
+             f"* FileName = C:\\SBE\\data\\{path.stem}.hex",
+             "* Software Version Seasave V 7.26.7.107",
+             "* Temperature SN = 0000",
+             "* Conductivity SN = 0000",
+             f"* System UpLoad Time = {stamp}",
+             f"* NMEA Latitude = {_nmea_position(latitude_deg, 'NS', 2)}",
+             f"* NMEA Longitude = {_nmea_position(longitude_deg, 'EW', 3)}",
+             f"* NMEA UTC (Time) = {stamp}",
+             "* Store Lat/Lon Data = Append to Every Scan",
+             "** Ship: synthetic (tmakit sample data, not a real cast)",
+             f"** Station: {station}",
+             f"* System UTC = {stamp}",
+             f"# nquan = {len(data)}",
+             f"# nvalues = {rows}",
+             "# units = specified"]
+    for k, name in enumerate(data):
+        long_name = SEABIRD_COLUMNS[name][0].format(lat=latitude_deg)
+        lines.append(f"# name {k} = {names.get(name, name)}: {long_name}")
+    for k, (name, values) in enumerate(data.items()):
+        good = values[values != SEABIRD_BAD_FLAG]
+        if name == "flag" or not good.size:
+            lines.append(f"# span {k} = {0.0:.4e}, {0.0:.4e}")
+        else:
+            fmt = SEABIRD_COLUMNS[name][1]
+            lines.append(f"# span {k} = {fmt.format(good.min())}, {fmt.format(good.max())}")
+    lines += [f"# interval = {interval}",
+              f"# start_time = {stamp} [System UTC, first data scan.]",
+              f"# bad_flag = {SEABIRD_BAD_FLAG:.3e}",
+              f"# datcnv_date = {stamp}, 7.26.7.129",
+              f"# datcnv_in = C:\\SBE\\data\\{path.stem}.hex C:\\SBE\\data\\{path.stem}.XMLCON",
+              "# datcnv_skipover = 0"]
+    if bin_size_m is not None:
+        lines += [f"# binavg_date = {stamp}, 7.26.7.129",
+                  "# binavg_bintype = meters",
+                  f"# binavg_binsize = {bin_size_m:g}",
+                  "# binavg_excl_bad_scans = yes",
+                  "# binavg_skipover = 0",
+                  "# binavg_surface_bin = no, min = 0.000, max = 0.000, value = 0.000"]
+    lines += ["# file_type = ascii", "*END*"]
+    formats = [SEABIRD_COLUMNS[name][1] for name in data]
+    for i in range(rows):
+        lines.append("".join(f"{SEABIRD_BAD_FLAG:11.3e}" if values[i] == SEABIRD_BAD_FLAG else fmt.format(values[i])
+                             for fmt, values in zip(formats, data.values())))
+    with open(path, "w", encoding="ascii", newline="\r\n") as fh:
+        fh.write("\n".join(lines) + "\n")
+    return path
