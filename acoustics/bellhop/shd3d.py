@@ -20,10 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustics.bellhop.shdfile import MAX_COUNT
+from acoustics.bellhop.shdfile import COUNT_NAMES, read_header
 from acoustics.errors import BellhopError
-
-COUNT_NAMES = ("Nfreq", "Ntheta", "NSx", "NSy", "NSz", "NRz", "NRr")
 
 
 @dataclass(frozen=True)
@@ -67,21 +65,7 @@ def read_shd3d(path: str | Path) -> ShadeField3D:
         sorted, or fewer bytes than the header's counts promise.
     """
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise BellhopError(f"{path}: cannot read the shade file: {exc.strerror or exc}") from None
-    if len(raw) < 4:
-        raise BellhopError(f"{path}: shade file is empty or truncated ({len(raw)} bytes)")
-    lrecl = int(np.frombuffer(raw, "<i4", 1, 0)[0])
-    rec = 4 * lrecl
-    if lrecl <= 0 or len(raw) < 10 * rec:
-        raise BellhopError(f"{path}: shade file header is truncated ({len(raw)} bytes, record {rec})")
-    title = raw[4:84].decode("ascii", "replace").strip()
-    counts = dict(zip(COUNT_NAMES, (int(v) for v in np.frombuffer(raw, "<i4", 7, 2 * rec))))
-    for name, value in counts.items():
-        if not 1 <= value <= MAX_COUNT:
-            raise BellhopError(f"{path}: shade file header is inconsistent: {name} = {value}")
+    raw, rec, title, counts = read_header(path)
     nfreq, ntheta, nsx, nsy, nsz, nrz, nrr = (counts[name] for name in COUNT_NAMES)
     # each axis is one record: frequencies float64, the others float32; a pressure record holds
     # NRr complex64 values

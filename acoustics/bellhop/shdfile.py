@@ -31,16 +31,15 @@ class ShadeField:
 MAX_COUNT = 50_000_000
 
 
-def read_shd(path: str | Path) -> ShadeField:
-    """Read the first frequency and bearing of a shade file.
+#: The axis counts of a shade file's third record, in order.
+COUNT_NAMES = ("Nfreq", "Ntheta", "NSx", "NSy", "NSz", "NRz", "NRr")
 
-    Raises
-    ------
-    BellhopError
-        An empty, truncated or inconsistent file: a record length or an axis count that is not
-        positive, an axis that does not fit its record, or fewer bytes than the header promises.
+
+def read_header(path: Path) -> tuple[bytes, int, str, dict[str, int]]:
+    """A shade file's bytes, record length (bytes), title and axis counts, the counts checked.
+
+    Shared by the 2-D reader here and the BELLHOP3D one (``shd3d``): both write this header.
     """
-    path = Path(path)
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -52,11 +51,24 @@ def read_shd(path: str | Path) -> ShadeField:
     if lrecl <= 0 or len(raw) < 10 * rec:
         raise BellhopError(f"{path}: shade file header is truncated ({len(raw)} bytes, record {rec})")
     title = raw[4:84].decode("ascii", "replace").strip()
-    header = np.frombuffer(raw, "<i4", 7, 2 * rec)
-    counts = dict(zip(("Nfreq", "Ntheta", "NSx", "NSy", "NSz", "NRz", "NRr"), (int(v) for v in header)))
+    counts = dict(zip(COUNT_NAMES, (int(v) for v in np.frombuffer(raw, "<i4", 7, 2 * rec))))
     for name, value in counts.items():
         if not 1 <= value <= MAX_COUNT:
             raise BellhopError(f"{path}: shade file header is inconsistent: {name} = {value}")
+    return raw, rec, title, counts
+
+
+def read_shd(path: str | Path) -> ShadeField:
+    """Read the first frequency and bearing of a shade file.
+
+    Raises
+    ------
+    BellhopError
+        An empty, truncated or inconsistent file: a record length or an axis count that is not
+        positive, an axis that does not fit its record, or fewer bytes than the header promises.
+    """
+    path = Path(path)
+    raw, rec, title, counts = read_header(path)
     nfreq, nsz, nrz, nrr = counts["Nfreq"], counts["NSz"], counts["NRz"], counts["NRr"]
     # each axis is one record: frequencies float64, the others float32; a pressure record
     # holds NRr complex64 values
