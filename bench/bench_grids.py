@@ -10,7 +10,6 @@ bench_accuracy.py. Takes about five minutes on 2 cores.
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 import subprocess
 import sys
@@ -25,26 +24,12 @@ from acoustics.grid import plan_runs, receiver_depths_m
 from acoustics.kcurve import band_frequencies_hz
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import median, say, write  # noqa: E402
+from benchresults import cli_with_rusage, median, say, write  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 REPEATS = 3  # timings interleaved and repeated; the figures are medians
 
 
-
-
-def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
-    start = time.perf_counter()
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args, "--json"], cwd=REPO,
-                                stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(proc.pid, 0)
-        wall = time.perf_counter() - start
-        out.seek(0)
-        err.seek(0)
-        if status != 0:
-            raise SystemExit(f"bench: tmakit {' '.join(args)} failed: {err.read()}")
-        return wall, usage.ru_maxrss / 1024.0, json.loads(out.read())
 
 
 def raw_bellhop_seconds(envs: list[str], exe: Path) -> float:

@@ -38,6 +38,9 @@ from acoustics.bellhop.exe import find_bellhop
 from acoustics.radialgrid import depth_axis_m, plan_radial_runs
 from envdata.radials import area_radials
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import cli_with_rusage  # noqa: E402
+
 REPO = Path(__file__).resolve().parents[1]
 RESULTS = REPO / "docs" / "results" / "radials.json"
 LOAD_AT_START = os.getloadavg()[0]
@@ -48,21 +51,6 @@ def say(name: str, value, unit: str = "", results: dict | None = None) -> None:
     print(f"{name}: {text} {unit}".rstrip(), flush=True)
     if results is not None:
         results[name] = {"value": value, "unit": unit}
-
-
-def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
-    """Wall time, peak resident size of the largest process (MiB) and the JSON report."""
-    start = time.perf_counter()
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args, "--json"], cwd=REPO,
-                                stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(proc.pid, 0)
-        wall = time.perf_counter() - start
-        out.seek(0)
-        err.seek(0)
-        if status != 0:
-            raise SystemExit(f"bench: tmakit {' '.join(args)} failed: {err.read()}")
-        return wall, usage.ru_maxrss / 1024.0, json.loads(out.read())
 
 
 def raw_runs(area: envdata.Area):

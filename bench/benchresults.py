@@ -1,4 +1,5 @@
-"""What a benchmark measured: printed as ``name: value unit`` lines, written to docs/results/NAME.json.
+"""What a benchmark measured: printed as ``name: value unit`` lines, written to docs/results/NAME.json;
+and `cli_with_rusage`, the way the benchmarks time a ``tmakit`` command.
 
 Each ``bench_NAME.py`` calls `say` for every figure and `write` once at the end; the JSON file
 holds the figures with their units, the machine's cores, its load average at the start and the
@@ -13,6 +14,9 @@ import json
 import os
 import statistics
 import subprocess
+import sys
+import tempfile
+import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -54,3 +58,19 @@ def write(name: str, **context) -> Path:
     tmp.replace(path)
     print(f"# wrote {path.relative_to(REPO)}", flush=True)
     return path
+
+
+def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
+    """Run ``tmakit ARGS --json`` in a child process: wall time (s), peak resident size of the
+    largest process it waited for (MiB), and its JSON report."""
+    start = time.perf_counter()
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args, "--json"], cwd=REPO,
+                                stdout=out, stderr=err, text=True)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - start
+        out.seek(0)
+        err.seek(0)
+        if status != 0:
+            raise SystemExit(f"bench: tmakit {' '.join(args)} failed: {err.read()}")
+        return wall, usage.ru_maxrss / 1024.0, json.loads(out.read())
