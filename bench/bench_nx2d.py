@@ -325,12 +325,21 @@ def report(label: str, res: dict) -> None:
                 say(f"{label}_2d_{name}_vs_nx2d_bearing_{row['bearing_deg']:g}_p90", row["p90_db"], "dB")
 
 
+def _relative(described: dict) -> dict:
+    """An executable's description with its path relative to the repository when it is inside."""
+    path = Path(described.get("path", ""))
+    if path.is_absolute() and path.is_relative_to(REPO):
+        return {**described, "path": str(path.relative_to(REPO))}
+    return described
+
+
 def main() -> None:
     load = os.getloadavg()[0]
     say("cores", os.cpu_count() or 1)
     say("load_average_at_start", load)
     results = {"repeats": REPEATS, "cores": os.cpu_count(), "load_average_at_start": load,
-               "bellhop": find_bellhop().describe(), "bellhop3d": find_bellhop3d().describe()}
+               "bellhop": _relative(find_bellhop().describe()),
+               "bellhop3d": _relative(find_bellhop3d().describe())}
     shelf = envdata.load_area("shelf-break")
     results["geometry"] = geometry(shelf)
     say("geometry_aeqd_offset_at_30km", results["geometry"]["aeqd_max_offset_m"], "m")
