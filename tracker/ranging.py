@@ -1,15 +1,14 @@
-"""Error models and level-based ML ranging (Grinenkov & Mashoshin eqs. 2, 11, 20, 21).
+"""Error models of Grinenkov & Mashoshin (eqs. 2 and 11) and the nodes of eq. 21.
 
 Everything here is vectorised over a leading batch axis (class hypotheses, Monte Carlo runs),
-so that one code path serves the one-cycle tracker API and the 1331-run experiment. The tables
-they use come from ``tracker.tables``.
+so that one code path serves the one-cycle tracker API and the 1331-run experiment. Level-based
+ranging itself (eqs. 20-21, `level_range`) is ``acoustics.levelrange``, the lowest layer that
+uses it (the sensitivity studies' range error too).
 """
 
 from __future__ import annotations
 
 import numpy as np
-
-from tracker.tables import BEYOND_GRID_PENALTY_DB
 
 
 def bearing_sd_deg(beamwidth_deg, q_ind):
@@ -48,68 +47,3 @@ def offset_nodes(noise_sd_db: float, k_error_sd_db: float, n: int = 5):
     c = (u[:, None] * noise_sd_db + u[None, :] * k_error_sd_db).ravel()
     ww = (w[:, None] * w[None, :]).ravel()
     return c, ww / ww.sum()
-
-
-def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(0.0,),
-                weights=None, gain_db: float = 0.0):
-    """Level-based ML range (eq. 20) and its a-posteriori RMS error (eq. 21), batched.
-
-    Parameters
-    ----------
-    level_db : ndarray, shape (B, M)
-        Measured band levels W_k, dB re 1 uPa (any value where not detected).
-    detected : ndarray of bool, shape (B, M)
-        Detection indicators I_k.
-    sd_db : ndarray, shape (B, M)
-        Level error sd sigma_dW_k (eq. 11), dB.
-    p0_db : ndarray, shape (B,)
-        Expected noise level P0 of the class hypothesis, dB re 1 uPa.
-    k_db : ndarray, shape (M, R), or (B, M, R) for one K per row
-        Transfer characteristic K_k(r) of the class, dB (eq. 12); per row when it depends on
-        the row's bearing (a bearing-dependent grid). Ranges where the grid has no K (NaN:
-        beyond land, a target deeper than the water) take a level no target gives.
-    range_m : ndarray, shape (R,)
-        Range axis of ``k_db``, m.
-    offsets_db, weights : sequence
-        Offsets c = (p - mP0) + dK of eq. 21 and their weights (``offset_nodes``).
-    gain_db : float
-        Receiver gain H_k, dB.
-
-    Returns
-    -------
-    r_opt_m : ndarray, shape (B,)
-        argmin_r sum_k I_k (W_k - P0 - K_k(r) - H)^2 / sigma_k^2 (eq. 20); NaN where no band
-        is detected.
-    r_sd_m : ndarray, shape (B,)
-        sqrt of eq. 21: the weighted RMS of R(p, dK) - R_opt over the offsets.
-    """
-    level_db = np.asarray(level_db, dtype=float)
-    det = np.asarray(detected, dtype=bool) & np.isfinite(level_db)
-    w = np.where(det, 1.0 / np.square(sd_db), 0.0)                     # (B, M)
-    d0 = np.where(det, level_db - np.asarray(p0_db)[:, None] - gain_db, 0.0)
-    k_db = np.asarray(k_db, dtype=float)
-    if not np.all(np.isfinite(k_db)):
-        finite = k_db[np.isfinite(k_db)]
-        floor = (finite.min() if finite.size else 0.0) - BEYOND_GRID_PENALTY_DB
-        k_db = np.where(np.isfinite(k_db), k_db, floor)
-    # cost_c(r) = sum w (d0 - c - K)^2 = const(c) - 2 (w d0).K + 2 c w.K + w.K^2
-    if k_db.ndim == 2:
-        wk = w @ k_db                                                  # (B, R)
-        base = w @ np.square(k_db) - 2.0 * ((w * d0) @ k_db)          # (B, R)
-    else:
-        wk = np.einsum("bm,bmr->br", w, k_db)
-        base = (np.einsum("bm,bmr->br", w, np.square(k_db))
-                - 2.0 * np.einsum("bm,bmr->br", w * d0, k_db))
-    r_opt = range_m[np.argmin(base, axis=1)]
-    offsets = np.asarray(offsets_db, dtype=float)
-    weights = np.full(len(offsets), 1.0 / len(offsets)) if weights is None else np.asarray(weights)
-    var = np.zeros(len(level_db))
-    for c, wc in zip(offsets, weights):
-        if c == 0.0:
-            rc = r_opt
-        else:
-            rc = range_m[np.argmin(base + 2.0 * c * wk, axis=1)]
-        var += wc * np.square(rc - r_opt)
-    none = ~det.any(axis=1)
-    r_opt = np.where(none, np.nan, r_opt)
-    return r_opt, np.where(none, np.nan, np.sqrt(var))

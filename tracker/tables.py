@@ -34,15 +34,13 @@ import xarray as xr
 from acoustics.errors import GridFileError
 from acoustics.radialinterp import bearing_weights, mix
 from acoustics.kcurve import spectral_term_db
+from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 from envdata.area import Area
 from envdata.areafile import area_from_json
 from envdata.bands import Band
 from envdata.classes import TargetClass
 from envdata.errors import AreaError
 
-#: K beyond the grid's last range in the filters' level model: its last value less this, dB
-#: (a rejection, not physics). Also what K is where the grid has none (beyond land).
-BEYOND_GRID_PENALTY_DB = 1000.0
 #: A bearing-dependent grid serves observers within this of its observer depth, m.
 OBSERVER_DEPTH_TOLERANCE_M = 1.0
 

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
+from acoustics.levelrange import level_range
 from envdata.errors import InputError
 
 DEFAULT_EVAL_RANGES_M = (5000.0, 10000.0, 20000.0, 50000.0, 100000.0)
@@ -43,9 +44,12 @@ def level_range_m(k_levels_db: np.ndarray, k_table_db: np.ndarray, range_m: np.n
     """
     levels = np.asarray(k_levels_db, dtype=float)
     table = np.asarray(k_table_db, dtype=float)
-    w = np.ones(table.shape[0]) if sigma_db is None else 1.0 / np.asarray(sigma_db, dtype=float) ** 2
-    cost = np.einsum("...kr,k->...r", (levels[..., :, None] - table) ** 2, w)
-    return np.asarray(range_m)[np.argmin(cost, axis=-1)]
+    flat = levels.reshape(-1, table.shape[0])
+    sd = np.ones(table.shape[0]) if sigma_db is None else np.asarray(sigma_db, dtype=float)
+    # the levels are already W - P0 - H: P0 = 0, H = 0, every band detected, no offsets
+    r_opt, _ = level_range(flat, np.ones(flat.shape, dtype=bool), np.broadcast_to(sd, flat.shape),
+                           np.zeros(len(flat)), table, np.asarray(range_m, dtype=float))
+    return r_opt.reshape(levels.shape[:-1])
 
 
 def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_RANGES_M,

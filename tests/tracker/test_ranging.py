@@ -5,7 +5,8 @@ import math
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tracker.ranging import bearing_sd_deg, level_range, level_sd_db, offset_nodes
+from acoustics.levelrange import level_range
+from tracker.ranging import bearing_sd_deg, level_sd_db, offset_nodes
 
 
 def test_eq2_bearing_sd():

@@ -8,7 +8,8 @@ from numpy.testing import assert_allclose
 
 from acoustics.errors import GridFileError
 from acoustics.kcurve import spectral_term_db
-from tracker.tables import BEYOND_GRID_PENALTY_DB, GridTables
+from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
+from tracker.tables import GridTables
 
 pytestmark = pytest.mark.bellhop
 

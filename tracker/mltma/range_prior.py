@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from tracker.ranging import level_range
+from acoustics.levelrange import level_range
 
 
 def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, range_axis_m,

@@ -8,7 +8,8 @@ import pytest
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.mltma import MLBatch, course_from_relative_deg
 from tracker.mltma.course import relative_course_on_tack_deg
-from tracker.ranging import level_range, level_sd_db, offset_nodes
+from acoustics.levelrange import level_range
+from tracker.ranging import level_sd_db, offset_nodes
 
 
 def _exact_eq25(t, ox, oy, brg_deg, sd_deg, n, r_opt, r_sd, mV, sV, k_rel, obs_course, obs_speed,

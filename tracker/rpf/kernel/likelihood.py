@@ -15,7 +15,7 @@ from numba import njit
 from envdata.classes import (ROSS_LEVEL_DB, ROSS_MIN_SPEED_MPS, ROSS_REFERENCE_SPEED_MPS,
                              ROSS_SLOPE_DB_PER_DECADE)
 from tracker.rpf.kernel.fastmath import FASTMATH, atan2
-from tracker.tables import BEYOND_GRID_PENALTY_DB
+from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 
 
 @njit(inline="always")
