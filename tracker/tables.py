@@ -33,6 +33,7 @@ import xarray as xr
 
 from acoustics.errors import GridFileError
 from acoustics.radialinterp import bearing_weights, mix
+from acoustics.depthinterp import tl_at_depths
 from acoustics.kcurve import spectral_term_db
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 from envdata.area import Area
@@ -257,12 +258,7 @@ class GridTables:
 
     def _tl_rows(self, depth_m: float) -> np.ndarray:
         """TL of every class and band along range at one depth, linear in depth, (C, M, R)."""
-        z = self.depth_m
-        if z.size == 1:
-            return self.tl_db[:, :, 0]
-        j = int(np.clip(np.searchsorted(z, depth_m, side="right") - 1, 0, z.size - 2))
-        f = (depth_m - z[j]) / (z[j + 1] - z[j])
-        return (1.0 - f) * self.tl_db[:, :, j] + f * self.tl_db[:, :, j + 1]
+        return tl_at_depths(self.tl_db, self.depth_m, [depth_m])[:, :, 0]
 
     def k_db(self, depth_m: float | None = None, bearing_deg: float | None = None) -> np.ndarray:
         """K(r) of every class and band at an observer depth (and bearing), dB, (C, M, R).

@@ -19,6 +19,7 @@ import numpy as np
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
+from acoustics.depthinterp import tl_at_depths
 from acoustics.grid import (BuildStats, freq_key, band_tl_from_runs, build_grid, run_frequencies_hz,
                             run_timeout_s)
 from acoustics.kcurve import spectral_term_db
@@ -119,17 +120,7 @@ def compute_member(spec: StudySpec, member: int | None, exe: str | None = None) 
         return MemberResult(member=member, k_db=k, params=params, bellhop_seconds=seconds)
     stats = BuildStats()
     grid = build_grid(area, workers=1, stats=stats)
-    tl = _on_depths(grid["tl_db"].values, grid["depth"].values, spec.area.depth_m())
+    # the member's TL on the nominal area's depths (its own bottom may be shallower: NaN below)
+    tl = tl_at_depths(grid["tl_db"].values, grid["depth"].values, spec.area.depth_m()).astype(np.float32)
     return MemberResult(member=member, k_db=grid["k_db"].values, params=params,
                         bellhop_seconds=stats.bellhop_seconds, tl_db=tl)
-
-
-def _on_depths(tl: np.ndarray, depth_m: np.ndarray, target_m: np.ndarray) -> np.ndarray:
-    """TL (..., depth, range) interpolated linearly onto ``target_m``; NaN below the member's bottom."""
-    out = np.full(tl.shape[:-2] + (target_m.size, tl.shape[-1]), np.nan, dtype=np.float32)
-    i = np.clip(np.searchsorted(depth_m, target_m) - 1, 0, depth_m.size - 2)
-    w = (target_m - depth_m[i]) / (depth_m[i + 1] - depth_m[i])
-    inside = target_m <= depth_m[-1] + 1e-9
-    w = np.clip(w, 0.0, 1.0)[:, None]
-    out[..., inside, :] = ((1 - w) * tl[..., i, :] + w * tl[..., i + 1, :])[..., inside, :]
-    return out
