@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from envdata.area import Absorption, Area, TlMode
+from envdata.bottom import Bottom
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -38,17 +39,22 @@ def fmt_list(values, per_line: int = 10) -> str:
     return "\n".join(lines) + " /"
 
 
-def env_text(area: Area, spec: RunSpec) -> str:
-    """The .env text for ``spec`` in ``area`` (flat bottom, range-independent profile)."""
-    water, bottom, ssp = area.water, area.bottom, area.water.ssp
+def env_lines(spec: RunSpec, bottom: Bottom, *, depth_m: float, ssp_depth_m, ssp_speed_mps,
+              interpolation: str, bottom_option: str, step_m: float, box_range_km: float) -> str:
+    """The .env text of one run: ``spec``'s frequency, sources, receivers and beams over the
+    profile given, a half-space ``bottom`` at ``depth_m`` (the deepest bottom), and the ray box.
+
+    ``interpolation`` is BELLHOP's SSP letter ('C', 'S', 'N', 'P' or 'Q' for a range-dependent
+    .ssp beside the .env), ``bottom_option`` 'A' (flat) or 'A~' (a .bty beside the .env).
+    """
+    depth_max = float(depth_m)
     # SSP options: interpolation, vacuum surface, attenuation in dB/wavelength, volume attenuation
     volume = "T" if spec.absorption is Absorption.THORP else " "
-    options = f"{ssp.interpolation}VW{volume}"
-    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'{options}'",
-             f"0 0.0 {fmt_number(water.depth_m)}"]
-    lines += [f"{fmt_number(z)} {fmt_number(c)} /" for z, c in zip(ssp.depth_m, ssp.speed_mps)]
-    lines += ["'A' 0.0",
-              f"{fmt_number(water.depth_m)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
+    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'{interpolation}VW{volume}'",
+             f"0 0.0 {fmt_number(depth_max)}"]
+    lines += [f"{fmt_number(z)} {fmt_number(c)} /" for z, c in zip(ssp_depth_m, ssp_speed_mps)]
+    lines += [f"'{bottom_option}' 0.0",
+              f"{fmt_number(depth_max)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
               f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /"]
     lines += [str(len(spec.source_depth_m)), fmt_list(spec.source_depth_m)]
     lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
@@ -56,9 +62,17 @@ def env_text(area: Area, spec: RunSpec) -> str:
     lines += [str(len(range_km)), fmt_list(range_km)]
     lines += [f"'{spec.mode.bellhop_letter}{spec.beam_type}'", str(spec.n_beams),
               f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
-    box_depth_m = water.depth_m * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
-    box_range_km = float(range_km.max()) * 1.01 + 0.01
-    # ray step: the area's [propagation] step_m, else 0 (BELLHOP's own: a tenth of the depth)
-    step_m = area.propagation.step_m if area.propagation.step_m is not None else 0.0
+    box_depth_m = depth_max * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
     lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")
     return "\n".join(lines) + "\n"
+
+
+def env_text(area: Area, spec: RunSpec) -> str:
+    """The .env text for ``spec`` in ``area`` (flat bottom, range-independent profile)."""
+    ssp = area.water.ssp
+    box_range_km = float(np.max(spec.range_m)) / 1000.0 * 1.01 + 0.01
+    # ray step: the area's [propagation] step_m, else 0 (BELLHOP's own: a tenth of the depth)
+    step_m = area.propagation.step_m if area.propagation.step_m is not None else 0.0
+    return env_lines(spec, area.bottom, depth_m=area.water.depth_m, ssp_depth_m=ssp.depth_m,
+                     ssp_speed_mps=ssp.speed_mps, interpolation=ssp.interpolation, bottom_option="A",
+                     step_m=step_m, box_range_km=box_range_km)

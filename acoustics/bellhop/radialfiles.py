@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from acoustics.bellhop.envfile import RunSpec, fmt_number, fmt_list
-from envdata.area import Absorption, Area
+from acoustics.bellhop.envfile import RunSpec, env_lines, fmt_number
+from envdata.area import Area
 
 
 def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
@@ -46,25 +46,9 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
         r, c = np.concatenate([[-reach_m], r]), np.concatenate([c[:, :1], c], axis=1)
     if r[-1] < reach_m:
         r, c = np.concatenate([r, [reach_m]]), np.concatenate([c, c[:, -1:]], axis=1)
-    depth_max = float(z[-1])
-    bottom = area.bottom
-    volume = "T" if spec.absorption is Absorption.THORP else " "
     at_origin = c[:, int(np.argmin(np.abs(r)))]  # the .env's own profile: the column at the origin
-    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'QVW{volume}'",
-             f"0 0.0 {fmt_number(depth_max)}"]
-    lines += [f"{fmt_number(zi)} {fmt_number(ci)} /" for zi, ci in zip(z, at_origin)]
-    lines += ["'A~' 0.0",
-              f"{fmt_number(depth_max)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
-              f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /"]
-    lines += [str(len(spec.source_depth_m)), fmt_list(spec.source_depth_m)]
-    lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
-    range_km = np.asarray(spec.range_m, dtype=float) / 1000.0  # BELLHOP reads ranges in km
-    lines += [str(len(range_km)), fmt_list(range_km)]
-    lines += [f"'{spec.mode.bellhop_letter}{spec.beam_type}'", str(spec.n_beams),
-              f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
-    box_depth_m = depth_max * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
-    lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_m / 1000.0)}")
-    env = "\n".join(lines) + "\n"
+    env = env_lines(spec, area.bottom, depth_m=float(z[-1]), ssp_depth_m=z, ssp_speed_mps=at_origin, interpolation="Q",
+                    bottom_option="A~", step_m=step_m, box_range_km=box_range_m / 1000.0)
 
     bty_r_km = np.asarray(radial.range_m, dtype=float) / 1000.0
     bty = "\n".join(["'L'", str(bty_r_km.size)] +
