@@ -1,4 +1,4 @@
-"""Detection range of a target class along each bearing of a bearing-dependent grid.
+"""When a band is detected: the indicator SNR of a class's level against the sea noise.
 
 DESIGN.md "Area file" (the meanings tests rely on) and Grinenkov & Mashoshin eqs. 2, 11, 12:
 the band level is W = P0 + K(r) + H; the band SNR after the array is
@@ -8,8 +8,9 @@ the band level is W = P0 + K(r) + H; the band SNR after the array is
 N_band the area's sea noise in the band and DI the array's directivity index; the indicator SNR
 is Q = q sqrt(df T) (df the band's width, 1 Hz for one frequency; T the integration time), and a
 band is detected where Q >= the sonar's detection threshold. The detection range along a bearing
-is the largest grid range where the band (or, for the class, any band) is detected. The
-simulator and the ML tracker take the indicator SNR from here too: the formula lives once.
+is the largest grid range where the band (or, for the class, any band) is detected
+(``acoustics.grid.detectionmap``). The simulator and the ML tracker take the indicator SNR from
+here too: the formula lives once.
 """
 
 from __future__ import annotations
@@ -17,11 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 
-from acoustics.errors import GridFileError
-from acoustics.radialinterp import at_bearings
-from acoustics.radialstyle import grid_area
+from envdata.area import Area
+from envdata.bands import Band
 from envdata.classes import SourceLevelModel, TargetClass, ross_source_level_db
 
 
@@ -108,72 +107,13 @@ class DetectionTerms:
                            self.bandwidth_hz, self.integration_time_s, self.threshold)
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
-class DetectionMap:
-    """Detection ranges of one class at its mean level, per band and bearing.
-
-    Attributes
-    ----------
-    cls_name : str
-    terms : DetectionTerms
-        The level, noise and sonar used.
-    bearing_deg : ndarray, shape (B,)
-        Bearings, deg, clockwise from true north at the origin.
-    band_names : tuple of str
-    band_range_m : ndarray, shape (M, B)
-        Largest range at which each band is detected, m; NaN where it is nowhere.
-    range_m : ndarray, shape (B,)
-        Largest range at which any band is detected, m; NaN where none is.
-    """
-
-    cls_name: str
-    terms: DetectionTerms
-    bearing_deg: np.ndarray
-    band_names: tuple[str, ...]
-    band_range_m: np.ndarray
-    range_m: np.ndarray
-
-
-def detection_terms(ds: xr.Dataset, cls_name: str) -> DetectionTerms:
-    """The detection terms of a class of a grid, from the area stored in it."""
-    area = grid_area(ds)
-    by_class = {c.name: c for c in area.classes}
-    if cls_name not in by_class:
-        raise GridFileError(f"{ds.encoding.get('source', area.name)}: class {cls_name!r} is not in "
-                            f"the grid's area_json ({', '.join(by_class)})")
-    bands = {b.name: b for b in area.bands}
-    band_names = [str(b) for b in ds["band"].values]
-    p0, label = class_mean_level(by_class[cls_name])
+def detection_terms(area: Area, cls: TargetClass, bands: tuple[Band, ...]) -> DetectionTerms:
+    """The detection terms of a class of an area in the given bands (in that order)."""
+    p0, label = class_mean_level(cls)
     sonar = area.sonar
     return DetectionTerms(p0_db=p0, level_label=label,
-                          noise_band_db=np.array([area.noise.band_level_db(bands[n]) for n in band_names]),
-                          bandwidth_hz=np.array([bands[n].width_hz for n in band_names]),
+                          noise_band_db=np.array([area.noise.band_level_db(b) for b in bands]),
+                          bandwidth_hz=np.array([b.width_hz for b in bands]),
                           directivity_index_db=sonar.directivity_index_db,
                           integration_time_s=sonar.integration_time_s,
                           threshold=sonar.detection_threshold)
-
-
-def detection_map(ds: xr.Dataset, cls_name: str, bearing_deg) -> DetectionMap:
-    """Detection ranges of a class at its mean level on a bearing-dependent grid.
-
-    K(r) is taken between radials as the trackers take it (``acoustics.radialinterp``), then the
-    detection rule of the module docstring is applied per bearing; beyond land K is NaN, which
-    is never detected.
-
-    Parameters
-    ----------
-    ds : xr.Dataset
-        A grid with a ``bearing`` dimension (``acoustics.open_grid``).
-    cls_name : str
-        A class of the grid.
-    bearing_deg : array_like, shape (B,)
-        Bearings to evaluate, deg.
-    """
-    terms = detection_terms(ds, cls_name)
-    bearings = np.atleast_1d(np.asarray(bearing_deg, dtype=float))
-    k = ds["k_db"].sel({"class": cls_name}).transpose("bearing", "band", "range").values
-    det = terms.detected(at_bearings(k, ds["bearing"].values, bearings))     # (B, M, R)
-    rng = ds["range"].values
-    return DetectionMap(cls_name=cls_name, terms=terms, bearing_deg=bearings,
-                        band_names=tuple(str(b) for b in ds["band"].values),
-                        band_range_m=farthest_m(rng, det).T, range_m=farthest_m(rng, det.any(axis=1)))

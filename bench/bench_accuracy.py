@@ -11,6 +11,7 @@ about twenty minutes on 2 cores (the full computation is the naive loop of bench
 
 from __future__ import annotations
 
+import math
 import dataclasses
 import os
 import sys
@@ -41,10 +42,10 @@ def main() -> None:
     full = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0, frequency_shortcut=False))
     beams_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, frequency_shortcut=False))
     shortcut_only = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=0))
-    k_full = acoustics.build_k(full, reciprocity=False, workers=ncores)
-    k_beams = acoustics.build_k(beams_only, reciprocity=False, workers=ncores)
-    k_short = acoustics.build_k(shortcut_only, reciprocity=False, workers=ncores)
-    k_recip = acoustics.build_k(area, reciprocity=True, workers=ncores)
+    k_full = acoustics.build_k(full, reciprocity_min_depth_m=math.inf, workers=ncores)
+    k_beams = acoustics.build_k(beams_only, reciprocity_min_depth_m=math.inf, workers=ncores)
+    k_short = acoustics.build_k(shortcut_only, reciprocity_min_depth_m=math.inf, workers=ncores)
+    k_recip = acoustics.build_k(area, reciprocity_min_depth_m=0.0, workers=ncores)
     for name, k in (("default_grid", grid["k_db"]), ("fixed_beam_fan", k_beams),
                     ("frequency_shortcut", k_short)):
         med, p95, rms = k_difference(k, k_full)
@@ -54,7 +55,7 @@ def main() -> None:
     for n_beams in (250, 500, 1000, 1500, 3000):
         fan = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=n_beams))
         start = time.perf_counter()
-        k_fan = acoustics.build_k(fan, reciprocity=False, workers=ncores)
+        k_fan = acoustics.build_k(fan, reciprocity_min_depth_m=math.inf, workers=ncores)
         seconds = time.perf_counter() - start
         med, p95, _ = k_difference(k_fan, k_full)
         say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")

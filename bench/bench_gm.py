@@ -24,7 +24,7 @@ def main() -> None:
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate
 
-    from acoustics.build import build_grid_file
+    from acoustics.builder.gridfile import build_grid_file
 
     out = Path(__file__).resolve().parents[1] / "out" / "bench"
     if len(sys.argv) > 1:

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import envdata
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.grid import plan_runs, receiver_depths_m
+from acoustics.builder.plan import plan_runs, receiver_depths_m
 from acoustics.kcurve import band_frequencies_hz
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package

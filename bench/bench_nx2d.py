@@ -22,13 +22,13 @@ import numpy as np
 
 import acoustics
 import envdata
-from acoustics.bellhop.box3d import box_positions
+from acoustics.nx2d.box3d import box_positions
 from acoustics.bellhop.exe import find_bellhop, find_bellhop3d
-from acoustics.bellhop.nx2d import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
+from acoustics.nx2d.route import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.grid import BuildStats
-from acoustics.radialgrid import bottom_on_grid_m, depth_axis_m, plan_radial_runs
-from acoustics.runs import execute_runs
+from acoustics.builder.flat import BuildStats
+from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial_runs
+from acoustics.builder.runs import execute_runs
 from envdata.radials import area_radials, geodesic_points
 
 REPO = Path(__file__).resolve().parents[1]
@@ -53,7 +53,7 @@ def flat_area() -> envdata.Area:
 
 
 def receivers_of(area, radials) -> np.ndarray:
-    """The 2-D runs' receivers: the grid's depth axis plus the class depths (acoustics.radialgrid)."""
+    """The 2-D runs' receivers: the grid's depth axis plus the class depths (acoustics.builder.radial)."""
     depth = depth_axis_m(area, radials)
     return np.unique(np.concatenate([depth, [c.depth_m for c in area.classes]]))
 

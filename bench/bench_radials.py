@@ -35,7 +35,7 @@ import numpy as np
 import acoustics
 import envdata
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.radialgrid import depth_axis_m, plan_radial_runs
+from acoustics.builder.radial import depth_axis_m, plan_radial_runs
 from envdata.radials import area_radials
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package

@@ -11,6 +11,8 @@ docs/results/sensitivity.json. Takes about ten minutes on 2 idle cores.
 
 from __future__ import annotations
 
+import acoustics
+import math
 import argparse
 import os
 import sys
@@ -47,8 +49,10 @@ def main(argv=None) -> None:
     say("load_average_1min_at_start", os.getloadavg()[0])
 
     # -- reciprocity vs direct K on the nominal area ---------------------------------------------
-    direct, t_direct = sens.compute_k(area, reciprocity_min_depth_m=1e9)
-    recip, t_recip = sens.compute_k(area, reciprocity_min_depth_m=0.0)
+    s_direct, s_recip = acoustics.BuildStats(), acoustics.BuildStats()
+    direct = acoustics.build_k(area, reciprocity_min_depth_m=math.inf, stats=s_direct).values
+    recip = acoustics.build_k(area, reciprocity_min_depth_m=0.0, stats=s_recip).values
+    t_direct, t_recip = s_direct.bellhop_seconds, s_recip.bellhop_seconds
     for ic, cls in enumerate(area.classes):
         d = np.abs(recip[ic] - direct[ic]).ravel()
         say(f"reciprocity_vs_direct_{cls.name}_{cls.depth_m:g}m_median", float(np.median(d)), "dB")

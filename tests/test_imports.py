@@ -11,6 +11,12 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 LAYERS = ("envdata", "acoustics", "tracker", "tools")
+#: Inside ``acoustics``, by role, lowest first: the formulas at the root, BELLHOP's formats and
+#: running, the grid (what a grid is and how it is read), the builders, the figures and the
+#: BELLHOP3D Nx2D route (kept out of the build), the sensitivity studies on top. A module may
+#: import its own sub-package and those ranked below it.
+ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "grid": 2, "builder": 3, "plots": 4, "nx2d": 4,
+                   "sensitivity": 5}
 
 
 def _modules() -> dict[str, Path]:
@@ -86,6 +92,39 @@ def test_no_layer_imports_a_higher_one():
     upward = sorted((a, b) for a, targets in graph.items() for b in targets
                     if rank[b.split(".")[0]] > rank[a.split(".")[0]])
     assert upward == []
+
+
+def acoustics_rank(module: str) -> int:
+    """Rank of an ``acoustics`` module's sub-package (`ACOUSTICS_RANKS`; a root module is 0)."""
+    parts = module.split(".")
+    sub = parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in ACOUSTICS_RANKS) else ""
+    return ACOUSTICS_RANKS[sub] if module != "acoustics" else max(ACOUSTICS_RANKS.values()) + 1
+
+
+def upward_in_acoustics(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from a lower sub-package of ``acoustics`` to a higher one."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.startswith("acoustics") and b.startswith("acoustics")
+                  and acoustics_rank(b) > acoustics_rank(a))
+
+
+def test_every_acoustics_subpackage_has_a_rank():
+    subs = {p.name for p in (REPO / "acoustics").iterdir() if (p / "__init__.py").exists()}
+    assert subs == set(ACOUSTICS_RANKS) - {""}
+
+
+def test_no_acoustics_subpackage_imports_a_higher_one():
+    assert upward_in_acoustics(_graph(_modules())) == []
+
+
+def test_the_rank_check_finds_an_upward_arrow():
+    # the check above could pass by finding nothing: a planted arrow from BELLHOP's package up to
+    # the builders, and one from the root formulas up to the figures, are found; downward ones not
+    graph = {"acoustics.bellhop.runner": {"acoustics.builder.executor", "acoustics.errors"},
+             "acoustics.kcurve": {"acoustics.plots.figures"},
+             "acoustics.plots.figures": {"acoustics.grid.tables", "acoustics.kcurve"}}
+    assert upward_in_acoustics(graph) == [("acoustics.bellhop.runner", "acoustics.builder.executor"),
+                                          ("acoustics.kcurve", "acoustics.plots.figures")]
 
 
 def test_the_import_graph_has_no_circle():

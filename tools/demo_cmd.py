@@ -8,7 +8,7 @@ from pathlib import Path
 
 import acoustics
 import envdata
-from acoustics.build import build_grid_file
+from acoustics.builder.gridfile import build_grid_file
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report, want_progress
 
@@ -43,16 +43,18 @@ def run(args) -> Report:
     args.out.mkdir(parents=True, exist_ok=True)
     info = build_grid_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers,
                            progress=want_progress(args))
-    from acoustics.plot import plot_grid  # matplotlib: imported only by the commands that draw
+    # matplotlib: imported only by the commands that draw
+    from acoustics.plots.gridplots import PlotRequest, plot_grid
+    from acoustics.plots.radialplots import plot_map_set
 
-    ds = acoustics.open_grid(grid_path)
+    tables = acoustics.open_grid(grid_path)
     plots = []
-    for cls_name in ds["class"].values:
+    for cls_name in tables.class_names:
         png = args.out / f"{envdata.DEFAULT_AREA}-{cls_name}.png"
-        plot_grid(ds, png, cls_name=str(cls_name))
+        plot_grid(tables, png, PlotRequest(cls_name=cls_name))
         plots.append(str(png))
     map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
-    _map_area(acoustics.open_grid(map_grid), map_grid, map_pngs)
+    plot_map_set(acoustics.open_grid(map_grid), map_pngs, grid_path=map_grid)
     plots.extend(str(p) for p in map_pngs.values())
     state = "up to date" if info["up_to_date"] else f"built in {info['wall_seconds']:.1f} s"
     map_state = "up to date" if map_info["up_to_date"] else f"built in {map_info['wall_seconds']:.1f} s"
@@ -60,23 +62,3 @@ def run(args) -> Report:
                f"      area {MAP_AREA}: grid {map_grid} ({map_state})\n"
                + "\n".join(f"  plot {p}" for p in plots))
     return Report(summary, {"grid": info, "map_grid": map_info, "plots": plots})
-
-
-def _map_area(ds, grid_path: Path, pngs: dict[str, Path]) -> None:
-    """The bearing-dependent area's K map, detection map and bottom, written all or none."""
-    from acoustics.bottomplot import bottom_figure
-    from acoustics.gridbathymetry import find_bathymetry, load_around_origin
-    from acoustics.mapplot import map_figure
-    from acoustics.radialplots import write_figures
-    from acoustics.radialstyle import What
-
-    lat0, lon0 = float(ds.attrs["origin_lat_deg"]), float(ds.attrs["origin_lon_deg"])
-    choice = find_bathymetry(ds, grid_path=grid_path)
-    bathymetry = (load_around_origin(choice, lat0, lon0, float(ds["range"].values[-1]))
-                  if choice is not None else None)
-    note = f"{choice.how}; sha256 as the grid records" if choice is not None else ""
-    figures = {pngs["k"]: map_figure(ds, what=What.K, bathymetry=bathymetry, bathymetry_note=note),
-               pngs["detection"]: map_figure(ds, what=What.DETECTION, bathymetry=bathymetry,
-                                             bathymetry_note=note),
-               pngs["bottom"]: bottom_figure(ds)}
-    write_figures(figures)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from acoustics.build import build_grid_file as build_file
+from acoustics.builder.gridfile import build_grid_file as build_file
 from envdata.errors import InputError
 from envdata.limits import check_memory
 from tools.outputs import check_output_dir

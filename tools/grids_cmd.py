@@ -9,8 +9,8 @@ import numpy as np
 
 import acoustics
 import envdata
-from acoustics.build import build_grid_file
-from acoustics.radialstyle import What, check_plot_options
+from acoustics.builder.gridfile import build_grid_file
+from acoustics.plots.style import What
 from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
 
@@ -76,97 +76,60 @@ def run_build(args) -> Report:
 
 
 def run_show(args) -> Report:
-    ds = acoustics.open_grid(args.file)
-    ranges_km = [r for r in (1, 5, 10, 30, 60, 110) if r * 1000 <= float(ds["range"].max())]
-    lines = [f"{args.file}: area {ds.attrs['area']}, model {ds.attrs['model']}, "
-             f"observer at {ds.attrs['observer_depth_m']:g} m",
-             "  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()),
-             f"  range {float(ds['range'][0]):g}-{float(ds['range'][-1]):g} m, "
-             f"depth {float(ds['depth'][0]):g}-{float(ds['depth'][-1]):g} m",
-             f"  created {ds.attrs.get('created', '?')}, source_hash {ds.attrs['source_hash'][:16]}...",
-             f"  BELLHOP: {ds.attrs.get('bellhop_version', '-')}"]
-    by_bearing = "bearing" in ds.dims
-    if by_bearing:
-        bottom = ds["bottom_depth_m"].values
-        lines.append(f"  origin {ds.attrs['origin_lat_deg']:g} N, {ds.attrs['origin_lon_deg']:g} E; "
-                     f"{ds.sizes['bearing']} radials; bottom {np.nanmin(bottom):.0f}-{np.nanmax(bottom):.0f} m; "
-                     f"{np.mean(np.isnan(bottom)):.0%} of the range cells beyond land")
-        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km)
-                     + " (BELLHOP median over bearings / Urick; - where no bearing has K):")
+    from acoustics.grid.summary import grid_summary
+
+    s = grid_summary(acoustics.open_grid(args.file))
+    lines = [f"{args.file}: area {s.area}, model {s.model}, observer at {s.observer_depth_m:g} m",
+             "  dims: " + ", ".join(f"{k} {v}" for k, v in s.sizes.items()),
+             f"  range {s.range_m[0]:g}-{s.range_m[1]:g} m, depth {s.depth_m[0]:g}-{s.depth_m[1]:g} m",
+             f"  created {s.attrs.get('created', '?')}, source_hash {s.attrs['source_hash'][:16]}...",
+             f"  BELLHOP: {s.attrs.get('bellhop_version', '-')}"]
+    g = s.geometry
+    if g:
+        lines.append(f"  origin {g['origin_lat_deg']:g} N, {g['origin_lon_deg']:g} E; {g['radials']} radials; "
+                     f"bottom {g['bottom_min_m']:.0f}-{g['bottom_max_m']:.0f} m; "
+                     f"{g['beyond_land_fraction']:.0%} of the range cells beyond land")
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km)
+                     + f" (BELLHOP {g['k_typical']} / Urick; - where no bearing has K):")
     else:
-        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in ranges_km) + " (BELLHOP / Urick):")
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km) + " (BELLHOP / Urick):")
     k_table = {}
-    at_m = [r * 1000.0 for r in ranges_km]  # np.interp: xarray's .interp needs scipy
-    for cls_name in ds["class"].values:
-        for band in ds["band"].values:
-            sel = {"class": cls_name, "band": band}
-            k = ds["k_db"].sel(sel).values
-            if by_bearing:  # (bearing, range): the median over the radials that have K there
-                along = np.stack([np.interp(at_m, ds["range"].values, row) for row in k])
-                finite = np.isfinite(along).any(axis=0)
-                kb = np.full(len(at_m), np.nan)
-                kb[finite] = np.nanmedian(along[:, finite], axis=0)
-            else:
-                kb = np.interp(at_m, ds["range"].values, k)
-            ku = np.interp(at_m, ds["range"].values, ds["k_urick_db"].sel(sel).values)
-            k_table[f"{cls_name}/{band}"] = {"k_db": [None if not np.isfinite(v) else round(float(v), 2) for v in kb],
-                                             "k_urick_db": ku.round(2).tolist()}
-            lines.append(f"    {cls_name:>5} {band:>5}: " + "  ".join(
-                f"{'-' if not np.isfinite(a) else f'{a:.1f}':>7}/{b:6.1f}" for a, b in zip(kb, ku)))
-    data = {"file": str(args.file), "attrs": {k: (v.item() if isinstance(v, np.generic) else v)
-                                              for k, v in ds.attrs.items() if k != "area_json"},
-            "dims": {k: int(v) for k, v in ds.sizes.items()},
-            "classes": [str(c) for c in ds["class"].values], "bands": [str(b) for b in ds["band"].values],
-            "ranges_km": ranges_km, "k": k_table}
+    for row in s.k:
+        k_table[f"{row.cls_name}/{row.band}"] = {
+            "k_db": [None if not np.isfinite(v) else round(v, 2) for v in row.k_db],
+            "k_urick_db": [round(v, 2) for v in row.k_urick_db]}
+        lines.append(f"    {row.cls_name:>5} {row.band:>5}: " + "  ".join(
+            f"{'-' if not np.isfinite(a) else f'{a:.1f}':>7}/{b:6.1f}" for a, b in zip(row.k_db, row.k_urick_db)))
+    data = {"file": str(args.file), "attrs": s.attrs, "dims": s.sizes,
+            "classes": sorted({r.cls_name for r in s.k}, key=[r.cls_name for r in s.k].index),
+            "bands": sorted({r.band for r in s.k}, key=[r.band for r in s.k].index),
+            "ranges_km": list(s.ranges_km), "k": k_table}
     return Report("\n".join(lines), data)
 
 
 def run_plot(args) -> Report:
-    from acoustics.plot import plot_grid
+    from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 
-    check_output_file(args.out, Kind.PNG, force=args.force)
-    ds = acoustics.open_grid(args.file)
-    if "bearing" in ds.dims:
-        return _plot_bearing_grid(args, ds)
-    for option, value in (("--bearing", args.bearing), ("--band", args.band), ("--what", args.what),
-                          ("--bathymetry", args.bathymetry)):
-        if value is not None:
-            raise envdata.InputError(f"{args.file}: {option} is for a bearing-dependent grid; this grid has "
-                                     f"no bearings (its area has no [origin]), its TL is the same along "
-                                     f"every bearing")
-    if args.cls_name is not None and args.cls_name not in ds["class"].values:
-        raise envdata.InputError(f"{args.file}: --class {args.cls_name!r} is not a class of the grid "
-                                 f"({', '.join(map(str, ds['class'].values))})")
-    plot_grid(ds, args.out, cls_name=args.cls_name)
-    return Report(f"wrote {args.out}", {"file": str(args.out)})
-
-
-def _plot_bearing_grid(args, ds) -> Report:
-    """The map, the bottom and the section of a bearing-dependent grid (acoustics.radialplots)."""
-    from acoustics.gridbathymetry import find_bathymetry, load_around_origin
-    from acoustics.radialplots import bearing_plot_paths, plot_bearing_grid
-
-    check_plot_options(ds, cls_name=args.cls_name, band=args.band, bearing_deg=args.bearing)
-    paths = bearing_plot_paths(args.out, section=args.bearing is not None)
-    for path in paths.values():
+    tables = acoustics.open_grid(args.file)
+    request = PlotRequest(cls_name=args.cls_name, band=args.band,
+                          what=None if args.what is None else What(args.what), bearing_deg=args.bearing,
+                          bathymetry=args.bathymetry, grid_path=args.file)
+    for path in plot_paths(tables, args.out, request).values():
         check_output_file(path, Kind.PNG, force=args.force)
-    choice = find_bathymetry(ds, given=args.bathymetry, grid_path=args.file)
-    bathymetry, note = None, ""
-    if choice is not None:
-        lat0, lon0 = float(ds.attrs["origin_lat_deg"]), float(ds.attrs["origin_lon_deg"])
-        bathymetry = load_around_origin(choice, lat0, lon0, float(ds["range"].values[-1]))
-        note = (f"{choice.how}; sha256 as the grid records" if choice.matches
-                else "given; not the file the grid was built from (sha256 differs)")
-    what = What(args.what or What.K)
-    written = plot_bearing_grid(ds, args.out, what=what, cls_name=args.cls_name, band=args.band,
-                                bearing_deg=args.bearing, bathymetry=bathymetry, bathymetry_note=note)
-    lines = [f"wrote {path} ({key})" for key, path in written.items()]
-    if choice is not None:
-        lines.append(f"  bathymetry {choice.path} ({note})")
+    plots = plot_grid(tables, args.out, request)
+    lines = [f"wrote {path} ({key})" for key, path in plots.files.items()]
+    data = {"files": {key: str(path) for key, path in plots.files.items()}}
+    if plots.what is not None:  # a map: say which bathymetry file it drew
+        data["what"] = str(plots.what)
+        choice = plots.bathymetry
+        if choice is not None:
+            lines.append(f"  bathymetry {choice.path} ({plots.notes[0]})")
+        else:
+            lines.append("  no bathymetry file at hand: the map has no latitude-longitude panel "
+                         "(--bathymetry FILE adds it)")
+        data["bathymetry"] = None if choice is None else {"file": str(choice.path), "found": choice.how,
+                                                          "matches_grid": choice.matches}
     else:
-        lines.append("  no bathymetry file at hand: the map has no latitude-longitude panel "
-                     "(--bathymetry FILE adds it)")
-    data = {"files": {key: str(path) for key, path in written.items()}, "what": str(what),
-            "bathymetry": None if choice is None else {"file": str(choice.path), "found": choice.how,
-                                                       "matches_grid": choice.matches}}
+        lines = [f"wrote {args.out}"]
+        data = {"file": str(args.out)}
     return Report("\n".join(lines), data)

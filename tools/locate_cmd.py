@@ -195,7 +195,7 @@ def run_locate(args) -> Report:
                                     rng=np.random.default_rng(args.seed), method=result.method,
                                     max_u=args.max_u)
     if args.plot:
-        from acoustics.figures import save_figure
+        from acoustics.plots.figures import save_figure
         from tracker.locate.plot import locate_figure
 
         save_figure(locate_figure(bearings, result, region, mc), args.plot)
@@ -287,7 +287,7 @@ def run_plan(args) -> Report:
         if args.out:
             frame.to_csv(temps.pop(0), index=False, float_format="%.12g", na_rep="")
         if fig is not None:
-            from acoustics.figures import save_figure
+            from acoustics.plots.figures import save_figure
 
             save_figure(fig, temps.pop(0), atomic=False)
 

@@ -33,8 +33,8 @@ def run_simulate(args) -> Report:
     check_output_file(out / "measurements.csv", Kind.MEASUREMENT_CSV, force=args.force)
     check_output_file(out / "truth.csv", Kind.TRUTH_CSV, force=args.force)
     sc = load_scenario(args.scenario)
-    grid = open_grid(args.grid)
-    m, truth = simulate(sc, grid, np.random.default_rng(args.seed))
+    tables = open_grid(args.grid)
+    m, truth = simulate(sc, tables, np.random.default_rng(args.seed))
     files = write_simulation(args.out, m, truth)
     det = np.isfinite(m.level_db).mean(axis=0)
     summary = (f"simulated {sc.name}: {len(m)} cycles of {sc.cycle_s:g} s, class "
@@ -43,9 +43,9 @@ def run_simulate(args) -> Report:
                + f"\n  wrote {files['measurements']}, {files['truth']}")
     data = {"scenario": sc.name, "cycles": len(m), **files,
             "detected_fraction": dict(zip(m.band_names, det.tolist()))}
-    if "bearing" in grid.dims:
-        away = float(np.max(np.hypot(m.obs_x_m, m.obs_y_m)))
-        summary += (f"\n  observer up to {away / 1000:.2f} km from the grid's origin "
-                    f"({grid.attrs['origin_lat_deg']:g} N, {grid.attrs['origin_lon_deg']:g} E)")
-        data["observer_max_distance_from_origin_m"] = away
+    offset = tables.observer_offset(m.obs_x_m, m.obs_y_m)
+    if offset is not None:
+        summary += (f"\n  observer up to {offset.distance_m / 1000:.2f} km from the grid's origin "
+                    f"({offset.origin_lat_deg:g} N, {offset.origin_lon_deg:g} E)")
+        data["observer_max_distance_from_origin_m"] = offset.distance_m
     return Report(summary, data)

@@ -35,20 +35,20 @@ def run_track(args) -> Report:
     from tracker.trackfile import write_track
 
     check_output_file(args.out, Kind.TRACK_CSV, force=args.force)
-    grid = open_grid(args.grid)
-    m = read_measurements(args.measurements, [str(b) for b in grid["band"].values])
-    df = track(grid, m, method=args.method, rng=np.random.default_rng(args.seed),
+    tables = open_grid(args.grid)
+    m = read_measurements(args.measurements, list(tables.band_names))
+    df = track(tables, m, method=args.method, rng=np.random.default_rng(args.seed),
                cls_name=args.cls_name, band=args.band)
     write_track(args.out, df)
     last = df.groupby("class").tail(1)
     lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"]
     data = {"out": args.out, "method": args.method, "cycles": len(m), "final": {}}
-    if "bearing" in grid.dims:
-        away = float(np.max(np.hypot(m.obs_x_m, m.obs_y_m)))
-        lines.append(f"  observer up to {away / 1000:.2f} km from the grid's origin "
-                     f"({grid.attrs['origin_lat_deg']:g} N, {grid.attrs['origin_lon_deg']:g} E): its "
+    offset = tables.observer_offset(m.obs_x_m, m.obs_y_m)
+    if offset is not None:
+        lines.append(f"  observer up to {offset.distance_m / 1000:.2f} km from the grid's origin "
+                     f"({offset.origin_lat_deg:g} N, {offset.origin_lon_deg:g} E): its "
                      f"bearing-dependent tables are computed from there")
-        data["observer_max_distance_from_origin_m"] = away
+        data["observer_max_distance_from_origin_m"] = offset.distance_m
     for _, r in last.iterrows():
         lines.append(f"  {r['class']}: range {r.range_m / 1000:.2f} km, course "
                      f"{r.course_deg:.1f} deg, speed {r.speed_mps:.2f} m/s (tack {r.tack})")

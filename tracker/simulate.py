@@ -18,7 +18,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import xarray as xr
 
 from envdata.files import atomic_paths
 from envdata.limits import check_memory
@@ -27,7 +26,7 @@ from tracker.measurements import Measurements, write_measurements
 from acoustics.detection import indicator_snr
 from tracker.ranging import bearing_sd_deg, level_sd_db
 from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 
 TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
                  "tack")
@@ -57,16 +56,16 @@ class SimBatch:
     band_names: tuple[str, ...]
 
 
-def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.Generator, *,
+def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *,
                    dv_mps=0.0, dp0_db=0.0, dk_db=None) -> SimBatch:
     """Simulate E runs of a scenario.
 
     Parameters
     ----------
     sc : Scenario
-    grid : xr.Dataset or GridTables
+    tables : GridTables
         Propagation grid of the scenario's area; its K(r) of the scenario's class at the
-        scenario's observer depth (`tracker.tables.GridTables.k_db`) is the "actual" transfer
+        scenario's observer depth (`acoustics.grid.tables.GridTables.k_db`) is the "actual" transfer
         characteristic, linear in range and held at the ends of the range axis.
     rng : numpy.random.Generator
         Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
@@ -77,7 +76,6 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.G
         Transfer-characteristic error dK of eq. 31, dB; drawn once per run from the class's
         k_error_sd_db when None.
     """
-    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
     if sc.target_class not in tables.class_names:
         raise MeasurementFileError(f"{sc.source}: [scenario] target_class: {sc.target_class!r} "
                                    f"is not a class of the grid ({', '.join(tables.class_names)})")
@@ -116,7 +114,7 @@ def simulate_batch(sc: Scenario, grid: xr.Dataset | GridTables, rng: np.random.G
     # K at the target's bearing and range from the observer (between radials for a grid with
     # bearings); NaN where the grid has none (beyond land): no level reaches the observer
     k = tables.k_at(ic, r, sc.obs_depth_m,
-                    bearing_deg=b_true if tables.by_bearing else None)  # (E, T, M)
+                    bearing_deg=b_true)  # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
     noise = tables.noise_band_db - sonar.directivity_index_db
     snr_db = w_true - sonar.receiver_gain_db - noise
@@ -160,9 +158,9 @@ def truth_of(sim: SimBatch, sc: Scenario, run: int = 0) -> pd.DataFrame:
                          "tack": sim.tack})
 
 
-def simulate(sc: Scenario, grid: xr.Dataset, rng: np.random.Generator):
+def simulate(sc: Scenario, tables: GridTables, rng: np.random.Generator):
     """One run: (Measurements, truth DataFrame); dK drawn from the class's k_error_sd_db."""
-    sim = simulate_batch(sc, grid, rng)
+    sim = simulate_batch(sc, tables, rng)
     return measurements_of(sim, 0, source=sc.name), truth_of(sim, sc, 0)
 
 

@@ -13,12 +13,11 @@ from enum import StrEnum
 
 import numpy as np
 import pandas as pd
-import xarray as xr
 
 from envdata.errors import InputError
 from tracker.measurements import Measurements
 from tracker.errors import MeasurementFileError
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 
 
 class Method(StrEnum):
@@ -28,15 +27,15 @@ class Method(StrEnum):
     RPF_VP = "rpf-vp"
 
 
-def track(grid: xr.Dataset | GridTables, measurements: Measurements, *, method: Method | str = "ml",
+def track(tables: GridTables, measurements: Measurements, *, method: Method | str = "ml",
           rng: np.random.Generator | None = None, cls_name: str | None = None,
           band: str | None = None, ml_params=None, rpf_config=None) -> pd.DataFrame:
     """Track one target; one row per cycle per class hypothesis (DESIGN.md "Track CSV").
 
     Parameters
     ----------
-    grid : xr.Dataset or GridTables
-        The propagation grid (``acoustics.open_grid``).
+    tables : GridTables
+        The propagation grid (``acoustics.open_grid``, or ``acoustics.as_tables`` of a dataset).
     measurements : Measurements
         Bearings and band levels (``tracker.measurements.read_measurements``).
     method : {"ml", "rpf", "rpf-bot", "rpf-vp"}
@@ -63,7 +62,6 @@ def track(grid: xr.Dataset | GridTables, measurements: Measurements, *, method: 
         method = Method(method)
     except ValueError:
         raise InputError(f"--method: {method!r} is not a tracker ({', '.join(Method)})") from None
-    tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
     m = measurements
     if cls_name is not None:
         tables.class_index(cls_name)

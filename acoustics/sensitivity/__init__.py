@@ -7,7 +7,7 @@ study's files from the command line's options, written all or none).
 """
 
 from acoustics.sensitivity.files import StudyFileError, open_study, write_study
-from acoustics.sensitivity.members import MemberResult, compute_k, compute_member, k_runs
+from acoustics.sensitivity.members import MemberResult, compute_member
 from acoustics.sensitivity.perturbspec import PerturbationError
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from acoustics.sensitivity.study import StudyStats, run_study
@@ -16,5 +16,5 @@ from acoustics.sensitivity.summaries import DEFAULT_EVAL_RANGES_M, k_error_by_cl
 from acoustics.sensitivity.writeback import write_k_error
 
 __all__ = ["DEFAULT_EVAL_RANGES_M", "MemberResult", "PerturbationError", "RECIPROCITY_MIN_DEPTH_M",
-           "StudyFileError", "StudySpec", "StudyStats", "compute_k", "compute_member", "k_error_by_class",
-           "k_runs", "level_range_m", "open_study", "output_files", "run_study", "run_study_file", "summarize", "write_k_error", "write_study"]
+           "StudyFileError", "StudySpec", "StudyStats", "compute_member", "k_error_by_class",
+           "level_range_m", "open_study", "output_files", "run_study", "run_study_file", "summarize", "write_k_error", "write_study"]

@@ -6,14 +6,15 @@ from pathlib import Path
 
 import xarray as xr
 
-from acoustics.io import load_netcdf, write_netcdf
+from acoustics.grid.formats import upgrade_study
+from acoustics.grid.io import load_netcdf, write_netcdf
 from envdata.errors import InputError
 
 REQUIRED_STUDY_VARS = {"k_db": ("member", "class", "band", "range"), "k_nominal_db": ("class", "band", "range")}
 
 
 class StudyFileError(InputError):
-    """A study file that is missing, not netCDF, or lacks what DESIGN.md requires."""
+    """A study file that is missing, not netCDF, or lacks what a study file holds (docs/formats.md)."""
 
 
 def write_study(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
@@ -23,8 +24,8 @@ def write_study(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Pat
 
 
 def open_study(path: str | Path) -> xr.Dataset:
-    """Open a study file, load it, and check the variables of DESIGN.md."""
-    ds = load_netcdf(path, StudyFileError, "study")
+    """Open a study file (an older format through its upgrade step), load it, and check its variables."""
+    ds = upgrade_study(load_netcdf(path, StudyFileError, "study"), str(path), StudyFileError)
     for name, dims in REQUIRED_STUDY_VARS.items():
         if name not in ds or ds[name].dims != dims:
             raise StudyFileError(f"{path}: missing variable {name}{dims}")

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from acoustics.figures import new_figure, save_figure
+from acoustics.plots.figures import new_figure, save_figure
 
 
 def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:

@@ -8,17 +8,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.dataset import TMAKIT_VERSION
+from acoustics.builder.plan import RECIPROCITY_MIN_DEPTH_M
+from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.sensitivity.perturb import check_perturbations
 from acoustics.sensitivity.perturbspec import Perturbation
 from envdata.area import Area
 from envdata.errors import InputError
 
 STUDY_FORMAT_VERSION = 1
-# Classes at least this deep get K by reciprocity (one source at the observer serves them all);
-# shallower ones directly. Measured on ocean-deep: reciprocity is within 0.1 dB (median) for the
-# 200 m class, 2.3-2.4 dB off for the 6-8 m classes (docs/sensitivity.md, bench/bench_sensitivity.py).
-RECIPROCITY_MIN_DEPTH_M = 50.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -4,7 +4,7 @@ Each member is the area perturbed by ``acoustics.sensitivity.perturb`` with its 
 ``np.random.default_rng([seed, member])`` and its K(r) recomputed by BELLHOP
 (``acoustics.sensitivity.members``). One task is one member (its BELLHOP runs inside), so the
 result does not depend on how many workers there are or which worker ran what. The tasks run
-on local threads or a Dask cluster (``acoustics.executor``); finished members are kept in a
+on local threads or a Dask cluster (``acoustics.builder.executor``); finished members are kept in a
 cache folder, so an interrupted study resumes without redoing them.
 """
 
@@ -22,8 +22,9 @@ import numpy as np
 import xarray as xr
 
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.executor import ResultCache, TaskStats, run_tasks
-from acoustics.dataset import TMAKIT_VERSION, now_iso
+from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
+from acoustics.grid.dataset import TMAKIT_VERSION, now_iso
+from acoustics.grid.formats import STUDY_FORMAT
 from acoustics.sensitivity.members import MemberResult, compute_member, member_key
 from acoustics.sensitivity.perturbspec import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
@@ -158,6 +159,7 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
               f"reciprocity for classes at or below {spec.reciprocity_min_depth_m:g} m, direct above")
     attrs = {
         "Conventions": "CF-1.8",
+        "tmakit_format": STUDY_FORMAT,
         "title": f"tmakit environmental sensitivity study for area {area.name}",
         "institution": "tmakit",
         "source": f"tmakit {TMAKIT_VERSION}, model bellhop",

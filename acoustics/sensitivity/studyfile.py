@@ -16,7 +16,7 @@ import xarray as xr
 
 import envdata
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.build import remove_cache, resume_dir
+from acoustics.builder.gridfile import remove_cache, resume_dir
 from acoustics.sensitivity.files import write_study
 from acoustics.sensitivity.perturbspec import default_perturbations, parse_spec
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec

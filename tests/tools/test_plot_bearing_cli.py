@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import envdata
-from tests.acoustics.test_radialplots import PNG_SIGNATURE, png_size, small_shelf_area_file
+from tests.acoustics.plots.test_radialplots import PNG_SIGNATURE, png_size, small_shelf_area_file
 from tools import cli
 
 pytestmark = pytest.mark.bellhop
@@ -94,11 +94,13 @@ def test_bad_options_are_one_error_line_and_write_nothing(capsys, tmp_path, shel
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("option", [["--bearing", "45"], ["--band", "F1"], ["--what", "k"],
-                                    ["--bathymetry", "relief.nc"]])
-def test_bearing_options_on_a_flat_grid_are_errors(capsys, tmp_path, tiny_grid_file, option):
+@pytest.mark.parametrize("option, said", [(["--bearing", "45"], "a section's bearing"),
+                                          (["--band", "F1"], "a map's band"),
+                                          (["--what", "k"], "a map (K or detection ranges)"),
+                                          (["--bathymetry", "relief.nc"], "a bathymetry file")])
+def test_bearing_options_on_a_flat_grid_are_errors(capsys, tmp_path, tiny_grid_file, option, said):
     line = run_error(capsys, "grids", "plot", tiny_grid_file, "--out", tmp_path / "m.png", *option)
-    assert line.startswith(f"error: {tiny_grid_file}: {option[0]} is for a bearing-dependent grid")
+    assert line.startswith(f"error: {tiny_grid_file}: {said} is for a bearing-dependent grid")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -18,7 +18,7 @@ from tracker.errors import MeasurementFileError
 from tracker.studies.idm import simulate
 from tracker.studies.idm_scenarios import get_scenario
 from tracker.measurements import Measurements, read_measurements, write_measurements
-from tracker.tables import GridTables
+from acoustics.grid.tables import as_tables
 from tracker.track import track
 from tracker.trackfile import TRACK_COLUMNS, write_track
 
@@ -41,7 +41,7 @@ def munk(munk_path):
 def static_csv(munk, tmp_path_factory):
     """60 cycles of the static-observer scenario written as a measurement CSV."""
     sc = get_scenario("idm-static")
-    tables = GridTables.from_grid(munk)
+    tables = munk
     prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
     b, lv = simulate(sc, prof, 1, np.random.default_rng(4))
     n = 61
@@ -55,7 +55,7 @@ def static_csv(munk, tmp_path_factory):
 
 
 def _read(path, munk):
-    return read_measurements(path, grid_band_names=[str(b) for b in munk["band"].values])
+    return read_measurements(path, grid_band_names=list(munk.band_names))
 
 
 def test_track_rpf_gives_track_rows_and_is_repeatable(munk, static_csv, tmp_path):
@@ -121,7 +121,7 @@ def test_missing_level_column_band_class_and_depth_are_errors(munk, static_csv, 
     with pytest.raises(MeasurementFileError, match=r"nob.csv: column bearing_deg: no bearing"):
         track(munk, nob, method="rpf-bot", rng=rng)
     with pytest.raises(MeasurementFileError, match=r"--method: 'ml' is not an RPF method"):
-        rpf.track_measurements(GridTables.from_grid(munk), m, method="ml", rng=rng)
+        rpf.track_measurements(munk, m, method="ml", rng=rng)
 
 
 def test_cli_track_rpf_vp_writes_a_track(munk_path, static_csv, tmp_path, capsys):

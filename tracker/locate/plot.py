@@ -1,7 +1,7 @@
 """Plots for stationary target location: analogues of Schmidt et al.'s Figs. 1, 3, 4, 8 and 9.
 
-Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state); write them
-with `acoustics.figures.save_figure`.
+Figures come from `acoustics.plots.figures.new_figure` (the Agg canvas, no pyplot state); write them
+with `acoustics.plots.figures.save_figure`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
-from acoustics.figures import new_figure
+from acoustics.plots.figures import new_figure
 from tracker.locate.bearings import Bearings
 from tracker.locate.fixes import LocateResult
 from tracker.locate.geometry import pair_conditioning

@@ -35,7 +35,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import xarray as xr
 
 from tracker.errors import MeasurementFileError
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
@@ -48,7 +47,7 @@ from tracker.mltma.range_prior import level_ranges_m, range_prior_m
 from tracker.mltma.search import search
 from tracker.mltma.window import TackWindow, tack_window
 from tracker.ranging import offset_nodes
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 
 
 class MLBatch:
@@ -56,7 +55,7 @@ class MLBatch:
 
     Parameters
     ----------
-    grid : xr.Dataset or GridTables
+    tables : GridTables
         Propagation grid (k_db and the area's classes, sonar, noise).
     class_index : array of int, shape (B,)
         Class hypothesis (index into the grid's class axis) of each row.
@@ -65,10 +64,10 @@ class MLBatch:
     params : MLParams
     """
 
-    def __init__(self, grid: xr.Dataset | GridTables, class_index, capacity: int,
+    def __init__(self, tables: GridTables, class_index, capacity: int,
                  params: MLParams | None = None):
         self.params = params or MLParams()
-        self.tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
+        self.tables = tables
         self.sonar = self.tables.area.sonar
         self.bandwidth_hz = self.tables.bandwidth_hz           # (M,) of eqs. 2 and 11, Hz
         self.range_axis_m = self.tables.range_m                # (R,) range axis of K(r), m
@@ -127,7 +126,7 @@ class MLBatch:
         """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates.
 
         K(r) is taken at ``obs_depth_m`` (TL linear in depth; default the grid's observer
-        depth), `tracker.tables.GridTables.k_db`.
+        depth), `acoustics.grid.tables.GridTables.k_db`.
 
         Returns
         -------
@@ -161,7 +160,7 @@ class MLBatch:
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
         # K at the row's bearing from the observer on a bearing-dependent grid: (C, M, B, R)
-        k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg if self.tables.by_bearing else None)
+        k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg)
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)

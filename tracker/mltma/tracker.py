@@ -7,13 +7,12 @@ import math
 
 import numpy as np
 import pandas as pd
-import xarray as xr
 
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
 from tracker.mltma.batch import MLBatch
 from tracker.mltma.params import MLParams
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 from tracker.trackfile import TRACK_COLUMNS
 
 log = logging.getLogger(__name__)
@@ -29,9 +28,8 @@ class MLTracker:
     ...     rows = trk.update_from(m, i)                # one DataFrame row per class
     """
 
-    def __init__(self, grid: xr.Dataset | GridTables, *, capacity: int, class_names=None,
+    def __init__(self, tables: GridTables, *, capacity: int, class_names=None,
                  params: MLParams | None = None):
-        tables = grid if isinstance(grid, GridTables) else GridTables.from_grid(grid)
         chosen = tables.class_names if class_names is None else tuple(class_names)
         self.class_names = tuple(chosen)                      # one batch row per class
         self.grid_bands = list(tables.band_names)             # band order of the level arrays

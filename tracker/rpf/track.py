@@ -28,7 +28,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
 
     Parameters
     ----------
-    tables : tracker.tables.GridTables
+    tables : acoustics.grid.tables.GridTables
         The propagation grid's tables.
     measurements : tracker.measurements.Measurements
         Bearings and band levels. ``rpf`` needs the ``level_db_NAME`` column of the band; a
@@ -152,14 +152,11 @@ def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg) -> list:
     bearings at the cycle's measured bearing (between radials; a cycle without one takes the
     last bearing measured). The particles of a cycle lie within a few bearing sd of the measured
     bearing, where K changes little between radials tens of degrees apart."""
-    cache: dict = {}
     profiles = []
     last = None
     for d, b in zip(np.asarray(depth_m, dtype=float), np.asarray(bearing_deg, dtype=float)):
         if np.isfinite(b):
             last = float(b)
-        key = (float(d), round(last, 3) if tables.by_bearing and last is not None else None)
-        if key not in cache:
-            cache[key] = tables.level_profile(ic, ib, key[0], bearing_deg=key[1])
-        profiles.append(cache[key])
+        # the tables keep each profile: the same depth and bearing give the same one
+        profiles.append(tables.level_profile(ic, ib, float(d), bearing_deg=last))
     return profiles

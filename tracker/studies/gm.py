@@ -26,7 +26,7 @@ import pandas as pd
 
 from envdata.files import atomic_path
 from tracker.mltma import MLBatch, MLParams, wrap180
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -95,7 +95,7 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
     from acoustics import open_grid
 
-    tables = GridTables.from_grid(open_grid(grid_path), str(grid_path))
+    tables = open_grid(grid_path)
     sc = load_scenario(scenario)
     rng = np.random.default_rng(seed)
     sim = simulate_batch(sc, tables, rng, dv_mps=dv, dp0_db=dp, dk_db=dk)
@@ -138,7 +138,7 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     t_start = time.perf_counter()
     grid = open_grid(grid_path)
     sc = load_scenario(scenario)
-    classes = GridTables.from_grid(grid, str(grid_path)).classes
+    classes = grid.classes
     true_cls = next(c for c in classes if c.name == sc.target_class)
     dv, dp, dk, w = design(true_cls, n)
     shift_v, shift_p = center_offsets(sc, true_cls, center)

@@ -1,14 +1,14 @@
 """Plots of the Grinenkov & Mashoshin experiment (analogues of Figs. 4-17).
 
-Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state) and are
-written with `acoustics.figures.save_figure`.
+Figures come from `acoustics.plots.figures.new_figure` (the Agg canvas, no pyplot state) and are
+written with `acoustics.plots.figures.save_figure`.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from acoustics.figures import new_figure, save_figure
+from acoustics.plots.figures import new_figure, save_figure
 
 #: Resolution of the PNG files, dots per inch.
 DPI = 90

@@ -30,7 +30,7 @@ from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 from tracker.studies.idm_columns import COLUMN
 from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 
 log = logging.getLogger(__name__)
 
@@ -88,7 +88,7 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
 def _chunk(args) -> dict[str, np.ndarray]:
     """One chunk of runs: simulate, filter with every method, return position errors (m)."""
     scenario, range_m, k_db, runs, seed_seq, n_particles, level_sigma_db = args
-    from tracker.tables import LevelProfile
+    from acoustics.grid.tables import LevelProfile
 
     profile = LevelProfile(range_m=range_m, k_db=k_db)
     rng = np.random.default_rng(seed_seq)
@@ -114,7 +114,9 @@ def _find_grid(grid):
     if grid is None:
         raise ScenarioError(f"the idm experiment needs the {AREA} grid: build it with "
                             f"'tmakit grids build {AREA}' and pass it with --grid")
-    return (grid, "<grid>") if hasattr(grid, "data_vars") else (acoustics.open_grid(grid), str(grid))
+    if isinstance(grid, GridTables):
+        return grid, grid.source
+    return acoustics.open_grid(grid), str(grid)
 
 
 def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = False,
@@ -137,7 +139,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         Progress bar on stderr.
     workers : int, optional
         Worker processes (default: the CPU count).
-    grid : path or xarray.Dataset
+    grid : path or GridTables
         The munk-1000 grid (the tracker reads grids; it never runs BELLHOP).
     n_particles : int
         N (5000).
@@ -157,8 +159,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         raise ScenarioError(f"--runs: must be a positive integer, got {runs}")
     check_level_sigma(level_sigma_db)
     out_dir = Path(out_dir)
-    ds, grid_name = _find_grid(grid)
-    tables = GridTables.from_grid(ds, grid_name)
+    tables, grid_name = _find_grid(grid)
     ic, ib = tables.class_index(CLASS), tables.band_index(BAND)
     source_depth_m = tables.classes[ic].depth_m
     if abs(source_depth_m - sc.target_depth_m) > 1e-6:
@@ -226,7 +227,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     json_path = out_dir / f"{scenario}.json"
     with atomic_path(csv_path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.6g")
-    from acoustics.figures import save_figure
+    from acoustics.plots.figures import save_figure
     from tracker.studies.idm_plot import DPI, rmse_figure
 
     save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path, dpi=DPI)

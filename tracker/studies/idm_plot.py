@@ -1,7 +1,7 @@
 """Plots of the Iglesis & de Montella study: position RMSE vs time (analogues of Figs. 3, 5, 7).
 
-Figures come from `acoustics.figures.new_figure` (the Agg canvas, no pyplot state); the study
-writes them with `acoustics.figures.save_figure` at `DPI`.
+Figures come from `acoustics.plots.figures.new_figure` (the Agg canvas, no pyplot state); the study
+writes them with `acoustics.plots.figures.save_figure` at `DPI`.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from acoustics.figures import new_figure
+from acoustics.plots.figures import new_figure
 from tracker.studies.idm_columns import COLUMN
 
 #: Resolution of the PNG files, dots per inch.

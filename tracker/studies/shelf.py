@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from acoustics.build import build_grid_file
+from acoustics.builder.gridfile import build_grid_file
 from envdata.area import Area, Water
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
@@ -36,7 +36,7 @@ from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
-from tracker.tables import GridTables
+from acoustics.grid.tables import GridTables
 
 AREA = "shelf-break"
 SCENARIO = "shelf-tv"
@@ -129,9 +129,9 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                                         progress=progress)["file"],
              "isotropic": build_grid_file(origin_area(area), out / "grids" / f"{AREA}-origin-bellhop.nc",
                                           workers=workers, progress=progress)["file"]}
-    from acoustics.io import open_grid
+    from acoustics.grid.io import open_grid
 
-    tables = {name: GridTables.from_grid(open_grid(path), path) for name, path in grids.items()}
+    tables = {name: open_grid(path) for name, path in grids.items()}
     sc = load_scenario(SCENARIO)
     truth = tables["bearing"]
     cls_index = truth.class_index(sc.target_class)
@@ -164,7 +164,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     from tracker.studies.shelf_plot import rmse_figure
 
     fig = rmse_figure(frame, summary)
-    from acoustics.figures import save_figure
+    from acoustics.plots.figures import save_figure
 
     with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):
         frame.to_csv(csv_tmp, index=False, float_format="%.6g")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pandas as pd
 from matplotlib.figure import Figure
 
-from acoustics.figures import new_figure
+from acoustics.plots.figures import new_figure
 
 _STYLE = {"ml": ("ML motion analysis (G&M)", "tab:blue"), "rpf": ("particle filter, bearings + SPL", "tab:red")}
 _GRID = {"bearing": ("bearing-dependent grid", "-"), "isotropic": ("origin's column, flat bottom", "--")}

@@ -6,26 +6,29 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from acoustics import sensitivity as sens
-from acoustics.executor import ResultCache
+from acoustics.builder.bandruns import BuildStats
+from acoustics.builder.kobserver import k_at_observer_db
+from acoustics.builder.plan import k_runs
+from acoustics.builder.executor import ResultCache
 from acoustics.sensitivity.members import MemberResult, member_key
 
 
 def test_k_runs_use_reciprocity_for_deep_classes_and_direct_for_shallow(tiny_area):
-    sources, receivers, where = sens.k_runs(tiny_area)  # SUB 150 m, SHIP 5 m, observer 100 m
+    sources, receivers, where = k_runs(tiny_area)  # SUB 150 m, SHIP 5 m, observer 100 m
     assert sources == [5.0, 100.0] and receivers == [100.0, 150.0]
     assert where == {"SUB": (1, 1), "SHIP": (0, 0)}  # SUB: observer -> 150 m; SHIP: 5 m -> observer
-    sources, receivers, where = sens.k_runs(tiny_area, reciprocity_min_depth_m=1e9)
+    sources, receivers, where = k_runs(tiny_area, reciprocity_min_depth_m=1e9)
     assert sources == [5.0, 150.0] and receivers == [100.0]
 
 
 @pytest.mark.bellhop
 def test_member_k_matches_the_grid_build(tiny_area, tiny_grid):
-    direct, seconds = sens.compute_k(tiny_area, reciprocity_min_depth_m=1e9)
-    assert seconds > 0
+    stats = BuildStats()
+    direct = k_at_observer_db(tiny_area, reciprocity_min_depth_m=1e9, stats=stats)
+    assert stats.bellhop_seconds > 0 and stats.runs_total == 2  # one run per frequency, both sources in it
     # same BELLHOP inputs per (source, receiver) pair as the grid build: equal to float32 rounding
     assert_allclose(direct, tiny_grid["k_db"].values, rtol=0, atol=1e-3)
-    mixed, _ = sens.compute_k(tiny_area)
+    mixed = k_at_observer_db(tiny_area)
     assert_allclose(mixed[1], tiny_grid["k_db"].values[1], rtol=0, atol=1e-3)  # SHIP: direct
     diff = np.abs(mixed[0] - tiny_grid["k_db"].values[0])  # SUB at 150 m: by reciprocity
     assert np.median(diff) < 0.2  # measured 0.05 dB; incoherent beams are nearly reciprocal at depth

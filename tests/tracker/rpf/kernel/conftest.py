@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from tracker.rpf.kernel.cache import drop_stale_caches
-from tracker.tables import LevelProfile
+from acoustics.grid.tables import LevelProfile
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision
 

@@ -1,0 +1,159 @@
+"""Building the propagation grid of an area: TL(class, band, depth, range), K(r), Urick K(r).
+
+The BELLHOP route runs one job per (class source depth, run frequency). In incoherent mode with
+a fixed beam fan, frequency changes TL almost only through volume absorption, so by default one
+run at each band's centre serves the whole band: TL(f) = TL(f_c) + (alpha(f) - alpha(f_c)) r.
+Otherwise every quadrature frequency of every band is its own run.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.absorption import absorption_db_per_km
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.bellhop.shdfile import tl_from_pressure
+from acoustics.grid.dataset import flat_dataset
+from acoustics.builder.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key,
+                               run_frequencies_hz, run_timeout_s, source_hash)
+from acoustics.kcurve import spectral_term_db
+from acoustics.builder.radial import build_radial_grid
+from acoustics.builder.plan import plan_runs, receiver_depths_m
+from acoustics.builder.runs import Run, iter_runs
+from acoustics.urick import k_urick_db, spherical_tl_db
+from envdata.area import Area, TlMode
+from envdata.datafiles import input_file_digests
+from envdata.limits import check_memory
+
+
+
+def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:
+    """TL of a whole beam fan from its slices' pressure fields (see ``fan_slices``), dB."""
+    if mode is TlMode.COHERENT:
+        return tl_from_pressure(np.sum(parts, axis=0), tl_max_db)
+    intensity = np.sum([np.abs(p).astype(np.float64) ** 2 for p in parts], axis=0)
+    return -10.0 * np.log10(np.maximum(intensity, 10.0 ** (-tl_max_db / 10.0)))
+
+
+def _tl_by_freq(area: Area, runs: list[Run], fields: dict[str, np.ndarray], rows=slice(None)) -> dict:
+    """{run frequency: TL field} of one source depth's runs, slices combined."""
+    groups: dict[float, list[np.ndarray]] = {}
+    for run in {run.key: run for run in runs}.values():  # each slice once
+        groups.setdefault(freq_key(run.freq_hz), []).append(fields[run.key][rows])
+    prop = area.propagation
+    return {f: combined_tl_db(parts, prop.mode, prop.tl_max_db) for f, parts in groups.items()}
+
+
+def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
+    """Run ``runs`` and call ``fill(ic, ib, band_tl)`` for each (class, band) as soon as its runs
+    are in, dropping each run's field once no pending (class, band) needs it."""
+    pending = {}
+    for ic, cls in enumerate(area.classes):
+        for ib, band in enumerate(area.bands):
+            freqs = {freq_key(f) for f in run_frequencies_hz(area, band)}
+            pending[(ic, ib)] = {run.key for run in runs
+                                 if run.source_depth_m == cls.depth_m and freq_key(run.freq_hz) in freqs}
+    fields: dict[str, np.ndarray] = {}
+    by_key = {run.key: run for run in runs}
+    for run, pressure in iter_runs(runs, **run_options):
+        fields[run.key] = pressure
+        for (ic, ib), keys in list(pending.items()):
+            if keys <= fields.keys():
+                by_freq = _tl_by_freq(area, [by_key[key] for key in keys], fields)
+                fill(ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
+                del pending[(ic, ib)]
+        needed = set().union(*pending.values()) if pending else set()
+        for key in list(fields):
+            if key not in needed:
+                del fields[key]
+
+
+def grid_size_bytes(area: Area) -> float:
+    """Memory a grid build of ``area`` needs at its peak, bytes (an estimate).
+
+    The float32 TL table (class x band x depth x range) twice (built, then encoded for
+    netCDF), and a few float64 / complex64 fields of depth x range per run in flight.
+    """
+    n_depth = math.ceil(area.water.depth_m / area.grid.depth_step_m) + 1
+    n_range = round(area.grid.range_max_m / area.grid.range_step_m)
+    cells = float(n_depth) * n_range
+    return 8.0 * len(area.classes) * len(area.bands) * cells + 48.0 * cells
+
+
+def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
+    """The ``source_hash`` a grid of ``area`` built now would have (reads the data files)."""
+    model = Model(model)
+    return source_hash(area, model, find_bellhop().sha256 if model is Model.BELLHOP else None,
+                       input_file_digests(area.water))
+
+
+def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
+               scheduler: str | None = None, cache_dir: str | Path | None = None,
+               progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
+    """Compute the grid dataset of DESIGN.md for ``area``.
+
+    Parameters
+    ----------
+    area : Area
+        The sea area.
+    model : {"bellhop", "urick"}
+        BELLHOP beam tracing, or the Urick formula alone (TL = spherical spreading + absorption).
+    workers : int
+        BELLHOP processes run at once (ignored with ``scheduler``).
+    scheduler : str, optional
+        Address of a Dask distributed scheduler to run the BELLHOP jobs on.
+    cache_dir : path, optional
+        Folder for finished runs, so that an interrupted build resumes; it is removed by the
+        caller once the grid is safely written.
+    progress : bool
+        Show a progress bar on stderr.
+    stats : BuildStats, optional
+        Filled with run counts and timings.
+    """
+    model = Model(model)
+    if area.is_bearing_dependent:
+        return build_radial_grid(area, model=model, workers=workers, scheduler=scheduler,
+                                 cache_dir=cache_dir, progress=progress, stats=stats)
+    check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
+    stats = stats if stats is not None else BuildStats()
+    depth = area.depth_m()
+    rng = area.grid.range_m()
+    prop = area.propagation
+    exe = find_bellhop() if model is Model.BELLHOP else None
+    n_cls, n_band = len(area.classes), len(area.bands)
+    tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
+    k = np.empty((n_cls, n_band, rng.size))
+    k_urick = np.empty((n_cls, n_band, rng.size))
+    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
+
+    for ic, cls in enumerate(area.classes):
+        for ib, band in enumerate(area.bands):
+            k_urick[ic, ib] = k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
+
+    if model is Model.BELLHOP:
+        rz = receiver_depths_m(area)
+        on_grid = np.searchsorted(rz, depth)
+        obs_row = int(np.searchsorted(rz, area.observer.depth_m))
+        runs = plan_runs(area, receiver_depths=rz)
+        stats.runs = runs
+
+        def fill(ic: int, ib: int, band_tl: np.ndarray) -> None:
+            cls, band = area.classes[ic], area.bands[ib]
+            tl[ic, ib] = band_tl[on_grid]
+            k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
+
+        _assemble(area, runs, fill, workers=workers, scheduler=scheduler,
+                  cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
+                  exe=str(exe.path), stats=stats)
+    else:
+        for ib, band in enumerate(area.bands):
+            tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]
+        k[:] = k_urick
+
+    return flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
+                    source_hash(area, model, exe.sha256 if exe else None, input_file_digests(area.water)),
+                    exe.describe() if exe else None)

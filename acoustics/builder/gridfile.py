@@ -1,0 +1,86 @@
+"""Grid files built once: an up-to-date file is reused, an interrupted build resumes.
+
+The finished BELLHOP runs of a build are kept in ``.NAME.partial-HASH/`` beside the output file
+NAME (HASH: the start of the grid's ``source_hash``) and removed once the file is written.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+from pathlib import Path
+
+import envdata
+from acoustics.errors import GridFileError
+from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
+from acoustics.grid.io import open_grid, write_grid
+
+
+def resume_dir(out: str | os.PathLike, digest: str) -> Path:
+    """The resume folder of output file ``out`` whose numbers hash to ``digest``."""
+    out = Path(out)
+    return out.parent / f".{out.name}.partial-{digest[:12]}"
+
+
+def remove_cache(cache_dir: str | os.PathLike) -> None:
+    """Remove a resume folder (once the file it served is written); a missing one is fine."""
+    shutil.rmtree(cache_dir, ignore_errors=True)
+
+
+def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLike | None = None, *,
+                    model: Model | str = Model.BELLHOP, workers: int = 1, scheduler: str | None = None,
+                    force: bool = False, progress: bool = False) -> dict:
+    """Build the grid file of an area, or reuse it when its ``source_hash`` is current.
+
+    Parameters
+    ----------
+    area : Area, str or path
+        The area, a built-in area name or an area TOML file.
+    out : path, optional
+        Grid file to write; default ``AREA-MODEL.nc`` in the working directory.
+    model : {"bellhop", "urick"}
+        As in ``build_grid``.
+    workers : int
+        BELLHOP runs at once on this machine (>= 1); ignored with ``scheduler``.
+    scheduler : str, optional
+        Address of a Dask distributed scheduler to run the BELLHOP runs on.
+    force : bool
+        Rebuild even when the file is up to date (an unreadable file is always rebuilt).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    dict
+        What was done, as the ``grids build`` command reports it: ``file``, ``area``, ``model``,
+        ``up_to_date``, ``source_hash``, ``runs``, ``runs_reused``, ``bellhop_seconds``,
+        ``wall_seconds`` and, for a build, ``dims``.
+    """
+    if workers < 1:
+        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
+    model = Model(model)
+    area = area if isinstance(area, envdata.Area) else envdata.load_area(area)
+    out = Path(out) if out is not None else Path(f"{area.name}-{model}.nc")
+    digest = expected_source_hash(area, model)
+    if out.exists() and not force:
+        try:
+            existing = open_grid(out)
+        except GridFileError:
+            existing = None  # unreadable: rebuilt below
+        if existing is not None and existing.dataset.attrs.get("source_hash") == digest:
+            return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": True,
+                    "source_hash": digest, "runs": 0, "runs_reused": 0, "bellhop_seconds": 0.0,
+                    "wall_seconds": 0.0}
+    cache_dir = resume_dir(out, digest)
+    stats = BuildStats()
+    start = time.perf_counter()
+    ds = build_grid(area, model=model, workers=workers, scheduler=scheduler,
+                    cache_dir=cache_dir if model is Model.BELLHOP else None, progress=progress, stats=stats)
+    write_grid(ds, out)
+    remove_cache(cache_dir)
+    return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": False,
+            "source_hash": digest, "runs": stats.runs_total, "runs_reused": stats.runs_reused,
+            "bellhop_seconds": round(stats.bellhop_seconds, 3),
+            "wall_seconds": round(time.perf_counter() - start, 3),
+            "dims": {k: int(v) for k, v in ds.sizes.items()}}

@@ -1,0 +1,223 @@
+"""Bearing-dependent grids: N x 2D BELLHOP runs along radials from the origin.
+
+DESIGN.md "Range- and bearing-dependent areas (N x 2D)". Every area with an ``[origin]`` gets
+this grid. For each radial (``envdata.radials``) and run frequency, one BELLHOP run with the
+range-dependent bottom (.bty) and sound speed ('Q' .ssp) of that radial, the source at the
+observer's depth at the origin, and receivers on the grid's depth axis plus the class depths.
+By reciprocity the run's TL from the observer to a point at depth z and range r along the
+radial is the loss between that point and the observer; so
+
+- ``tl_db(class, band, bearing, depth, range)`` is the band TL (the class's spectrum weighting
+  the band, as in ``acoustics.builder.flat``) between the observer and a point at ``depth``
+  (``fixed_end = "observer"``);
+- ``k_db(class, band, bearing, range) = S - TL`` at the class's depth (eq. 12-13): K(r) for a
+  target of the class at ``range`` along ``bearing`` from the observer;
+- cells below the bottom and beyond land are NaN, and ``bottom_depth_m(bearing, range)`` is the
+  water depth along each radial.
+
+The runs of all radials go through the same executor as a flat grid's (threads or a Dask
+cluster, a resume folder). Incoherent beams near the pressure-release surface are not quite
+reciprocal (docs/sensitivity.md: up to 2.4 dB for sources at 6-8 m); that is the price of one
+run per radial instead of one per target position.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.absorption import absorption_db_per_km
+from acoustics.bellhop.radialfiles import radial_files
+from acoustics.bellhop.shdfile import tl_from_pressure
+from acoustics.bellhop.exe import find_bellhop
+from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.builder.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key, run_frequencies_hz,
+                               run_timeout_s, source_hash)
+from acoustics.kcurve import spectral_term_db
+from acoustics.builder.plan import run_spec
+from acoustics.builder.runs import Run, iter_runs
+from acoustics.urick import k_urick_db
+from envdata.area import Area
+from envdata.datafiles import input_file_digests
+from envdata.limits import check_memory
+from envdata.radials import Radial, area_radials
+
+#: Ray step when the area does not set ``[propagation] step_m``, m (bench/bench_radials.py:
+#: converged to 0.1 dB median against a 5 m step on the built-in shelf-break area).
+DEFAULT_STEP_M = 25.0
+#: Rays leave the box this far beyond the last grid range, relative and m.
+BOX_MARGIN = (1.01, 10.0)
+
+
+def depth_axis_m(area: Area, radials: list[Radial]) -> np.ndarray:
+    """0 to the deepest bottom on any radial (within the grid's ranges), every depth_step_m."""
+    r_max = area.grid.range_max_m
+    deepest = max(float(np.max(rad.bottom_depth_m[(rad.range_m >= 0) & (rad.range_m <= r_max)]))
+                  for rad in radials)
+    step = area.grid.depth_step_m
+    z = np.arange(0.0, deepest, step)
+    return z if z.size and z[-1] >= deepest - 1e-9 else np.append(z, deepest)
+
+
+def bottom_on_grid_m(area: Area, radial: Radial) -> np.ndarray:
+    """Water depth of a radial at the grid's ranges, m; NaN beyond land."""
+    rng = area.grid.range_m()
+    bottom = np.interp(rng, radial.range_m, radial.bottom_depth_m)
+    if radial.land_range_m is not None:
+        bottom = np.where(rng > radial.land_range_m, np.nan, bottom)
+    return bottom
+
+
+def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray
+                     ) -> tuple[list[Run], dict[str, tuple[int, float]]]:
+    """The BELLHOP runs of every radial and run frequency, and each run's (radial, frequency)."""
+    prop = area.propagation
+    rng = area.grid.range_m()
+    box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
+    step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
+    freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
+    runs, where = [], {}
+    for j, radial in enumerate(radials):
+        for f in freqs:
+            spec = run_spec(area, title=f"tmakit {area.name} bearing={radial.bearing_deg:g} f={f:.3f} Hz",
+                            freq_hz=f, source_depths_m=(area.observer.depth_m,),
+                            receiver_depths_m=receivers_m, ranges_m=rng)
+            files = radial_files(area, radial, spec, step_m=step_m, box_range_m=box_range_m)
+            run = Run(env=files["env"], files=(("bty", files["bty"]), ("ssp", files["ssp"])),
+                      freq_hz=f, source_depth_m=area.observer.depth_m, n_beams=prop.n_beams,
+                      timeout_s=run_timeout_s(area, prop.n_beams, receivers_m.size * rng.size))
+            runs.append(run)
+            where[run.key] = (j, f)
+    return runs, where
+
+
+def radial_grid_bytes(area: Area, n_depth: int) -> float:
+    """Memory a bearing-dependent build needs at its peak, bytes (an estimate).
+
+    The float32 TL table (class x band x bearing x depth x range) twice (built, then encoded
+    for netCDF), and per radial in flight a few float64 fields of depth x range per frequency.
+    """
+    n_range = area.grid.range_m().size
+    n_bearing = len(area.bearings.bearing_deg)
+    cells = float(n_depth) * n_range
+    return 8.0 * len(area.classes) * len(area.bands) * n_bearing * cells + 64.0 * len(area.bands) * cells
+
+
+def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
+                      scheduler: str | None = None, cache_dir: str | Path | None = None,
+                      progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
+    """The bearing-dependent grid dataset of DESIGN.md for an area with ``[origin]``.
+
+    Parameters as ``acoustics.build_grid``, which calls this for such an area.
+    """
+    model = Model(model)
+    stats = stats if stats is not None else BuildStats()
+    inputs = input_file_digests(area.water)
+    exe = find_bellhop() if model is Model.BELLHOP else None
+    digest = source_hash(area, model, exe.sha256 if exe else None, inputs)
+    radials = area_radials(area, progress=progress)
+    depth = depth_axis_m(area, radials)
+    check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
+    rng = area.grid.range_m()
+    class_depths = sorted({c.depth_m for c in area.classes})
+    receivers = np.unique(np.concatenate([depth, class_depths]))
+    on_grid = np.searchsorted(receivers, depth)
+    class_row = {z: int(np.searchsorted(receivers, z)) for z in class_depths}
+    n_c, n_b, n_n = len(area.classes), len(area.bands), len(radials)
+    bottom = np.stack([bottom_on_grid_m(area, rad) for rad in radials])       # (N, R)
+    tl = np.full((n_c, n_b, n_n, depth.size, rng.size), np.nan, dtype=np.float32)
+    k = np.full((n_c, n_b, n_n, rng.size), np.nan)
+    prop = area.propagation
+    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
+    k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
+                                  for ib, band in enumerate(area.bands)]) for cls in area.classes])
+
+    def fill(j: int, tl_by_freq: dict[float, np.ndarray]) -> None:
+        # below the bottom, and beyond land (NaN bottom), the grid has no value
+        below = (depth[:, None] > bottom[j][None, :] + 1e-6) | ~np.isfinite(bottom[j])[None, :]
+        for ic, cls in enumerate(area.classes):
+            for ib, band in enumerate(area.bands):
+                band_tl = band_tl_from_runs(area, cls, band, tl_by_freq)  # (receivers, R)
+                tl[ic, ib, j] = np.where(below, np.nan, band_tl[on_grid])
+                kk = spectral_term_db(cls, band) - band_tl[class_row[cls.depth_m]]
+                # a target deeper than the water there, or beyond land, has no K
+                k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
+
+    if model is Model.BELLHOP:
+        runs, where = plan_radial_runs(area, radials, receivers)
+        stats.runs = runs
+        pending: dict[int, dict[float, np.ndarray]] = {}
+        n_freq = len({f for _, f in where.values()})
+        for run, field in iter_runs(runs, workers=workers, scheduler=scheduler,
+                                    cache_dir=Path(cache_dir) if cache_dir is not None else None,
+                                    progress=progress, exe=str(exe.path), stats=stats):
+            j, f = where[run.key]
+            pending.setdefault(j, {})[f] = tl_from_pressure(field, prop.tl_max_db)
+            if len(pending[j]) == n_freq:
+                fill(j, pending.pop(j))
+    else:  # Urick: spherical spreading and absorption, the same along every radial
+        from acoustics.urick import spherical_tl_db
+
+        for ib in range(n_b):
+            sph = spherical_tl_db(rng, beta_db_per_km=beta[ib])
+            for j in range(n_n):
+                below = (depth[:, None] > bottom[j][None, :]) | ~np.isfinite(bottom[j])[None, :]
+                tl[:, ib, j] = np.where(below, np.nan, sph[None, :])[None]
+                k[:, ib, j] = np.where(np.isfinite(bottom[j]), k_urick[:, ib], np.nan)
+    return _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest,
+                    exe.describe() if exe else None, inputs)
+
+
+def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest, exe_info,
+             input_files) -> xr.Dataset:
+    coords = grid_coords(area, depth, rng)
+    coords["bearing"] = ("bearing", np.array([rad.bearing_deg for rad in radials]),
+                         {"units": "degree", "long_name": "bearing from the origin, clockwise from "
+                                                         "true north"})
+    coords["range"] = ("range", rng, {"units": "m", "long_name": "range from the origin along the "
+                                                                 "radial (geodesic)"})
+    coords["depth"] = ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
+                                        "axis": "Z", "long_name": "depth of the point the observer "
+                                                                  "looks at"})
+    prop = area.propagation
+    dims5 = ("class", "band", "bearing", "depth", "range")
+    dims4 = ("class", "band", "bearing", "range")
+    dims3 = ("class", "band", "range")
+    data_vars = {
+        "tl_db": (dims5, tl, {"units": "dB", "long_name": "band transmission loss between the "
+                                                          "observer and a point at depth",
+                              "reference": "1 m from the source", "fixed_end": "observer",
+                              "comment": "BELLHOP from the observer at the origin (reciprocity); "
+                                         "intensity average over the band weighted by the class "
+                                         f"spectrum; shadows capped at {prop.tl_max_db:g} dB; NaN "
+                                         "below the bottom and beyond land"}),
+        "k_db": (dims4, k, {"units": "dB", "long_name": "transfer characteristic K(r) of a target of "
+                                                        "the class along the bearing",
+                            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
+                            "model": str(model)}),
+        "k_urick_db": (dims3, k_urick, {"units": "dB",
+                                        "long_name": "transfer characteristic K(r), Urick approximate formula",
+                                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
+        "anomaly_db": (dims4, k - k_urick[:, :, None, :],
+                       {"units": "dB", "long_name": "propagation anomaly 10 lg A implied by the model",
+                        "reference": "K(r) minus the Urick K(r) with A = 1"}),
+        "bottom_depth_m": (("bearing", "range"), bottom,
+                           {"units": "m", "long_name": "water depth along the radial", "positive": "down",
+                            "comment": "bathymetry sampled bilinearly along WGS84 geodesics; NaN beyond land"}),
+        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
+                                             "long_name": "volume attenuation at the band centre"}),
+    }
+    attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=float(depth[-1]),
+                       ssp_interpolation="Q")
+    attrs.update({
+        "title": f"tmakit bearing-dependent propagation grid for area {area.name}",
+        "origin_lat_deg": float(area.origin.lat_deg), "origin_lon_deg": float(area.origin.lon_deg),
+        "radials": "WGS84 geodesics from the origin (pyproj); bathymetry and climatology sampled "
+                   "bilinearly; sound speed by TEOS-10 (gsw)",
+        "ray_step_m": float(prop.step_m if prop.step_m is not None else DEFAULT_STEP_M),
+        "input_files": json.dumps(input_files, sort_keys=True),
+    })
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)

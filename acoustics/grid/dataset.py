@@ -1,0 +1,110 @@
+"""The grid dataset of DESIGN.md: its coordinates, variables and attributes, CF-1.8.
+
+``flat_dataset`` makes the grid of an area without ``[origin]`` (``tl_db(class, band, depth,
+range)`` from the class's depth); ``acoustics.builder.radial`` makes the bearing-dependent one from
+the same coordinates and attributes (``grid_coords``, ``grid_attrs``).
+"""
+
+from __future__ import annotations
+
+import json
+from datetime import datetime, timezone
+
+import numpy as np
+import xarray as xr
+
+from acoustics.grid.formats import GRID_FORMAT
+from envdata.area import Area
+from envdata.areafile import area_to_json
+
+TMAKIT_VERSION = "0.1.0"
+
+
+def now_iso() -> str:
+    """The current UTC time, ISO 8601 to the second."""
+    return datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
+
+
+def grid_coords(area: Area, depth_m: np.ndarray, range_m: np.ndarray) -> dict:
+    """The coordinates every grid has: class, band, depth, range and the band and class figures."""
+    bands = area.bands
+    return {
+        "class": ("class", np.array([c.name for c in area.classes], dtype=object),
+                  {"long_name": "target class hypothesis"}),
+        "band": ("band", np.array([b.name for b in bands], dtype=object), {"long_name": "frequency band"}),
+        "depth": ("depth", depth_m, {"units": "m", "standard_name": "depth", "positive": "down",
+                                     "axis": "Z", "long_name": "receiver depth"}),
+        "range": ("range", range_m, {"units": "m", "long_name": "horizontal range from the source"}),
+        "band_low_hz": ("band", np.array([b.low_hz for b in bands]),
+                        {"units": "Hz", "long_name": "lower band edge"}),
+        "band_high_hz": ("band", np.array([b.high_hz for b in bands]),
+                         {"units": "Hz", "long_name": "upper band edge"}),
+        "band_center_hz": ("band", np.array([b.center_hz for b in bands]),
+                           {"units": "Hz", "long_name": "band centre (geometric mean of the edges)"}),
+        "source_depth_m": ("class", np.array([c.depth_m for c in area.classes]),
+                           {"units": "m", "long_name": "radiating depth of the class", "positive": "down"}),
+    }
+
+
+def grid_attrs(area: Area, model: str, digest: str, exe_info: dict | None, *,
+               water_depth_m: float, ssp_interpolation: str) -> dict:
+    """The global attributes every grid has (DESIGN.md "Grid dataset")."""
+    attrs = {
+        "Conventions": "CF-1.8",
+        "tmakit_format": GRID_FORMAT,
+        "title": f"tmakit propagation grid for area {area.name}",
+        "institution": "tmakit",
+        "source": f"tmakit {TMAKIT_VERSION}, model {model}",
+        "history": f"{now_iso()} created by tmakit grids build",
+        "references": "Grinenkov & Mashoshin (2024) eqs. 12-13; Porter, The BELLHOP manual (2011)",
+        "comment": "dB quantities carry units 'dB' with their reference in the 'reference' attribute",
+        "area": area.name,
+        "area_description": area.description,
+        "model": str(model),
+        "observer_depth_m": float(area.observer.depth_m),
+        "water_depth_m": float(water_depth_m),
+        "created": now_iso(),
+        "source_hash": digest,
+        "area_json": area_to_json(area),
+    }
+    if exe_info is not None:
+        prop = area.propagation
+        attrs["bellhop_version"] = exe_info["version"]
+        attrs["bellhop_sha256"] = exe_info["sha256"]
+        settings = {
+            "mode": str(prop.mode), "beam_type": prop.beam_type, "n_beams": prop.n_beams,
+            "angle_min_deg": prop.angle_min_deg, "angle_max_deg": prop.angle_max_deg,
+            "absorption": str(prop.absorption), "freqs_per_band": prop.freqs_per_band,
+            "frequency_shortcut": prop.frequency_shortcut, "tl_max_db": prop.tl_max_db,
+            "ssp_interpolation": ssp_interpolation}
+        if prop.step_m is not None:
+            settings["step_m"] = prop.step_m
+        attrs["bellhop_settings"] = json.dumps(settings, sort_keys=True)
+    return attrs
+
+
+def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) -> xr.Dataset:
+    """The grid of an area without ``[origin]``: TL from the class's depth (``fixed_end = "source"``)."""
+    prop = area.propagation
+    dims4 = ("class", "band", "depth", "range")
+    dims3 = ("class", "band", "range")
+    data_vars = {
+        "tl_db": (dims4, tl, {"units": "dB", "long_name": "band transmission loss",
+                              "reference": "1 m from the source", "fixed_end": "source",
+                              "comment": "intensity average over the band weighted by the class spectrum; "
+                                         f"shadows capped at {prop.tl_max_db:g} dB"}),
+        "k_db": (dims3, k, {"units": "dB", "long_name": "transfer characteristic K(r) at the observer depth",
+                            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
+                            "model": str(model)}),
+        "k_urick_db": (dims3, k_urick, {"units": "dB",
+                                        "long_name": "transfer characteristic K(r), Urick approximate formula",
+                                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
+        "anomaly_db": (dims3, k - k_urick, {"units": "dB",
+                                            "long_name": "propagation anomaly 10 lg A implied by the model",
+                                            "reference": "K(r) minus the Urick K(r) with A = 1"}),
+        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
+                                             "long_name": "volume attenuation at the band centre"}),
+    }
+    attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=area.water.depth_m,
+                       ssp_interpolation=area.water.ssp.interpolation)
+    return xr.Dataset(data_vars, coords=grid_coords(area, depth, rng), attrs=attrs)

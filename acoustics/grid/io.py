@@ -1,0 +1,67 @@
+"""Grid files: CF-1.8 netCDF4, written atomically; ``open_grid`` is the only way in."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.errors import GridFileError
+from acoustics.grid.tables import GridTables, as_tables
+from envdata.files import atomic_path, check_input_file
+
+def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
+    """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever).
+
+    Without ``atomic`` straight to ``path``, for a caller that renames several files together.
+    """
+    path = Path(path)
+    encoding = {}
+    for name, var in ds.variables.items():
+        if name in ds.coords:
+            encoding[name] = {"_FillValue": None}
+        elif np.issubdtype(var.dtype, np.floating):
+            encoding[name] = {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
+    if not atomic:
+        ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        return path
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+    return path
+
+
+def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Dataset:
+    """Open a netCDF file and load it into memory; every way it can be unreadable raises ``error``."""
+    path = check_input_file(path, f"{what} file", error)
+    try:
+        with open(path, "rb") as fh:
+            magic = fh.read(8)
+    except OSError as exc:
+        raise error(f"{path}: cannot read the {what} file: {exc.strerror or exc}") from None
+    if not magic:
+        raise error(f"{path}: empty file, not a netCDF {what}")
+    if not (magic.startswith(b"\x89HDF") or magic.startswith(b"CDF")):
+        raise error(f"{path}: not a netCDF file")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as raw:
+            return raw.load()
+    except Exception as exc:  # netCDF4/HDF5 raise many types for damaged files
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        raise error(f"{path}: cannot read netCDF (truncated or damaged): "
+                    f"{type(exc).__name__}: {first}") from None
+
+
+def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write a grid dataset as netCDF4 to ``path`` via a temporary file."""
+    return write_netcdf(ds, path)
+
+
+def open_grid(path: str | Path) -> GridTables:
+    """Open a grid file, load it into memory, check it and return its typed face.
+
+    The one way in (``acoustics.grid.tables.as_tables``): dimensions, variables, attributes and
+    their types are checked, ``area_json`` is read back with ``envdata`` (validated like an area
+    file) and checked against the coordinates, and the tables must hold finite values.
+    """
+    return as_tables(load_netcdf(path, GridFileError, "grid"), str(path))

@@ -1,0 +1,498 @@
+"""The one face of a grid: K(r) and TL at a depth, bearing and range, for every geometry.
+
+``acoustics.open_grid`` (a file) and ``as_tables`` (a dataset in memory) are the one gate: they
+check the dataset against the grid contract (``acoustics.grid.schema``), read back the area it
+stores (``area_json``, validated by ``envdata`` like an area file) and return a `GridTables`.
+The trackers, the simulator, the figures, the detection maps and the commands all take that
+object and ask it, never the dataset, what K and TL are; nothing outside this package asks a
+grid what shape it has.
+
+Two geometries implement the face:
+
+- `FlatTables`, a grid without bearings (``fixed_end = "source"``): ``k_db`` holds K = S - TL at
+  the grid's observer depth, and K at another observer depth d is
+
+      K(d, r) = k_db(r) + TL(d_grid, r) - TL(d, r),
+
+  TL linear in depth over ``tl_db(class, band, depth, range)``, so K(d_grid) is ``k_db``
+  exactly. K does not depend on bearing: a bearing given is accepted and has no effect, and K
+  comes without a bearing axis (it broadcasts against one).
+- `RadialTables`, a bearing-dependent grid (``fixed_end = "observer"``): TL was computed from
+  the observer at the origin at its depth, so K is ``k_db(bearing, range)`` at that depth only,
+  linear between the two nearest radials (across 0/360 deg); TL is the loss to a point at
+  ``depth``, ``range`` along the bearing.
+
+One interpolation rule: linear in depth, range and bearing; ranges outside the axis take the
+end values; NaN where the grid has no value (below the bottom, beyond land), which the
+simulator reads as "not detected" and the filters' level model as a level no target gives
+(`LevelProfile`). A receiver depth the tables cannot serve is a ``GridFileError``.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from acoustics.errors import GridFileError
+from acoustics.grid.depthinterp import tl_at_depths
+from acoustics.grid.formats import upgrade_grid
+from acoustics.grid.radialinterp import at_bearings, bearing_weights, mix, nearest_radial
+from acoustics.grid.schema import check_grid
+from acoustics.kcurve import spectral_term_db
+from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
+from envdata.area import Area
+from envdata.bands import Band
+from envdata.classes import TargetClass
+
+#: A bearing-dependent grid serves observers within this of its observer depth, m.
+OBSERVER_DEPTH_TOLERANCE_M = 1.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LevelProfile:
+    """K(r) at one receiver depth as the particle filters' level model uses it (W = SL + K(r)).
+
+    Linear in range inside the axis, the first value below it, and beyond the last range the
+    last value less `BEYOND_GRID_PENALTY_DB`: the grid's range axis is the horizon of the level
+    model, and a particle beyond it keeps a weight only if every particle is beyond it. (Holding
+    the end value lets a fast, receding target far outside the grid explain a steady level as
+    well as the true one.) Ranges where the grid has no K (beyond land) get the smallest K less
+    the same penalty.
+    """
+
+    range_m: np.ndarray
+    k_db: np.ndarray
+
+    def __post_init__(self) -> None:
+        k = np.asarray(self.k_db, dtype=float)
+        if not np.all(np.isfinite(k)):
+            finite = k[np.isfinite(k)]
+            floor = (finite.min() if finite.size else 0.0) - BEYOND_GRID_PENALTY_DB
+            object.__setattr__(self, "k_db", np.where(np.isfinite(k), k, floor))
+
+    def __call__(self, range_m) -> np.ndarray:
+        """K at the given ranges, dB."""
+        r = np.asarray(range_m, dtype=float)
+        k = np.interp(r, self.range_m, self.k_db)
+        return np.where(r > self.range_m[-1], k - BEYOND_GRID_PENALTY_DB, k)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class OriginOffset:
+    """How far an observer went from the origin its bearing-dependent tables are computed from."""
+
+    distance_m: float
+    origin_lat_deg: float
+    origin_lon_deg: float
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class GridTables(ABC):
+    """K(r) and TL of every class and band of a grid, with the area they were computed for.
+
+    Attributes
+    ----------
+    source : str
+        The grid's name in messages (its file, else its area).
+    area : Area
+        The area stored in the grid, validated like an area file.
+    dataset : xr.Dataset
+        The grid dataset that was checked (for figures that draw its labelled fields).
+    classes : tuple of TargetClass
+        The grid's class hypotheses, in grid order.
+    bands : tuple of Band
+        The grid's bands, in grid order.
+    range_m : ndarray, shape (R,)
+        Horizontal ranges, m, increasing.
+    depth_m : ndarray, shape (D,)
+        Depths of ``tl_db``, m, increasing.
+    k_grid_db : ndarray, shape (C, M, R), or (C, M, N, R) with bearings
+        K(r) at the grid's observer depth, dB (eq. 12: band level W = P0 + K(r) + H).
+    tl_db : ndarray, shape (C, M, D, R), or (C, M, N, D, R) with bearings
+        Band transmission loss, dB: from the class's depth to a receiver at ``depth_m``, or
+        with bearings from the observer at the origin to a point at ``depth_m``.
+    observer_depth_m : float
+        Observer depth of ``k_grid_db``, m.
+    """
+
+    source: str
+    area: Area
+    dataset: xr.Dataset = field(repr=False)
+    classes: tuple[TargetClass, ...]
+    bands: tuple[Band, ...]
+    range_m: np.ndarray
+    depth_m: np.ndarray
+    k_grid_db: np.ndarray
+    tl_db: np.ndarray
+    observer_depth_m: float
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    # -- names and the area's terms ------------------------------------------------------------
+
+    @property
+    def class_names(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.classes)
+
+    @property
+    def band_names(self) -> tuple[str, ...]:
+        return tuple(b.name for b in self.bands)
+
+    @property
+    def model(self) -> str:
+        """The propagation model the grid was computed with (``bellhop``, ``urick``, ...)."""
+        return str(self.dataset.attrs.get("model", ""))
+
+    def class_index(self, name: str) -> int:
+        """Index of a class hypothesis; GridFileError naming the grid's classes if absent."""
+        if name not in self.class_names:
+            raise GridFileError(f"{self.source}: class {name!r} is not in the grid (classes: "
+                                f"{', '.join(self.class_names)})")
+        return self.class_names.index(name)
+
+    def band_index(self, name: str) -> int:
+        """Index of a band; GridFileError naming the grid's bands if absent."""
+        if name not in self.band_names:
+            raise GridFileError(f"{self.source}: band {name!r} is not in the grid (bands: "
+                                f"{', '.join(self.band_names)})")
+        return self.band_names.index(name)
+
+    @property
+    def noise_band_db(self) -> np.ndarray:
+        """Sea-noise level in each band, dB re 1 uPa (the spectral level for one frequency)."""
+        return np.array([self.area.noise.band_level_db(b) for b in self.bands])
+
+    @property
+    def bandwidth_hz(self) -> np.ndarray:
+        """Bandwidth of each band in eqs. 11 and 13, Hz (1 Hz for a single frequency)."""
+        return np.array([b.width_hz for b in self.bands])
+
+    def spectral_db(self, ic: int, ib: int) -> float:
+        """Spectral term S of class ``ic`` in band ``ib``, dB: K = S - TL (eq. 13)."""
+        return spectral_term_db(self.classes[ic], self.bands[ib])
+
+    # -- depths ---------------------------------------------------------------------------------
+
+    @property
+    @abstractmethod
+    def depth_range_m(self) -> tuple[float, float]:
+        """Observer depths the tables serve, m."""
+
+    @abstractmethod
+    def depth_problem(self, depth_m: float) -> str:
+        """Why an observer depth cannot be served, for a message (after ``outside_depth``)."""
+
+    def outside_depth(self, depth_m) -> np.ndarray:
+        """Mask of observer depths the tables cannot serve."""
+        lo, hi = self.depth_range_m
+        d = np.asarray(depth_m, dtype=float)
+        return ~((d >= lo) & (d <= hi))
+
+    def check_depth(self, depth_m, what: str = "") -> None:
+        """Raise GridFileError if an observer depth cannot be served."""
+        bad = self.outside_depth(depth_m)
+        if np.any(bad):
+            value = float(np.asarray(depth_m, dtype=float)[bad].flat[0])
+            raise GridFileError(f"{self.source}: {self._depth_role} depth {self.depth_problem(value)}{what}")
+
+    def _check_point_depth(self, d: np.ndarray) -> None:
+        """Raise GridFileError for a depth off the TL table's depth axis."""
+        lo, hi = float(self.depth_m[0]), float(self.depth_m[-1])
+        out = (d < lo) | (d > hi)
+        if np.any(out):
+            raise GridFileError(f"{self.source}: depth {float(d[out].flat[0]):g} m is outside the "
+                                f"grid's depth axis [{lo:g}, {hi:g}] m")
+
+    # -- K and TL -------------------------------------------------------------------------------
+
+    @abstractmethod
+    def k_db(self, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        """K(r) of every class and band at an observer depth and bearing, dB.
+
+        ``None`` depth means the grid's observer depth. Shape (C, M, R); with an array of B
+        bearings (C, M, B, R) where K depends on bearing (it broadcasts where it does not).
+        """
+
+    @abstractmethod
+    def k_at(self, ic: int, range_m, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        """K of class ``ic`` in every band at given ranges and bearings, dB.
+
+        Shape ``range_m.shape + (M,)``. Linear in range (ranges outside the axis take the end
+        values) and in bearing; NaN where the grid has no value.
+        """
+
+    @abstractmethod
+    def tl_at(self, ic: int, ib: int, depth_m, range_m, bearing_deg=None) -> np.ndarray:
+        """TL at depths, ranges and bearings, broadcast together, linear in each, dB.
+
+        The depth is the receiver's of a flat grid, the target's point of a bearing-dependent
+        one. Ranges outside the axis take the end values.
+        """
+
+    @abstractmethod
+    def k_typical_db(self, ic: int, ib: int, range_m) -> np.ndarray:
+        """K of one class and band at the observer depth at given ranges, dB: the one K of a flat
+        grid, the median over the radials that have K there for a bearing-dependent one (NaN
+        where none has)."""
+
+    @abstractmethod
+    def _bearing_key(self, bearing_deg):
+        """What of a bearing changes K (None where nothing does): the level profiles' cache key."""
+
+    def level_profile(self, ic: int, ib: int, depth_m: float | None = None,
+                      bearing_deg: float | None = None) -> LevelProfile:
+        """K(r) of one class and band at an observer depth and bearing, as the filters' level
+        model (kept: the same depth and bearing give the same profile)."""
+        d = self.observer_depth_m if depth_m is None else float(depth_m)
+        key = ("profile", ic, ib, d, self._bearing_key(bearing_deg))
+        if key not in self._cache:
+            self._cache[key] = LevelProfile(range_m=self.range_m,
+                                            k_db=self.k_db(d, key[-1])[ic, ib])
+        return self._cache[key]
+
+    def tl_profile_db(self, ic: int, ib: int, depth_m: float, bearing_deg: float | None = None
+                      ) -> np.ndarray:
+        """TL of one class and band along the range axis at one depth and bearing, dB."""
+        return self.tl_at(ic, ib, np.full(self.range_m.shape, float(depth_m)), self.range_m,
+                          bearing_deg=None if bearing_deg is None
+                          else np.full(self.range_m.shape, float(bearing_deg)))
+
+    # -- what a summary says of the geometry ----------------------------------------------------
+
+    @abstractmethod
+    def geometry(self) -> dict[str, float | int | str]:
+        """Facts of the grid's geometry for a summary ({} for a flat grid; for radials the origin,
+        their number, the bottom's span and the share of range cells beyond land)."""
+
+    # -- where the observer is ------------------------------------------------------------------
+
+    @abstractmethod
+    def observer_offset(self, x_m, y_m) -> OriginOffset | None:
+        """How far observer positions (x east, y north of the origin, m) go from the origin the
+        tables are computed from (the largest distance); None where the tables hold everywhere."""
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class FlatTables(GridTables):
+    """A grid without bearings: one profile over a flat bottom, the same along every bearing."""
+
+    _depth_role = "receiver"
+
+    @property
+    def depth_range_m(self) -> tuple[float, float]:
+        return float(self.depth_m[0]), float(self.depth_m[-1])
+
+    def depth_problem(self, depth_m: float) -> str:
+        lo, hi = self.depth_range_m
+        return f"{depth_m:g} m is outside the grid's depth axis [{lo:g}, {hi:g}] m"
+
+    def _tl_rows(self, depth_m: float) -> np.ndarray:
+        """TL of every class and band along range at one depth, linear in depth, (C, M, R)."""
+        return tl_at_depths(self.tl_db, self.depth_m, [depth_m])[:, :, 0]
+
+    def k_db(self, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        if depth_m is None:
+            return self.k_grid_db
+        d = float(depth_m)
+        if d == self.observer_depth_m:
+            return self.k_grid_db
+        key = ("k", d)
+        if key not in self._cache:
+            self.check_depth(d)
+            self._cache[key] = self.k_grid_db + self._tl_rows(self.observer_depth_m) - self._tl_rows(d)
+        return self._cache[key]
+
+    def k_at(self, ic: int, range_m, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        r = np.asarray(range_m, dtype=float)
+        i, i1, fr = _range_cells(self.range_m, r)
+        kc = self.k_db(depth_m)[ic]                                     # (M, R)
+        return np.moveaxis((1.0 - fr) * kc[:, i] + fr * kc[:, i1], 0, -1)
+
+    def tl_at(self, ic: int, ib: int, depth_m, range_m, bearing_deg=None) -> np.ndarray:
+        d, r = np.broadcast_arrays(np.asarray(depth_m, dtype=float), np.asarray(range_m, dtype=float))
+        self.check_depth(d)
+        return _bilinear(self.tl_db[ic, ib], self.depth_m, self.range_m, d, r)
+
+    def k_typical_db(self, ic: int, ib: int, range_m) -> np.ndarray:
+        return np.interp(np.asarray(range_m, dtype=float), self.range_m, self.k_grid_db[ic, ib])
+
+    def _bearing_key(self, bearing_deg):
+        return None
+
+    def geometry(self) -> dict[str, float | int | str]:
+        return {}
+
+    def observer_offset(self, x_m, y_m) -> OriginOffset | None:
+        return None
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class RadialTables(GridTables):
+    """A bearing-dependent grid: N x 2D radials from the observer at an origin.
+
+    Attributes (beyond `GridTables`)
+    --------------------------------
+    bearing_deg : ndarray, shape (N,)
+        Radials, deg clockwise from true north at the origin.
+    bottom_depth_m : ndarray, shape (N, R)
+        Water depth along each radial, m; NaN beyond land.
+    origin_lat_deg, origin_lon_deg : float
+        The origin (WGS84).
+    """
+
+    bearing_deg: np.ndarray
+    bottom_depth_m: np.ndarray
+    origin_lat_deg: float
+    origin_lon_deg: float
+    _depth_role = "observer"
+
+    @property
+    def depth_range_m(self) -> tuple[float, float]:
+        return (self.observer_depth_m - OBSERVER_DEPTH_TOLERANCE_M,
+                self.observer_depth_m + OBSERVER_DEPTH_TOLERANCE_M)
+
+    def depth_problem(self, depth_m: float) -> str:
+        return (f"{depth_m:g} m is not the observer depth {self.observer_depth_m:g} m "
+                f"of the bearing-dependent grid (its TL is computed from the observer; rebuild it "
+                f"with [observer] depth_m = {depth_m:g})")
+
+    def _need_bearing(self, bearing_deg) -> None:
+        if bearing_deg is None:
+            raise ValueError(f"{self.source}: the grid depends on bearing; give bearing_deg")
+
+    def k_db(self, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        self._need_bearing(bearing_deg)
+        if depth_m is not None:
+            self.check_depth(depth_m)
+        j0, j1, w1 = bearing_weights(self.bearing_deg, bearing_deg)
+        # (C, M, R), or (C, M, B, R) for B bearings
+        return mix(self.k_grid_db[:, :, j0], self.k_grid_db[:, :, j1], np.asarray(w1)[..., None])
+
+    def k_at(self, ic: int, range_m, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
+        self._need_bearing(bearing_deg)
+        r = np.asarray(range_m, dtype=float)
+        i, i1, fr = _range_cells(self.range_m, r)
+        if depth_m is not None:
+            self.check_depth(depth_m)
+        kc = self.k_grid_db[ic]                                         # (M, N, R)
+        j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, r.shape))
+        along0 = (1.0 - fr) * kc[:, j0, i] + fr * kc[:, j0, i1]
+        along1 = (1.0 - fr) * kc[:, j1, i] + fr * kc[:, j1, i1]
+        return np.moveaxis(mix(along0, along1, w1), 0, -1)
+
+    def tl_at(self, ic: int, ib: int, depth_m, range_m, bearing_deg=None) -> np.ndarray:
+        self._need_bearing(bearing_deg)
+        d, r = np.broadcast_arrays(np.asarray(depth_m, dtype=float), np.asarray(range_m, dtype=float))
+        self._check_point_depth(d)
+        j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, d.shape))
+        t = self.tl_db[ic, ib]                                          # (N, D, R)
+        out = np.zeros(d.shape)
+        for j in np.unique(np.concatenate([j0.ravel(), j1.ravel()])):
+            a = _bilinear(t[j], self.depth_m, self.range_m, d, r)
+            for jj, w in ((j0, 1.0 - w1), (j1, w1)):
+                take = (jj == j) & (w > 0)  # a radial of weight 0 adds nothing, even a NaN
+                out = out + np.where(take, w * a, 0.0)
+        return out
+
+    def k_typical_db(self, ic: int, ib: int, range_m) -> np.ndarray:
+        at = np.asarray(range_m, dtype=float)
+        along = np.stack([np.interp(at, self.range_m, row) for row in self.k_grid_db[ic, ib]])
+        finite = np.isfinite(along).any(axis=0)
+        out = np.full(at.shape, np.nan)
+        out[finite] = np.nanmedian(along[:, finite], axis=0)
+        return out
+
+    def _bearing_key(self, bearing_deg):
+        self._need_bearing(bearing_deg)
+        return round(float(bearing_deg), 3)
+
+    def geometry(self) -> dict[str, float | int | str]:
+        bottom = self.bottom_depth_m
+        return {"origin_lat_deg": self.origin_lat_deg, "origin_lon_deg": self.origin_lon_deg,
+                "radials": int(self.bearing_deg.size), "bottom_min_m": float(np.nanmin(bottom)),
+                "bottom_max_m": float(np.nanmax(bottom)),
+                "beyond_land_fraction": float(np.mean(np.isnan(bottom))),
+                "k_typical": "median over bearings"}
+
+    def observer_offset(self, x_m, y_m) -> OriginOffset | None:
+        away = np.hypot(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
+        return OriginOffset(distance_m=float(np.max(away)) if away.size else 0.0,
+                            origin_lat_deg=self.origin_lat_deg, origin_lon_deg=self.origin_lon_deg)
+
+    # -- what the figures of the radials draw ---------------------------------------------------
+
+    def bottom_at(self, bearing_deg) -> np.ndarray:
+        """Water depth along the range axis at given bearings, (B, R), m (linear between radials)."""
+        return at_bearings(self.bottom_depth_m, self.bearing_deg, np.atleast_1d(bearing_deg))
+
+    def nearest_radial(self, bearing_deg: float) -> int:
+        """Index of the radial nearest to a bearing (a TL section does not mix two bottoms)."""
+        return nearest_radial(self.bearing_deg, bearing_deg)
+
+
+def _range_cells(x: np.ndarray, r: np.ndarray):
+    """Cells of the range axis around ranges (clipped to the axis) and the weight of the second."""
+    rc = np.clip(r, x[0], x[-1])
+    i = np.clip(np.searchsorted(x, rc, side="right") - 1, 0, max(x.size - 2, 0))
+    fr = (rc - x[i]) / (x[i + 1] - x[i]) if x.size > 1 else np.zeros(r.shape)
+    return i, np.minimum(i + 1, x.size - 1), fr
+
+
+def _bilinear(table: np.ndarray, z: np.ndarray, x: np.ndarray, d: np.ndarray,
+              r: np.ndarray) -> np.ndarray:
+    """``table(depth, range)`` at (d, r), bilinear; ranges outside the axis take the end values."""
+    rc = np.clip(r, x[0], x[-1])
+    i = np.clip(np.searchsorted(x, rc, side="right") - 1, 0, x.size - 2)
+    fr = (rc - x[i]) / (x[i + 1] - x[i])
+    if z.size == 1:
+        return (1.0 - fr) * table[0, i] + fr * table[0, i + 1]
+    j = np.clip(np.searchsorted(z, d, side="right") - 1, 0, z.size - 2)
+    fz = (d - z[j]) / (z[j + 1] - z[j])
+    low = (1.0 - fr) * table[j, i] + fr * table[j, i + 1]
+    high = (1.0 - fr) * table[j + 1, i] + fr * table[j + 1, i + 1]
+    return (1.0 - fz) * low + fz * high
+
+
+def as_tables(ds: xr.Dataset, source: str | None = None) -> GridTables:
+    """The typed face of a grid dataset, checked against the grid contract.
+
+    The one gate (``acoustics.open_grid`` reads a file through it): a grid of an older format is
+    read through its upgrade step or refused (``acoustics.grid.formats``), then every dimension,
+    variable, attribute and the stored area are checked (``acoustics.grid.schema.check_grid``).
+
+    Raises
+    ------
+    GridFileError
+        Naming the grid and what is wrong with it.
+    """
+    source = source or str(ds.encoding.get("source") or ds.attrs.get("area", "<grid>"))
+    ds = upgrade_grid(ds, source, GridFileError)
+    area = check_grid(ds, source)
+    by_class = {c.name: c for c in area.classes}
+    by_band = {b.name: b for b in area.bands}
+    common = dict(source=source, area=area, dataset=ds,
+                  classes=tuple(by_class[str(n)] for n in ds["class"].values),
+                  bands=tuple(by_band[str(n)] for n in ds["band"].values),
+                  range_m=np.asarray(ds["range"].values, dtype=float),
+                  depth_m=np.asarray(ds["depth"].values, dtype=float),
+                  observer_depth_m=float(np.asarray(ds.attrs["observer_depth_m"]).item()))
+    if "bearing" not in ds.dims:
+        return FlatTables(k_grid_db=_values(ds, "k_db", "class", "band", "range"),
+                          tl_db=_values(ds, "tl_db", "class", "band", "depth", "range"), **common)
+    return RadialTables(
+        k_grid_db=_values(ds, "k_db", "class", "band", "bearing", "range"),
+        tl_db=_values(ds, "tl_db", "class", "band", "bearing", "depth", "range"),
+        bearing_deg=np.asarray(ds["bearing"].values, dtype=float),
+        bottom_depth_m=_values(ds, "bottom_depth_m", "bearing", "range"),
+        origin_lat_deg=float(np.asarray(ds.attrs["origin_lat_deg"]).item()),
+        origin_lon_deg=float(np.asarray(ds.attrs["origin_lon_deg"]).item()), **common)
+
+
+def _values(ds: xr.Dataset, name: str, *dims: str) -> np.ndarray:
+    return np.asarray(ds[name].transpose(*dims).values, dtype=float)
+
+
+__all__ = ["FlatTables", "GridTables", "LevelProfile", "OBSERVER_DEPTH_TOLERANCE_M", "OriginOffset",
+           "RadialTables", "as_tables"]

@@ -1,0 +1,128 @@
+"""A grid's figures as files, whatever its geometry: what ``tmakit grids plot`` writes.
+
+A grid without bearings gets one PNG (``acoustics.plots.flatplot``: TL fields and K(r) curves);
+a bearing-dependent grid the map around the origin, the bottom along the radials and, given a
+bearing, a TL section (``acoustics.plots.radialplots``), with the bathymetry file behind the grid
+on the map when it is at hand (``acoustics.plots.bathymetry``). The choice follows the grid's
+type: callers pass the typed face and a `PlotRequest`, and never ask which geometry it is.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from acoustics.grid.tables import FlatTables, GridTables, RadialTables
+from acoustics.plots.bathymetry import BathymetryChoice, find_bathymetry, load_around_origin
+from acoustics.plots.style import What, check_plot_options
+from envdata.errors import InputError
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PlotRequest:
+    """What to draw.
+
+    Attributes
+    ----------
+    cls_name : str, optional
+        The class of the TL field or section, and the only class on a map (default: the first;
+        every class on a map).
+    band : str, optional
+        The band of a K map and of a section (bearing-dependent grids; default: the first).
+    what : What, optional
+        A map's K(r) in ``band`` or its detection ranges (bearing-dependent grids; default K).
+    bearing_deg : float, optional
+        A section on the radial nearest to this bearing, deg (bearing-dependent grids).
+    bathymetry : Path, optional
+        A bathymetry file for the map's latitude-longitude panel (default: the file the grid
+        records, when it is found by its name and sha256).
+    grid_path : Path, optional
+        Where the grid file is (the recorded bathymetry file is looked for beside it).
+    """
+
+    cls_name: str | None = None
+    band: str | None = None
+    what: What | None = None
+    bearing_deg: float | None = None
+    bathymetry: Path | None = None
+    grid_path: Path | None = None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class GridPlots:
+    """What was written: {role: path}, and the bathymetry file drawn (None when none was)."""
+
+    files: dict[str, Path]
+    what: What | None = None
+    bathymetry: BathymetryChoice | None = None
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+
+@functools.singledispatch
+def plot_paths(tables: GridTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
+    """The files ``plot_grid`` writes for a request, {role: path}: to check before drawing."""
+    raise TypeError(f"no figures for {type(tables).__name__}")
+
+
+@plot_paths.register
+def _(tables: FlatTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
+    return {"plot": Path(out)}
+
+
+@plot_paths.register
+def _(tables: RadialTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
+    from acoustics.plots.radialplots import bearing_plot_paths
+
+    return bearing_plot_paths(out, section=request.bearing_deg is not None)
+
+
+@functools.singledispatch
+def plot_grid(tables: GridTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
+    """Write a grid's figures (module docstring), all or none.
+
+    Raises
+    ------
+    InputError
+        A class or band the grid does not have, a bearing outside [0, 360) deg, or an option
+        the grid's geometry has no figure for.
+    """
+    raise TypeError(f"no figures for {type(tables).__name__}")
+
+
+#: Options that only a bearing-dependent grid's figures take, and how a message names them.
+_BEARING_ONLY = {"band": "a map's band", "what": "a map (K or detection ranges)",
+                 "bearing_deg": "a section's bearing", "bathymetry": "a bathymetry file"}
+
+
+@plot_grid.register
+def _(tables: FlatTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
+    from acoustics.plots.flatplot import plot_flat_grid
+
+    for name, said in _BEARING_ONLY.items():
+        if getattr(request, name) is not None:
+            raise InputError(f"{tables.source}: {said} is for a bearing-dependent grid; this grid "
+                             f"has no bearings (its area has no [origin]), its TL is the same along "
+                             f"every bearing")
+    check_plot_options(tables, cls_name=request.cls_name)
+    return GridPlots(files={"plot": plot_flat_grid(tables, out, cls_name=request.cls_name)})
+
+
+@plot_grid.register
+def _(tables: RadialTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
+    from acoustics.plots.radialplots import plot_bearing_grid
+
+    check_plot_options(tables, cls_name=request.cls_name, band=request.band,
+                       bearing_deg=request.bearing_deg)
+    choice = find_bathymetry(tables, given=request.bathymetry, grid_path=request.grid_path)
+    bathymetry, note = None, ""
+    if choice is not None:
+        bathymetry = load_around_origin(choice, tables.origin_lat_deg, tables.origin_lon_deg,
+                                        float(tables.range_m[-1]))
+        note = (f"{choice.how}; sha256 as the grid records" if choice.matches
+                else "given; not the file the grid was built from (sha256 differs)")
+    what = What(request.what or What.K)
+    files = plot_bearing_grid(tables, out, what=what, cls_name=request.cls_name, band=request.band,
+                              bearing_deg=request.bearing_deg, bathymetry=bathymetry,
+                              bathymetry_note=note)
+    return GridPlots(files=files, what=what, bathymetry=choice, notes=(note,) if note else ())
