@@ -13,7 +13,8 @@ gives (synthetic: these files say in their titles that they are not GEBCO or WOA
   ``s_an``/``s_mn``, practical salinity, units "1") on (time, depth, lat, lon), float32 with
   ``_FillValue`` 9.96921e36 below the sea floor and on land; float32 ``lat``/``lon``/``depth``
   with bounds; ``time`` in "months since 1955-01-01 00:00:00" (no calendar, undecodable) with
-  ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month).
+  ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month); optionally the
+  standard deviations ``t_sd``/``s_sd``.
 - Sea-Bird ``.cnv`` (a CTD cast as SBE Data Processing writes it): ``*`` instrument and NMEA
   header lines, ``**`` user lines, ``#`` lines (``nquan``, ``nvalues``, one ``name N = short:
   long [unit]`` per column, ``span``, ``interval``, ``start_time``, ``bad_flag``), ``*END*``, then
@@ -181,7 +182,7 @@ def _bounds(centres: np.ndarray, first_edge: float | None = None) -> np.ndarray:
 
 
 def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, values, *, title: str,
-              mean_offset: float = 0.0) -> None:
+              mean_offset: float = 0.0, sd_values=None) -> None:
     """Write one WOA variable file.
 
     Parameters
@@ -197,6 +198,8 @@ def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, va
     mean_offset : float
         ``{kind}_mn`` (the statistical mean WOA also ships) is written as ``values`` plus this,
         so that a reader that picks it instead of ``{kind}_an`` is caught.
+    sd_values : array_like, optional
+        ``{kind}_sd``, the standard deviation WOA ships beside the means (same shape; NaN: none).
     """
     import netCDF4
 
@@ -260,6 +263,17 @@ def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, va
                          "grid_mapping": "crs", "units": units})
             field = data + offset
             v[:, :, :, :] = np.where(np.isfinite(field), field, WOA_FILL).astype(np.float32)
+        if sd_values is not None:
+            v = nc.createVariable(f"{kind}_sd", "f4", ("time", "depth", "lat", "lon"), zlib=True,
+                                  complevel=9, shuffle=True, fill_value=WOA_FILL)
+            v.setncatts({"standard_name": std,
+                         "long_name": f"The standard deviation about the statistical mean of {name} in "
+                                      f"each grid-square at each standard depth level.",
+                         "cell_methods": "area: mean depth: mean time: mean within years time: "
+                                         "standard_deviation over years",
+                         "grid_mapping": "crs", "units": units})
+            sd = np.asarray(sd_values, dtype=float)
+            v[:, :, :, :] = np.where(np.isfinite(sd), sd, WOA_FILL).astype(np.float32)
 
 
 #: Sea-Bird's bad_flag: a missing or bad value, and the ``flag`` of a scan Loop Edit marks bad.
