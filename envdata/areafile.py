@@ -207,9 +207,10 @@ def _parse_water(t: TomlTable, source: str, folder: Path | None, latitude: float
     given = [label for label, keys in _SOUND_SPEED_KEYS.items() if any(t.has(k) for k in keys)]
     if len(given) > 1:
         raise AreaError(f"{source}: [water]: {' and '.join(given)} both give the sound speed; give one")
-    if t.has("month") and given != ["a climatology"]:
-        raise AreaError(f"{source}: [water] month: only with a climatology file (climatology, or "
-                        f"temperature and salinity)")
+    for key in ("month", "temperature_variable", "salinity_variable"):
+        if t.has(key) and given != ["a climatology"]:
+            raise AreaError(f"{source}: [water] {key}: only with a climatology file (climatology, or "
+                            f"temperature and salinity)")
     if given == ["a climatology"]:
         if t.has("ssp_interpolation"):
             raise AreaError(f"{source}: [water] ssp_interpolation: only for one profile, not with a "
@@ -218,7 +219,9 @@ def _parse_water(t: TomlTable, source: str, folder: Path | None, latitude: float
                  for key in ("climatology", "temperature", "salinity") if t.has(key)}
         climatology = t.wrap(ClimatologySource, file=files.get("climatology"),
                              temperature_file=files.get("temperature"), salinity_file=files.get("salinity"),
-                             month=t._get("month", None, False))
+                             month=t._get("month", None, False),
+                             temperature_variable=t.string("temperature_variable", required=False),
+                             salinity_variable=t.string("salinity_variable", required=False))
         return t.wrap(Water, depth_m=depth, bathymetry=bathymetry, climatology=climatology), None
 
     interpolation = t.string("ssp_interpolation", "C", choices=("C", "S", "N", "P"))

@@ -1,11 +1,20 @@
-"""Bathymetry files in GEBCO's layout: ``elevation(lat, lon)``, m, positive up.
+"""Bathymetry files in GEBCO's and EMODnet's layouts: ``elevation(lat, lon)``, m.
 
 GEBCO's netCDF grid has a 2-D ``elevation`` variable (int16, metres above mean sea level: the sea
 floor is negative) on 1-D ``lat`` and ``lon`` coordinate variables (cell centres, degrees north
-and east). Another variable name may be given (``[water] bathymetry_variable``); without one the
-variable is ``elevation`` or the one whose CF ``standard_name`` is a height (positive up, GEBCO
-uses ``height_above_reference_ellipsoid``) or a sea-floor depth (positive down, negated here).
-A ``positive`` attribute, where present, decides the sign. Units must be metres.
+and east), with values on land too. EMODnet Bathymetry's DTM (netCDF tiles, and its ERDDAP
+subsets on ``latitude``/``longitude``) has an ``elevation`` too, float, m relative to Lowest
+Astronomical Tide, negative at sea, but no value on land: there the cells hold the variable's
+``_FillValue`` or ``missing_value``. Another variable name may be given (``[water]
+bathymetry_variable``); without one the variable is ``elevation``, ``depth``, or the one whose CF
+``standard_name`` is a height (positive up, GEBCO uses ``height_above_reference_ellipsoid``) or a
+sea-floor depth (positive down, negated here). A ``positive`` attribute, where present, decides
+the sign; without one (and no standard_name) a variable named ``depth`` is positive down. Units
+must be metres.
+
+Cells with no value (a declared ``_FillValue``/``missing_value``, NaN, or an undeclared fill
+beyond 1e5 m) are land: a radial that reaches one ends there (``envdata.radials``), as at a cell
+of elevation >= 0.
 
 The file is opened lazily and only the box of cells around the requested positions is loaded;
 elevations between cell centres are interpolated bilinearly.
@@ -24,7 +33,7 @@ from envdata.geogrid import (METRE_UNITS, LatLonAxes, bilinear_corners, find_var
                              units_of)
 from envdata.limits import check_memory
 
-ELEVATION_NAMES = ("elevation",)
+ELEVATION_NAMES = ("elevation", "depth")
 #: CF standard names of a surface height, positive up.
 HEIGHT_STANDARD_NAMES = ("height_above_reference_ellipsoid", "height_above_mean_sea_level",
                          "height_above_geoid", "surface_altitude", "altitude", "bedrock_altitude")
@@ -56,6 +65,33 @@ class ElevationGrid:
         # a corner of zero weight does not matter even when it has no value; one that has weight
         # and no value makes the result NaN
         return np.sum(w * np.where(w > 0, corners, 0.0), axis=1)
+
+    def sea_elevation_at(self, lat_deg, lon_deg) -> tuple[np.ndarray, np.ndarray]:
+        """Elevation at positions, m, positive up, and where the file has no value (land).
+
+        A cell with no value (a ``_FillValue``/``missing_value``, NaN, or beyond ``1e5`` m) is
+        land, as EMODnet marks land: a position whose nearest cell centre has no value is on
+        land (``no_data`` True, elevation NaN); elsewhere the elevation is bilinear between the
+        cells around it that have values, their weights renormalised (so the sea floor holds up
+        to the edge of the land cells instead of turning NaN half a cell before it).
+
+        Returns
+        -------
+        elevation_m : ndarray, shape (M,)
+            NaN where ``no_data``.
+        no_data : ndarray of bool, shape (M,)
+        """
+        lon = self.axes.file_lon(lon_deg)
+        iy, ix, w = bilinear_corners(self.lat_deg, self.lon_deg, lat_deg, lon)
+        corners = self.elevation_m[iy, ix]
+        valid = np.isfinite(corners)
+        rows = np.arange(w.shape[0])
+        no_data = ~valid[rows, np.argmax(w, axis=1)]  # the nearest centre has the largest weight
+        w = np.where(valid, w, 0.0)
+        total = w.sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            elevation = np.sum(w * np.where(valid, corners, 0.0), axis=1) / total
+        return np.where(no_data | (total <= 0.0), np.nan, elevation), no_data | (total <= 0.0)
 
 
 class BathymetryFile:
@@ -149,8 +185,13 @@ def _find_elevation(ds, path: Path, given: str | None) -> str:
 
 
 def _sign(var) -> float:
-    """+1 for a height (positive up), -1 for a depth (positive down)."""
+    """+1 for a height (positive up), -1 for a depth (positive down): by the ``positive``
+    attribute, else the standard_name, else the name (``depth`` is down)."""
     positive = str(var.attrs.get("positive", "")).strip().lower()
     if positive in ("up", "down"):
         return 1.0 if positive == "up" else -1.0
-    return -1.0 if var.attrs.get("standard_name") in DEPTH_STANDARD_NAMES else 1.0
+    if var.attrs.get("standard_name") in DEPTH_STANDARD_NAMES:
+        return -1.0
+    if var.attrs.get("standard_name") in HEIGHT_STANDARD_NAMES:
+        return 1.0
+    return -1.0 if str(var.name).lower() == "depth" else 1.0

@@ -44,7 +44,8 @@ class DataFile:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BathymetrySource:
-    """A GEBCO-style relief file: elevation(lat, lon), m, positive up (DESIGN.md).
+    """A relief file in GEBCO's or EMODnet's layout: elevation(lat, lon), m, positive up
+    (DESIGN.md); cells with no value (EMODnet's land) are land (``envdata.bathymetry``).
 
     ``variable`` names the elevation variable when it is not ``elevation`` or found by its CF
     standard_name (``bathymetry_variable`` in the area file).
@@ -60,17 +61,21 @@ class BathymetrySource:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ClimatologySource:
-    """A WOA-style climatology: in-situ temperature and practical salinity on (time, depth, lat, lon).
+    """A climatology or reanalysis: temperature and salinity on (time, depth, lat, lon).
 
-    Either one file holding both (``climatology``) or WOA's own split into a temperature and a
-    salinity file (``temperature`` and ``salinity``). ``month`` picks the month-th of 12 time
-    steps; a file with one time step is used as it is.
+    Either one file holding both (``climatology``) or two, a temperature and a salinity file
+    (``temperature`` and ``salinity``: WOA's own split, or a reanalysis' two downloads). ``month``
+    picks the time steps of that month (``envdata.climatology``); a file with one time step is
+    used as it is. ``temperature_variable`` and ``salinity_variable`` name the variables where
+    their names and standard_names do not tell (the area file's keys of the same names).
     """
 
     file: DataFile | None = None
     temperature_file: DataFile | None = None
     salinity_file: DataFile | None = None
     month: int | None = None
+    temperature_variable: str | None = None
+    salinity_variable: str | None = None
 
     def __post_init__(self) -> None:
         split = (self.temperature_file is not None, self.salinity_file is not None)
@@ -84,6 +89,10 @@ class ClimatologySource:
         if self.month is not None and (isinstance(self.month, bool) or not isinstance(self.month, int)
                                        or not 1 <= self.month <= 12):
             raise AreaError(f"[water] month: must be an integer in 1..12, got {self.month!r}")
+        for key in ("temperature_variable", "salinity_variable"):
+            value = getattr(self, key)
+            if value is not None and (not isinstance(value, str) or not value.strip()):
+                raise AreaError(f"[water] {key}: must be a variable name, got {value!r}")
 
     @property
     def temperature(self) -> DataFile:
@@ -105,6 +114,9 @@ class ClimatologySource:
             out["salinity"] = self.salinity_file.path
         if self.month is not None:
             out["month"] = self.month
+        for key in ("temperature_variable", "salinity_variable"):
+            if getattr(self, key) is not None:
+                out[key] = getattr(self, key)
         return out
 
 

@@ -9,7 +9,8 @@ origin (rays reach there). Along it:
   metres, at most `MAX_SAMPLES` samples (a flat area samples every ``range_step_m``); elevations
   are interpolated bilinearly between cell centres. The radial ends at ``[grid] range_max_m``
   or where it meets land (elevation >= 0, the crossing interpolated linearly between the last
-  wet and the first dry sample), and begins at ``-behind_m`` or at the shore behind the origin.
+  wet and the first dry sample; or a cell with no value, EMODnet's land, the radial ending where
+  it enters that cell), and begins at ``-behind_m`` or at the shore behind the origin.
   The water is at least `SHORE_DEPTH_M` deep everywhere, the shore points included.
 - the sound speed is given in columns about the climatology's own spacing apart (at least one
   every `MAX_COLUMN_SPACING_M`, at least two), each the climatology's T and S interpolated
@@ -62,7 +63,8 @@ class Radial:
     bottom_depth_m : ndarray, shape (R,)
         Water depth, m, positive down, >= `SHORE_DEPTH_M` everywhere (flat areas: constant).
     land_range_m : float or None
-        Range at which the radial meets land (elevation >= 0), m; None if it does not.
+        Range at which the radial meets land (elevation >= 0, or a cell with no value), m; None
+        if it does not.
     ssp_range_m : ndarray, shape (P,)
         Ranges of the sound-speed columns, m, increasing, the first < 0, the last the radial's
         end; P >= 2.
@@ -233,9 +235,11 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
     all_lat = np.concatenate([p[0] for p in points])
     all_lon = np.concatenate([p[1] for p in points])
     grid = bathy.load_box(all_lat[wanted], all_lon[wanted])
-    origin_elevation = float(grid.elevation_at(origin.lat_deg, origin.lon_deg)[0])
-    if not math.isfinite(origin_elevation):
-        raise AreaError(f"{bathy.path}: no elevation at the origin {origin.lat_deg} N {origin.lon_deg} E")
+    origin_elevation, origin_no_data = (float(v[0]) for v in grid.sea_elevation_at(origin.lat_deg, origin.lon_deg))
+    if origin_no_data:
+        raise AreaError(f"{bathy.path}: the origin {origin.lat_deg} N {origin.lon_deg} E is in a cell with no "
+                        f"elevation (land, or no data, in the file's {bathy.variable!r}): every radial "
+                        f"starts on land")
     if origin_elevation >= 0.0:
         raise AreaError(f"{bathy.path}: the origin {origin.lat_deg} N {origin.lon_deg} E is on land "
                         f"(elevation {origin_elevation:.1f} m): every radial starts on land")
@@ -246,9 +250,16 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
     out = []
     for bearing, (lat, lon), (inside, seam) in zip(bearings, points, walks):
         elevation = np.full(ranges.shape, np.nan)
-        elevation[inside] = grid.elevation_at(lat[inside], lon[inside])
-        ahead = _walk(ranges, elevation, inside, seam, range(zero, ranges.size), bearing, bathy, axes)
-        back = _walk(ranges, elevation, inside, seam, range(zero, -1, -1), bearing, bathy, axes)
+        no_data = np.zeros(ranges.shape, dtype=bool)
+        elevation[inside], no_data[inside] = grid.sea_elevation_at(lat[inside], lon[inside])
+
+        def land_edge(wet_m: float, dry_m: float, bearing=bearing) -> float:
+            return _no_data_edge(origin.lat_deg, origin.lon_deg, bearing, wet_m, dry_m, grid)
+
+        ahead = _walk(ranges, elevation, no_data, inside, seam, range(zero, ranges.size), bearing, bathy, axes,
+                      land_edge)
+        back = _walk(ranges, elevation, no_data, inside, seam, range(zero, -1, -1), bearing, bathy, axes,
+                     land_edge)
         keep = slice(back[0], ahead[0] + 1)
         r = ranges[keep]
         depth = np.maximum(-elevation[keep], SHORE_DEPTH_M)
@@ -268,9 +279,15 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
     return out
 
 
-def _walk(ranges, elevation, inside, seam, order, bearing, bathy, axes) -> tuple[int, float | None]:
+def _walk(ranges, elevation, no_data, inside, seam, order, bearing, bathy, axes,
+          land_edge) -> tuple[int, float | None]:
     """Walk from the origin (the first index of ``order``) to the last wet sample before the
-    shore or the end; returns its index and the shore's range (None without one)."""
+    shore or the end; returns its index and the shore's range (None without one).
+
+    The shore is where the elevation crosses 0 (linear between the last wet and the first dry
+    sample) or, for a cell with no value (land in EMODnet's layout), the edge of that cell
+    (``land_edge(last wet range, first dry range)``).
+    """
     last = None
     for i in order:
         if seam[i]:
@@ -282,15 +299,32 @@ def _walk(ranges, elevation, inside, seam, order, bearing, bathy, axes) -> tuple
             raise AreaError(f"{bathy.path}: the radial at bearing {bearing:g} deg leaves the bathymetry "
                             f"file at range {ranges[i]:.0f} m ({axes.describe()}); use a larger file or "
                             f"a smaller [grid] range_max_m")
-        if not math.isfinite(elevation[i]):
-            raise AreaError(f"{bathy.path}: no elevation on the radial at bearing {bearing:g} deg, range "
-                            f"{ranges[i]:.0f} m (a fill value in the file)")
+        if no_data[i]:
+            return last, float(land_edge(ranges[last], ranges[i]))
         if elevation[i] >= 0.0:
             e0, e1 = elevation[last], elevation[i]
             shore = ranges[last] + (ranges[i] - ranges[last]) * (e0 / (e0 - e1))
             return last, float(shore)
         last = i
     return last, None
+
+
+#: The edge of a cell with no value is found along the radial to within this, m.
+LAND_EDGE_TOLERANCE_M = 1.0
+
+
+def _no_data_edge(lat0_deg: float, lon0_deg: float, bearing_deg: float, wet_m: float, dry_m: float,
+                  grid) -> float:
+    """Range between ``wet_m`` (the nearest cell has a value) and ``dry_m`` (it has none) where
+    the radial enters the cell with no value, by bisection to `LAND_EDGE_TOLERANCE_M`, m."""
+    while abs(dry_m - wet_m) > LAND_EDGE_TOLERANCE_M:
+        mid = 0.5 * (wet_m + dry_m)
+        lat, lon = geodesic_points(lat0_deg, lon0_deg, bearing_deg, [mid])
+        if grid.sea_elevation_at(lat, lon)[1][0]:
+            dry_m = mid
+        else:
+            wet_m = mid
+    return 0.5 * (wet_m + dry_m)  # strictly between the last wet sample and the first dry one
 
 
 def _column_positions(area: Area, section: _Section, clim: ClimatologyFiles | None):

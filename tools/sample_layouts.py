@@ -1,4 +1,4 @@
-"""Write netCDF files in the layouts of GEBCO's grid and the World Ocean Atlas (sample and test data).
+"""Write netCDF files in the layouts of GEBCO's grid, EMODnet's DTM and the World Ocean Atlas (sample and test data).
 
 The layouts (dimension and variable names, dtypes, attributes) are those of the products, so
 that tmakit's readers are exercised on what users download; the values are whatever the caller
@@ -6,11 +6,15 @@ gives (synthetic: these files say in their titles that they are not GEBCO or WOA
 
 - GEBCO: ``elevation(lat, lon)`` int16, m, positive up, on double ``lat``/``lon`` cell centres
   (the 15-arc-second grid: centres at (k + 1/2)/240 deg), a ``crs`` variable.
+- EMODnet Bathymetry DTM tiles: ``elevation(lat, lon)`` float32, m relative to LAT, positive up,
+  with no value on land (a ``_FillValue`` or ``missing_value``) and the product's companions
+  (``elevation_min``/``_max``, ``stdev``, ``value_count``, ``interpolation_flag``).
 - WOA: one file per variable (``t``: ``t_an``/``t_mn`` in degrees_celsius; ``s``:
   ``s_an``/``s_mn``, practical salinity, units "1") on (time, depth, lat, lon), float32 with
   ``_FillValue`` 9.96921e36 below the sea floor and on land; float32 ``lat``/``lon``/``depth``
   with bounds; ``time`` in "months since 1955-01-01 00:00:00" (no calendar, undecodable) with
-  ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month).
+  ``climatology_bounds``; the standard depth levels (57 to 1500 m for a month); optionally the
+  standard deviations ``t_sd``/``s_sd``.
 - Sea-Bird ``.cnv`` (a CTD cast as SBE Data Processing writes it): ``*`` instrument and NMEA
   header lines, ``**`` user lines, ``#`` lines (``nquan``, ``nvalues``, one ``name N = short:
   long [unit]`` per column, ``span``, ``interval``, ``start_time``, ``bad_flag``), ``*END*``, then
@@ -84,6 +88,92 @@ def write_gebco(path: str | Path, lat_deg, lon_deg, elevation_m, *, title: str,
         v[:, :] = np.clip(np.round(z), -32767, 32767).astype(np.int16)
 
 
+#: EMODnet Bathymetry DTM cells: 1/16 arc-minute, centres at (k + 1/2)/960 deg.
+EMODNET_PER_DEGREE = 960
+#: The fill value of the EMODnet-layout files written here (land and cells without data).
+EMODNET_FILL = np.float32(-9999.0)
+
+
+def write_emodnet(path: str | Path, lat_deg, lon_deg, elevation_m, *, title: str, positive: str = "up",
+                  fill: str = "_FillValue", lat_name: str = "lat", lon_name: str = "lon") -> None:
+    """Write a DTM in the layout of EMODnet Bathymetry's netCDF tiles: no value on land.
+
+    ``elevation(lat, lon)`` float32, m relative to Lowest Astronomical Tide, negative at sea, with
+    the product's companions (``elevation_min``, ``elevation_max``, ``stdev``, ``value_count``,
+    ``interpolation_flag``; the min and max written 50 m off the mean, so that a reader that
+    picks them is caught), on double ``lat``/``lon`` cell centres and a ``crs`` variable.
+
+    Parameters
+    ----------
+    elevation_m : array_like, shape (lat, lon)
+        m, positive up; NaN where the cell has no value (land, or no data).
+    positive : {"up", "down"}
+        "down" writes ``depth`` (positive down, standard_name
+        ``sea_floor_depth_below_sea_surface``) instead of ``elevation``, as some DTM exports do.
+    fill : {"_FillValue", "missing_value", "nan"}
+        How the cells with no value are marked: `EMODNET_FILL` declared by either attribute, or
+        NaN with no attribute at all (a file another tool wrote).
+    lat_name, lon_name : str
+        The coordinate names (EMODnet's ERDDAP serves ``latitude``/``longitude``).
+    """
+    import netCDF4
+
+    lat = np.asarray(lat_deg, dtype=float)
+    lon = np.asarray(lon_deg, dtype=float)
+    z = np.asarray(elevation_m, dtype=float)
+    if positive not in ("up", "down"):
+        raise ValueError(f"positive must be 'up' or 'down', got {positive!r}")
+    if fill not in ("_FillValue", "missing_value", "nan"):
+        raise ValueError(f"fill must be '_FillValue', 'missing_value' or 'nan', got {fill!r}")
+    sign = 1.0 if positive == "up" else -1.0
+    with netCDF4.Dataset(path, "w", format="NETCDF4") as nc:
+        nc.setncatts({"Conventions": "CF-1.8", "title": title,
+                      "institution": "tmakit (synthetic sample data in the layout of EMODnet Bathymetry's "
+                                     "DTM netCDF tiles, not EMODnet data)",
+                      "source": "tools/sample_layouts.py", "vertical_datum": "Lowest Astronomical Tide"})
+        nc.createDimension(lat_name, lat.size)
+        nc.createDimension(lon_name, lon.size)
+        crs = nc.createVariable("crs", "i4")
+        crs.setncatts(_CRS)
+        for name, centres, axis in ((lat_name, lat, "Y"), (lon_name, lon, "X")):
+            v = nc.createVariable(name, "f8", (name,))
+            v.setncatts({"standard_name": "latitude" if axis == "Y" else "longitude",
+                         "long_name": "latitude" if axis == "Y" else "longitude",
+                         "units": "degrees_north" if axis == "Y" else "degrees_east", "axis": axis})
+            v[:] = centres
+        dims = (lat_name, lon_name)
+
+        def values(offset: float) -> np.ndarray:
+            out = sign * (z + offset)
+            if fill == "nan":
+                return out.astype(np.float32)
+            return np.where(np.isfinite(out), out, EMODNET_FILL).astype(np.float32)
+
+        def variable(name: str, attrs: dict, data: np.ndarray, dtype: str = "f4") -> None:
+            kwargs = {"fill_value": EMODNET_FILL} if fill == "_FillValue" and dtype == "f4" else {"fill_value": False}
+            v = nc.createVariable(name, dtype, dims, zlib=True, complevel=4, **kwargs)
+            if fill == "missing_value" and dtype == "f4":
+                attrs = {**attrs, "missing_value": EMODNET_FILL}
+            v.setncatts({**attrs, "grid_mapping": "crs"})
+            v[:, :] = data
+
+        main = "elevation" if positive == "up" else "depth"
+        standard = ("height_above_mean_sea_level" if positive == "up"
+                    else "sea_floor_depth_below_sea_surface")
+        variable(main, {"standard_name": standard, "long_name": "Average water depth relative to LAT",
+                        "units": "m", "positive": positive}, values(0.0))
+        for name, offset, long_name in (("elevation_min", -50.0, "Minimum"), ("elevation_max", 50.0, "Maximum")):
+            variable(f"{main}_{name.split('_')[1]}" if positive == "down" else name,
+                     {"long_name": f"{long_name} water depth relative to LAT", "units": "m", "positive": positive},
+                     values(offset))
+        variable("stdev", {"long_name": "Standard deviation of water depth in the cell", "units": "m"},
+                 np.where(np.isfinite(z), 1.5, EMODNET_FILL if fill != "nan" else np.nan).astype(np.float32))
+        variable("value_count", {"long_name": "Number of values used for interpolation over the cell"},
+                 np.where(np.isfinite(z), 3, 0).astype(np.int32), dtype="i4")
+        variable("interpolation_flag", {"long_name": "Interpolation flag (1: extrapolated cell)"},
+                 np.zeros(z.shape, dtype=np.int8), dtype="i1")
+
+
 def _bounds(centres: np.ndarray, first_edge: float | None = None) -> np.ndarray:
     mids = 0.5 * (centres[1:] + centres[:-1])
     lo = np.concatenate([[centres[0] - (mids[0] - centres[0]) if first_edge is None else first_edge], mids])
@@ -92,7 +182,7 @@ def _bounds(centres: np.ndarray, first_edge: float | None = None) -> np.ndarray:
 
 
 def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, values, *, title: str,
-              mean_offset: float = 0.0) -> None:
+              mean_offset: float = 0.0, sd_values=None) -> None:
     """Write one WOA variable file.
 
     Parameters
@@ -108,6 +198,8 @@ def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, va
     mean_offset : float
         ``{kind}_mn`` (the statistical mean WOA also ships) is written as ``values`` plus this,
         so that a reader that picks it instead of ``{kind}_an`` is caught.
+    sd_values : array_like, optional
+        ``{kind}_sd``, the standard deviation WOA ships beside the means (same shape; NaN: none).
     """
     import netCDF4
 
@@ -171,6 +263,17 @@ def write_woa(path: str | Path, kind: str, months, depth_m, lat_deg, lon_deg, va
                          "grid_mapping": "crs", "units": units})
             field = data + offset
             v[:, :, :, :] = np.where(np.isfinite(field), field, WOA_FILL).astype(np.float32)
+        if sd_values is not None:
+            v = nc.createVariable(f"{kind}_sd", "f4", ("time", "depth", "lat", "lon"), zlib=True,
+                                  complevel=9, shuffle=True, fill_value=WOA_FILL)
+            v.setncatts({"standard_name": std,
+                         "long_name": f"The standard deviation about the statistical mean of {name} in "
+                                      f"each grid-square at each standard depth level.",
+                         "cell_methods": "area: mean depth: mean time: mean within years time: "
+                                         "standard_deviation over years",
+                         "grid_mapping": "crs", "units": units})
+            sd = np.asarray(sd_values, dtype=float)
+            v[:, :, :, :] = np.where(np.isfinite(sd), sd, WOA_FILL).astype(np.float32)
 
 
 #: Sea-Bird's bad_flag: a missing or bad value, and the ``flag`` of a scan Loop Edit marks bad.

@@ -11,7 +11,7 @@ import pytest
 
 import envdata
 from tests.conftest import DATA
-from tools.sample_layouts import WOA_LEVELS_M, gebco_axis_deg, write_gebco, write_woa
+from tools.sample_layouts import EMODNET_PER_DEGREE, WOA_LEVELS_M, gebco_axis_deg, write_emodnet, write_gebco, write_woa
 
 AREAS = Path(envdata.__file__).parent / "areas"
 SAMPLE = AREAS / "data"
@@ -43,6 +43,15 @@ def write_relief(path: Path, elevation, *, box=(42.8, 43.2, 4.8, 5.2), per_degre
     lat = gebco_axis_deg(s, n, per_degree)
     lon = gebco_axis_deg(w, e, per_degree)
     write_gebco(path, lat, lon, elevation(lat[:, None], lon[None, :]), title="test relief")
+    return path
+
+
+def write_dtm(path: Path, elevation, *, box=(42.8, 43.2, 4.8, 5.2), **kwargs) -> Path:
+    """An EMODnet-layout file over ``box`` with ``elevation(lat, lon)`` (NaN: no value, land)."""
+    s, n, w, e = box
+    lat = gebco_axis_deg(s, n, EMODNET_PER_DEGREE)
+    lon = gebco_axis_deg(w, e, EMODNET_PER_DEGREE)
+    write_emodnet(path, lat, lon, elevation(lat[:, None], lon[None, :]), title="test DTM", **kwargs)
     return path
 
 

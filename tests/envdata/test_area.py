@@ -50,6 +50,8 @@ AREA_CASES = {
     "month-13.toml": r"\[water\] month: must be an integer in 1\.\.12, got 13$",
     "month-fraction.toml": r"\[water\] month: must be an integer in 1\.\.12, got 8\.5$",
     "month-without-climatology.toml": r"\[water\] month: only with a climatology file",
+    "temperature-variable-without-climatology.toml": r"\[water\] temperature_variable: only with a climatology "
+                                                     r"file \(climatology, or temperature and salinity\)$",
     "step-not-dividing.toml": r"\[bearings\] step_deg: 7\.0 deg does not divide 360 deg into whole steps",
     "step-negative.toml": r"\[bearings\] step_deg: must be in \(0, 360\] deg, got -10\.0$",
     "step-too-fine.toml": r"\[bearings\] step_deg: 0\.1 deg gives 3600 radials, more than 720$",

@@ -68,14 +68,18 @@ def test_area_json_reads_back_without_the_data_files(shelf_area, tmp_path):
     {"bathymetry": "relief.nc", "ssp_depth_m": [0.0, 300.0], "temperature_c": [20.0, 13.5],
      "salinity_psu": [38.1, 38.5]},
     {"depth_m": 1000.0, "ssp": "munk"},
-], ids=["bathy-clim-month", "flat-clim", "bathy-munk", "bathy-table", "bathy-ts", "flat-origin-munk"])
+    {"bathymetry": "dtm.nc", "temperature": "tem.nc", "salinity": "sal.nc", "month": 8,
+     "temperature_variable": "thetao", "salinity_variable": "so"},
+], ids=["bathy-clim-month", "flat-clim", "bathy-munk", "bathy-table", "bathy-ts", "flat-origin-munk",
+        "named-variables"])
 def test_new_keys_round_trip_through_area_json(water):
     area = make_area(water)
     text = envdata.area_to_json(area)
     again = envdata.area_from_json(text)
     assert again == area
     assert envdata.area_to_json(again) == text
-    for key in ("bathymetry", "bathymetry_variable", "climatology", "month"):
+    for key in ("bathymetry", "bathymetry_variable", "climatology", "month", "temperature_variable",
+                "salinity_variable"):
         if key in water:
             assert json.loads(text)["water"][key] == water[key]
 
@@ -183,6 +187,13 @@ def test_area_document_keys_are_checked_for_types():
         envdata.parse_area(doc, "x.toml")
     doc = area_document({"bathymetry": "r.nc", "climatology": "ts.nc", "month": True})
     with pytest.raises(envdata.AreaError, match=r"\[water\] month: must be an integer in 1\.\.12, got True"):
+        envdata.parse_area(doc, "x.toml")
+    doc = area_document({"bathymetry": "r.nc", "climatology": "ts.nc", "temperature_variable": 3})
+    with pytest.raises(envdata.AreaError, match=r"^x\.toml: \[water\] temperature_variable: must be a string, got 3$"):
+        envdata.parse_area(doc, "x.toml")
+    doc = area_document({"bathymetry": "r.nc", "climatology": "ts.nc", "salinity_variable": " "})
+    with pytest.raises(envdata.AreaError, match=r"^x\.toml: \[water\] salinity_variable: must be a variable name, "
+                                                r"got ' '$"):
         envdata.parse_area(doc, "x.toml")
 
 

@@ -10,8 +10,8 @@ from numpy.testing import assert_allclose
 import envdata
 from envdata.bathymetry import open_bathymetry
 from envdata.datafiles import BathymetrySource, DataFile
-from tests.envdata.conftest import SAMPLE, write_relief
-from tools.sample_layouts import gebco_axis_deg
+from tests.envdata.conftest import SAMPLE, write_dtm, write_relief
+from tools.sample_layouts import EMODNET_FILL, gebco_axis_deg
 
 
 def source(path, variable=None) -> BathymetrySource:
@@ -76,6 +76,10 @@ def test_variable_by_name_by_standard_name_and_depth_positive_down(tmp_path):
     with open_bathymetry(source(tmp_path / "depth.nc")) as bf:
         assert bf.variable == "seafloor"
         assert_allclose(bf.load_box([43.0], [5.0]).elevation_at(43.0, 5.0), [-1000.0], atol=1e-6)
+    ds[["z"]].rename({"z": "depth"}).pipe(lambda d: d.assign(depth=-d.depth)).to_netcdf(tmp_path / "named.nc")
+    with open_bathymetry(source(tmp_path / "named.nc")) as bf:  # "depth", no attribute: positive down
+        assert bf.variable == "depth" and bf.sign == -1.0
+        assert_allclose(bf.load_box([43.0], [5.0]).elevation_at(43.0, 5.0), [-1000.0], atol=1e-6)
     ds[["seafloor", "topo"]].to_netcdf(tmp_path / "two.nc")
     with pytest.raises(envdata.AreaError, match=r"several variables could be the elevation "
                                                 r"\(seafloor, topo, by standard_name\); name one$"):
@@ -126,8 +130,8 @@ def test_refusals_name_the_file(tmp_path):
         open_bathymetry(source(tmp_path / "nounits.nc"))
     xr.Dataset({"h": (("lat", "lon"), np.zeros((3, 3)), {"units": "m"})},
                coords={"lat": [1.0, 2.0, 3.0], "lon": [1.0, 2.0, 3.0]}).to_netcdf(tmp_path / "h.nc")
-    with pytest.raises(envdata.AreaError, match=r"h\.nc: no elevation variable: none is named elevation or has "
-                                                r"the standard_name height_above_reference_ellipsoid"):
+    with pytest.raises(envdata.AreaError, match=r"h\.nc: no elevation variable: none is named elevation or depth or "
+                                                r"has the standard_name height_above_reference_ellipsoid"):
         open_bathymetry(source(tmp_path / "h.nc"))
     xr.Dataset({"elevation": (("t", "lat", "lon"), np.zeros((2, 3, 3)), {"units": "m"})},
                coords={"lat": [1.0, 2.0, 3.0], "lon": [1.0, 2.0, 3.0]}).to_netcdf(tmp_path / "t.nc")
@@ -143,3 +147,49 @@ def test_refusals_name_the_file(tmp_path):
         open_bathymetry(source(tmp_path / "nope.nc"))
     with pytest.raises(envdata.AreaError, match=r"is a directory, not a bathymetry file$"):
         open_bathymetry(source(tmp_path))
+
+
+def dry_north(lat, lon):
+    """The plane, with no value (land) where it would be shallower than 30 m (north of 43.097 N)."""
+    e = plane(lat, lon + 0.0 * lat)
+    return np.where(e >= -30.0, np.nan, e)
+
+
+@pytest.mark.parametrize("fill", ["_FillValue", "missing_value", "nan"])
+@pytest.mark.parametrize("positive", ["up", "down"])
+def test_emodnet_layout_reads_fill_cells_as_no_value(tmp_path, fill, positive):
+    path = write_dtm(tmp_path / "dtm.nc", dry_north, fill=fill, positive=positive)
+    with xr.open_dataset(path, mask_and_scale=False) as raw:
+        name = "elevation" if positive == "up" else "depth"
+        stored = raw[name].values
+        if fill == "nan":
+            assert np.isnan(stored).any() and not {"_FillValue", "missing_value"} & set(raw[name].attrs)
+        else:
+            assert (stored == EMODNET_FILL).any() and not np.isnan(stored).any()
+    with open_bathymetry(source(path)) as bf:
+        assert bf.variable == name and bf.sign == (1.0 if positive == "up" else -1.0)  # not elevation_min
+        lat = np.array([43.0, 43.05, 43.15])
+        lon = np.array([5.0, 5.0, 5.0])
+        grid = bf.load_box(lat, lon)
+        elevation, no_data = grid.sea_elevation_at(lat, lon)
+        assert_allclose(elevation[:2], plane(lat[:2], lon[:2]), rtol=0, atol=1e-3)  # float32 metres
+        assert no_data.tolist() == [False, False, True] and np.isnan(elevation[2])
+
+
+def test_sea_elevation_holds_up_to_the_edge_of_cells_without_value(tmp_path):
+    path = write_dtm(tmp_path / "dtm.nc", dry_north)
+    with open_bathymetry(source(path)) as bf:
+        grid = bf.load_box([43.09, 43.1], [5.0, 5.0])
+        j = int(np.argmin(np.abs(grid.lon_deg - 5.0)))
+        column = grid.elevation_m[:, j]
+        row = int(np.argmax(~np.isfinite(column)))  # the first row with no value
+        assert row > 0 and np.isfinite(column[row - 1])
+        wet, dry = grid.lat_deg[row - 1], grid.lat_deg[row]
+        edge = 0.5 * (wet + dry)
+        lat = np.array([wet, edge - 1e-5, edge + 1e-5])
+        elevation, no_data = grid.sea_elevation_at(lat, np.full(3, grid.lon_deg[j]))
+        assert no_data.tolist() == [False, False, True]
+        # between the last wet centre and the edge: the wet cell's value, not NaN
+        assert_allclose(elevation[:2], column[row - 1], rtol=0, atol=1e-9)
+        # elevation_at keeps its meaning (NaN once a corner without a value has weight)
+        assert np.isnan(grid.elevation_at(edge - 1e-5, grid.lon_deg[j])[0])

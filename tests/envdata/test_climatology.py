@@ -153,23 +153,23 @@ def test_refusals_name_the_file(tmp_path):
             clim.load_box([44.0], [5.0])
     with xr.open_dataset(t_path, decode_times=False) as ds:
         kelvin = ds.load()
-    kelvin["t_an"].attrs["units"] = "K"
-    kelvin.to_netcdf(tmp_path / "kelvin.nc")
-    with pytest.raises(envdata.AreaError, match=r"kelvin\.nc: variable 't_an' \(temperature\) has units 'K'; "
-                                                r"need degrees_celsius$"):
-        open_climatology(split(tmp_path / "kelvin.nc", s_path))
-    theta = kelvin.rename({"t_an": "theta"})
-    theta["theta"].attrs.update(units="degrees_celsius", standard_name="sea_water_potential_temperature")
-    theta = theta.drop_vars("t_mn")
-    theta.to_netcdf(tmp_path / "theta.nc")
-    with pytest.raises(envdata.AreaError, match=r"theta\.nc: 'theta' holds potential temperature "
-                                                r"\(sea_water_potential_temperature\); tmakit reads in-situ"):
-        open_climatology(split(tmp_path / "theta.nc", s_path))
+    kelvin["t_an"].attrs["units"] = "degF"
+    kelvin.to_netcdf(tmp_path / "fahrenheit.nc")
+    with pytest.raises(envdata.AreaError, match=r"fahrenheit\.nc: variable 't_an' \(temperature\) has units "
+                                                r"'degF'; need degrees_celsius or K$"):
+        open_climatology(split(tmp_path / "fahrenheit.nc", s_path))
+    preformed = kelvin.rename({"t_an": "sp"}).drop_vars("t_mn")
+    preformed["sp"].attrs.update(units="g/kg", standard_name="sea_water_preformed_salinity")
+    preformed.to_netcdf(tmp_path / "preformed.nc")
+    with pytest.raises(envdata.AreaError, match=r"preformed\.nc: 'sp' holds preformed salinity "
+                                                r"\(sea_water_preformed_salinity\); tmakit reads in-situ, potential"):
+        open_climatology(split(t_path, tmp_path / "preformed.nc"))
     three = xr.concat([kelvin] * 3, dim="time", data_vars="all")
     three["t_an"].attrs["units"] = "degrees_celsius"
     three.to_netcdf(tmp_path / "three.nc")
-    with pytest.raises(envdata.AreaError, match=r"three\.nc: 't_an' has 3 time steps; need 1 \(used as it is\) "
-                                                r"or 12"):
+    with pytest.raises(envdata.AreaError, match=r"three\.nc: 't_an' has 3 time steps and a time axis that does "
+                                                r"not decode \(units 'months since 1955-01-01 00:00:00'\); need 1 "
+                                                r"\(used as it is\) or 12"):
         open_climatology(split(tmp_path / "three.nc", s_path))
     other_t, _ = write_ts(tmp_path, lambda z, y, x: 15.0 + 0 * z, lambda z, y, x: 38.0 + 0 * z,
                           lat=np.arange(40.125, 41.0, 0.25), stem="elsewhere")
@@ -191,3 +191,41 @@ def test_a_box_with_no_water_is_refused(tmp_path):
     with pytest.raises(envdata.AreaError, match=r"ts_t\.nc: no water \(no valid temperature and salinity\) in "
                                                 r"the cells around 43\.0000 N 5\.0000 E$"):
         field.columns_at([43.0], [5.0])
+
+
+def test_woa_standard_deviations_are_read_beside_the_means(tmp_path):
+    from tools.sample_layouts import WOA_LEVELS_M, write_woa
+
+    with open_climatology(split(T08, S08)) as clim:  # the sample files have none
+        field = clim.load_box([43.0], [5.0])
+        assert field.temperature_sd_c is None and field.salinity_sd_psu is None
+    lat = np.array([42.875, 43.125])
+    lon = np.array([4.875, 5.125])
+    depth = WOA_LEVELS_M[:57]
+    z, y, x = np.meshgrid(depth, lat, lon, indexing="ij")
+    t = (20.0 - z / 100.0)[None]
+    s = (38.0 + z / 5000.0)[None]
+    t_sd = np.where(z <= 1000.0, 0.8 - z / 2000.0, np.nan)[None]  # no statistics below 1000 m
+    t_sd[0, :, 1, 1] = np.nan  # a wet column without any
+    write_woa(tmp_path / "t.nc", "t", [8], depth, lat, lon, t, title="test", sd_values=t_sd)
+    write_woa(tmp_path / "s.nc", "s", [8], depth, lat, lon, s, title="test", sd_values=0.05 + 0.0 * s)
+    with open_climatology(split(tmp_path / "t.nc", tmp_path / "s.nc")) as clim:
+        assert (clim.temperature.sd_name, clim.salinity.sd_name) == ("t_sd", "s_sd")
+        field = clim.load_box([43.0], [5.0])
+    assert field.temperature_sd_c.shape == field.temperature_c.shape
+    column = field.temperature_sd_c[:, 0, 0]
+    above = depth <= 1000.0
+    assert_allclose(column[above], 0.8 - depth[above] / 2000.0, rtol=0, atol=1e-6)
+    assert_allclose(column[~above], 0.3, rtol=0, atol=1e-6)  # the deepest value continues down, as T
+    assert np.all(np.isnan(field.temperature_sd_c[:, 1, 1]))  # none in the file: NaN, not made up
+    assert_allclose(field.salinity_sd_psu, 0.05, rtol=0, atol=1e-7)
+    # only the temperature file has them
+    write_woa(tmp_path / "s0.nc", "s", [8], depth, lat, lon, s, title="test")
+    with open_climatology(split(tmp_path / "t.nc", tmp_path / "s0.nc")) as clim:
+        field = clim.load_box([43.0], [5.0])
+    assert field.temperature_sd_c is not None and field.salinity_sd_psu is None
+    write_woa(tmp_path / "neg.nc", "t", [8], depth, lat, lon, t, title="test", sd_values=-0.1 + 0.0 * t)
+    with pytest.raises(envdata.AreaError, match=r"neg\.nc: 't_sd' holds a standard deviation -0\.1 < 0 "
+                                                r"\(units 'degrees_celsius'\)$"):
+        with open_climatology(split(tmp_path / "neg.nc", tmp_path / "s.nc")) as clim:
+            clim.load_box([43.0], [5.0])

@@ -10,7 +10,7 @@ from pyproj import Geod
 
 import envdata
 from envdata.radials import MAX_COLUMN_SPACING_M, SHORE_DEPTH_M, area_radials, geodesic_points
-from tests.envdata.conftest import make_area, write_relief, write_ts
+from tests.envdata.conftest import make_area, write_dtm, write_relief, write_ts
 
 GEOD = Geod(ellps="WGS84")
 
@@ -204,19 +204,56 @@ def test_a_radial_across_the_antimeridian_is_refused(tmp_path):
         area_radials(area)
 
 
-def test_missing_values_and_short_speed_tables_are_refused(tmp_path):
+def test_cells_without_value_end_the_radial_like_land(tmp_path):
     import xarray as xr
 
+    # a GEBCO-like float file with NaN (no attribute) south of 42.95 N: a hole is land too
     lat = np.arange(42.8, 43.2, 0.01) + 0.005
     lon = np.arange(4.8, 5.2, 0.01) + 0.005
     values = -1000.0 + 0.0 * lat[:, None] * lon[None, :]
     values[lat < 42.95, :] = np.nan
     xr.Dataset({"elevation": (("lat", "lon"), values, {"units": "m"})},
                coords={"lat": lat, "lon": lon}).to_netcdf(tmp_path / "holes.nc")
-    area = make_area({"bathymetry": "holes.nc", "ssp": "munk"}, folder=tmp_path, bearings={"bearing_deg": [180.0]})
-    with pytest.raises(envdata.AreaError, match=r"holes\.nc: no elevation on the radial at bearing 180 deg, range "
-                                                r"\d+ m \(a fill value in the file\)$"):
-        area_radials(area)
+    area = make_area({"bathymetry": "holes.nc", "ssp": "munk"}, folder=tmp_path, range_max_m=8000.0,
+                     bearings={"bearing_deg": [180.0]})
+    (south,) = area_radials(area)
+    _, _, edge_m = GEOD.inv(5.0, 43.0, 5.0, 42.95)  # the edge between the 42.955 and 42.945 centres
+    assert south.land_range_m == pytest.approx(edge_m, abs=1.0)
+    assert south.range_m[-1] == south.land_range_m and south.bottom_depth_m[-1] == SHORE_DEPTH_M
+    assert_allclose(south.bottom_depth_m[:-1], 1000.0)  # the sea floor holds to the edge
+
+
+@pytest.mark.parametrize("fill", ["_FillValue", "missing_value", "nan"])
+def test_emodnet_land_without_value_ends_the_radial_at_its_cell_edge(tmp_path, fill):
+    def dtm(lat, lon):  # coast_north, no value where shallower than 30 m (as EMODnet leaves land)
+        e = coast_north(lat, lon)
+        return np.where(e >= -30.0, np.nan, e)
+
+    write_dtm(tmp_path / "dtm.nc", dtm, fill=fill, lat_name="latitude", lon_name="longitude")
+    area = make_area({"bathymetry": "dtm.nc", "ssp": "munk"}, folder=tmp_path, range_max_m=15000.0,
+                     bearings={"bearing_deg": [0.0, 90.0]})
+    north, east = area_radials(area)
+    # the first cell without value: centre (k + 1/2)/960 deg with coast_north >= -30 m; its edge
+    k = int(np.ceil(43.097 * 960 - 0.5))
+    _, _, edge_m = GEOD.inv(5.0, 43.0, 5.0, k / 960.0)
+    assert north.land_range_m == pytest.approx(edge_m, abs=1.0)
+    assert north.range_m[-1] == north.land_range_m and north.bottom_depth_m[-1] == SHORE_DEPTH_M
+    assert np.all(np.diff(north.range_m) > 0.0)
+    assert_allclose(north.bottom_depth_m[:-1], -coast_north(north.lat_deg[:-1], north.lon_deg[:-1]), atol=0.6)
+    assert north.bottom_depth_m[-2] >= 30.0 - 0.6  # the last wet cell's depth, up to its edge
+    # behind a southern radial the same land: it starts at the edge
+    (south,) = area_radials(make_area({"bathymetry": "dtm.nc", "ssp": "munk"}, folder=tmp_path, range_max_m=5000.0,
+                                      bearings={"bearing_deg": [180.0]}), behind_m=20000.0)
+    assert south.range_m[0] == pytest.approx(-edge_m, abs=1.0) and south.bottom_depth_m[0] == SHORE_DEPTH_M
+    assert east.land_range_m is None and east.range_m[-1] == 15000.0
+    # an origin in a cell without value is on land
+    with pytest.raises(envdata.AreaError, match=r"dtm\.nc: the origin 43\.15 N 5\.0 E is in a cell with no elevation "
+                                                r"\(land, or no data, in the file's 'elevation'\): every radial "
+                                                r"starts on land$"):
+        area_radials(make_area({"bathymetry": "dtm.nc", "ssp": "munk"}, folder=tmp_path, origin=(43.15, 5.0)))
+
+
+def test_short_speed_tables_are_refused(tmp_path):
     write_relief(tmp_path / "coast.nc", coast_north)
     short = make_area({"bathymetry": "coast.nc", "ssp_depth_m": [0.0, 500.0], "ssp_speed_mps": [1510.0, 1500.0]},
                       folder=tmp_path, bearings={"bearing_deg": [180.0]})
