@@ -181,6 +181,11 @@ class RamEnvironment:
         """The deepest bottom point, m."""
         return float(self.bathymetry_depth_m.max())
 
+    @property
+    def is_range_dependent(self) -> bool:
+        """True when the bottom depth or the sound speed changes with range."""
+        return bool(np.ptp(self.bathymetry_depth_m) > 0.0 or np.ptp(self.speed_mps, axis=0).max() > 0.0)
+
     def bottom_depth_m(self, range_m) -> np.ndarray:
         """Water depth at ``range_m``, m: linear between the bottom points, the last held."""
         return np.interp(np.asarray(range_m, dtype=float), self.bathymetry_range_m, self.bathymetry_depth_m)

@@ -90,10 +90,11 @@ def ram_tl_db(env: RamEnvironment, freq_hz: float, depth_m, range_m, settings: R
     if not (math.isfinite(tl_max_db) and tl_max_db > 0.0):
         raise RamInputError(f"RAM run: tl_max_db must be > 0 dB, got {tl_max_db}")
     top_of_layer_m = settings.grid_depth_m - settings.absorbing_layer_m
-    if top_of_layer_m < env.max_bottom_depth_m:
+    if top_of_layer_m < env.max_bottom_depth_m - 1e-6:
         raise RamInputError(f"RAM settings grid_depth_m: {settings.grid_depth_m} m leaves the absorbing layer "
                             f"({settings.absorbing_layer_m} m) starting at {top_of_layer_m} m, above the "
                             f"deepest bottom, {env.max_bottom_depth_m} m")
+    top_of_layer_m = max(top_of_layer_m, env.max_bottom_depth_m)  # rounding in grid - layer
     if settings.depth_step_m >= env.bathymetry_depth_m[0] / 2:
         raise RamInputError(f"RAM settings depth_step_m: {settings.depth_step_m} m is too coarse for "
                             f"{float(env.bathymetry_depth_m[0])} m of water at the source")

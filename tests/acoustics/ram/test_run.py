@@ -137,8 +137,21 @@ def test_bad_settings_are_refused(overrides, match):
 def test_the_default_settings_scale_with_the_wavelength():
     s = RamSettings.for_frequency(150.0, max_bottom_depth_m=1000.0)
     wavelength = 1500.0 / 150.0
-    assert s.depth_step_m == pytest.approx(wavelength / 20.0)
+    assert s.depth_step_m == pytest.approx(wavelength / 30.0)
     assert s.range_step_m == pytest.approx(wavelength / 2.0)
     assert s.grid_depth_m - s.absorbing_layer_m == pytest.approx(1000.0)
+    flat = RamSettings.for_frequency(150.0, max_bottom_depth_m=1000.0, range_dependent=False)
+    assert flat.range_step_m == pytest.approx(2.0 * wavelength)
     with pytest.raises(RamInputError, match="frequency"):
         RamSettings.for_frequency(-1.0, max_bottom_depth_m=1000.0)
+
+
+def test_for_environment_takes_the_longer_range_step_only_without_range_dependence():
+    flat = _env([0.0, 100.0], [[1500.0, 1500.0]])
+    sloping = _env([0.0, 100.0], [[1500.0, 1500.0]], bathymetry_range_m=[0.0, 3000.0],
+                   bathymetry_depth_m=[100.0, 40.0])
+    changing = _env([0.0, 100.0], [[1500.0, 1500.0], [1490.0, 1500.0]], ranges=(0.0, 1000.0))
+    assert not flat.is_range_dependent and sloping.is_range_dependent and changing.is_range_dependent
+    assert RamSettings.for_environment(flat, 150.0).range_step_m == pytest.approx(20.0)
+    assert RamSettings.for_environment(sloping, 150.0).range_step_m == pytest.approx(5.0)
+    assert RamSettings.for_environment(changing, 150.0).range_step_m == pytest.approx(5.0)
