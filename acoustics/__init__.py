@@ -9,9 +9,9 @@ built; ``plots/`` how it is drawn; ``sensitivity/`` the perturbed-environment st
 
 from acoustics.absorption import thorp_db_per_km
 from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
+from acoustics.builder.gridfile import build_grid_file
 from acoustics.builder.kobserver import build_k
 from acoustics.builder.plan import plan_runs
-from acoustics.builder.gridfile import build_grid_file
 from acoustics.errors import BellhopError, GridFileError
 from acoustics.grid.io import open_grid, write_grid
 from acoustics.grid.schema import check_grid

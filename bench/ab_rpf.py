@@ -4,7 +4,8 @@
 
 For comparing dependency sets (numpy/numba versions) on a shared, noisy machine. Each round runs
 one measuring process per environment, forwards then backwards (A B C, C B A, A B C, ...), so
-that drift in the machine's load falls on all. An environment needs only numpy and numba. A process times the kernel (`tracker.rpf_kernel`, via
+that drift in the machine's load falls on all. An environment needs only numpy and numba. A
+process times the kernel (`tracker.rpf_kernel`, via
 ``rpf.run_batch``) on the bench's idm-static bearings, N = 5000, 151 cycles: one filter (best of
 5) and 40 runs in one call on one thread (best of 2), in particle-steps per second of wall time
 and per second of the process's CPU time. CPU time is the figure that other users' load

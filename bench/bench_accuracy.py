@@ -11,8 +11,8 @@ about twenty minutes on 2 cores (the full computation is the naive loop of bench
 
 from __future__ import annotations
 
-import math
 import dataclasses
+import math
 import os
 import sys
 import time

@@ -19,12 +19,11 @@ from benchresults import say, write  # noqa: E402
 
 def main() -> None:
     import acoustics
-    from tracker.studies.gm import run
+    from acoustics.builder.gridfile import build_grid_file
     from tracker.mltma import MLTracker
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate
-
-    from acoustics.builder.gridfile import build_grid_file
+    from tracker.studies.gm import run
 
     out = Path(__file__).resolve().parents[1] / "out" / "bench"
     if len(sys.argv) > 1:

@@ -17,7 +17,6 @@ import tempfile
 import time
 from pathlib import Path
 
-
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.plan import plan_runs, receiver_depths_m

@@ -22,13 +22,13 @@ import numpy as np
 
 import acoustics
 import envdata
-from acoustics.nx2d.box3d import box_positions
 from acoustics.bellhop.exe import find_bellhop, find_bellhop3d
-from acoustics.nx2d.route import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.builder.flat import BuildStats
 from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial_runs
 from acoustics.builder.runs import execute_runs
+from acoustics.nx2d.box3d import box_positions
+from acoustics.nx2d.route import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
 from envdata.radials import area_radials, geodesic_points
 
 REPO = Path(__file__).resolve().parents[1]
@@ -316,7 +316,8 @@ def report(label: str, res: dict) -> None:
         say(f"{label}_dtl_bearing_{row['bearing_deg']:g}_p90", row["p90_db"], "dB")
     if "agreement_cells" in res:
         ag = res["agreement_cells"]
-        say(f"{label}_cells_dtl_median", ag["median_db"], f"dB (bottom on {res['box_cells']['bathymetry_step_m']:.0f} m nodes)")
+        step = res["box_cells"]["bathymetry_step_m"]
+        say(f"{label}_cells_dtl_median", ag["median_db"], f"dB (bottom on {step:.0f} m nodes)")
         say(f"{label}_cells_dtl_p90", ag["p90_db"], "dB")
     if "attribution" in res:
         for name in ("as_built", "facet_bottom", "facet_bottom_box_speed"):

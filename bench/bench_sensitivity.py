@@ -11,9 +11,8 @@ docs/results/sensitivity.json. Takes about ten minutes on 2 idle cores.
 
 from __future__ import annotations
 
-import acoustics
-import math
 import argparse
+import math
 import os
 import sys
 import time
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+import acoustics
 import envdata
 from acoustics import sensitivity as sens
 from acoustics.sensitivity.perturbspec import default_perturbations

@@ -2,8 +2,7 @@
 bathymetry, climatology and casts sampled along radials for range- and bearing-dependent areas."""
 
 from envdata.area import DEFAULT_AREA, Absorption, Area, GridSpec, Observer, Propagation, TlMode, Water
-from envdata.areafile import (area_from_json, area_path, area_to_json, builtin_area_names, load_area,
-                              parse_area)
+from envdata.areafile import area_from_json, area_path, area_to_json, builtin_area_names, load_area, parse_area
 from envdata.bands import Band
 from envdata.bottom import Bottom
 from envdata.classes import SourceLevelModel, TargetClass, ross_source_level_db

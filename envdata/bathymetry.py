@@ -29,8 +29,7 @@ import numpy as np
 
 from envdata.datafiles import BathymetrySource
 from envdata.errors import AreaError
-from envdata.geogrid import (METRE_UNITS, LatLonAxes, bilinear_corners, find_variable, open_dataset,
-                             units_of)
+from envdata.geogrid import METRE_UNITS, LatLonAxes, bilinear_corners, find_variable, open_dataset, units_of
 from envdata.limits import check_memory
 
 ELEVATION_NAMES = ("elevation", "depth")

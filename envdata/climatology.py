@@ -45,8 +45,9 @@ from envdata.datafiles import ClimatologySource, DataFile
 from envdata.errors import AreaError
 from envdata.geogrid import METRE_UNITS, LatLonAxes, bilinear_corners, distance_m, open_dataset, units_of
 from envdata.limits import check_memory
-from envdata.seawater import (SALINITY_STANDARD_NAMES as SALINITY_KINDS, TEMPERATURE_STANDARD_NAMES as
-                              TEMPERATURE_KINDS, SalinityKind, TemperatureKind, in_situ_ts)
+from envdata.seawater import SALINITY_STANDARD_NAMES as SALINITY_KINDS
+from envdata.seawater import TEMPERATURE_STANDARD_NAMES as TEMPERATURE_KINDS
+from envdata.seawater import SalinityKind, TemperatureKind, in_situ_ts
 
 #: Common names, and what each holds (None: told by its attributes, else in-situ / practical).
 TEMPERATURE_NAMES = {"t_an": TemperatureKind.IN_SITU, "thetao": TemperatureKind.POTENTIAL,

@@ -223,7 +223,7 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
     # walk each radial out from the origin, both ways, to its first sample that is dry (the shore),
     # outside the file or across the file's seam; only the samples before it are needed
     walks = []
-    for bearing, (lat, lon) in zip(bearings, points):
+    for lat, lon in points:
         inside = axes.contains(lat, lon)
         file_lon = axes.file_lon(lon)
         seam = np.zeros(ranges.shape, dtype=bool)

@@ -11,11 +11,11 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 LAYERS = ("envdata", "acoustics", "tracker", "tools")
-#: Inside ``acoustics``, by role, lowest first: the formulas at the root, BELLHOP's formats and
-#: running, the grid (what a grid is and how it is read), the builders, the figures and the
+#: Inside ``acoustics``, by role, lowest first: the formulas at the root, the models (BELLHOP's
+#: formats and running, RAM's), the grid (what a grid is and how it is read), the builders, the figures and the
 #: BELLHOP3D Nx2D route (kept out of the build), the sensitivity studies on top. A module may
 #: import its own sub-package and those ranked below it.
-ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "grid": 2, "builder": 3, "plots": 4, "nx2d": 4,
+ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plots": 4, "nx2d": 4,
                    "sensitivity": 5}
 
 

@@ -20,8 +20,17 @@ from acoustics.bellhop.runner import kill_running
 from acoustics.errors import BellhopError
 from envdata.errors import InputError
 from envdata.limits import LIMIT_VARIABLE
-from tools import (areas_cmd, demo_cmd, doctor_cmd, experiment_cmd, grids_cmd, locate_cmd, sensitivity_cmd,
-                   simulate_cmd, track_cmd)
+from tools import (
+    areas_cmd,
+    demo_cmd,
+    doctor_cmd,
+    experiment_cmd,
+    grids_cmd,
+    locate_cmd,
+    sensitivity_cmd,
+    simulate_cmd,
+    track_cmd,
+)
 
 COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, sensitivity_cmd, simulate_cmd, track_cmd, experiment_cmd,
                    locate_cmd, demo_cmd)

@@ -25,7 +25,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--runs", type=int, default=None,
                    help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs (1000); "
                         "shelf: runs (100)")
-    p.add_argument("--grid", metavar="FILE", help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
+    p.add_argument("--grid", metavar="FILE",
+                   help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")

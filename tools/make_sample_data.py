@@ -45,8 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tools.sample_layouts import (WOA_LEVELS_M, WOA_MONTHLY_LEVELS, gebco_axis_deg, write_cnv, write_gebco,
-                                  write_woa)
+from tools.sample_layouts import WOA_LEVELS_M, WOA_MONTHLY_LEVELS, gebco_axis_deg, write_cnv, write_gebco, write_woa
 
 ORIGIN_LAT_DEG = 43.0
 ORIGIN_LON_DEG = 5.0

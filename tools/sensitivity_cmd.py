@@ -13,9 +13,8 @@ import logging
 import os
 from pathlib import Path
 
-
-from acoustics import sensitivity as sens
 import envdata
+from acoustics import sensitivity as sens
 from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
 

@@ -42,10 +42,10 @@ from pathlib import Path
 
 import numpy as np
 
-from envdata.tomlfile import TomlTable, read_toml
 from envdata.errors import AreaError
 from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from envdata.names import check_name
+from envdata.tomlfile import TomlTable, read_toml
 
 
 class ScenarioError(AreaError):

@@ -19,14 +19,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from acoustics.detection import indicator_snr
+from acoustics.grid.tables import GridTables
 from envdata.files import atomic_paths
 from envdata.limits import check_memory
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
-from acoustics.detection import indicator_snr
 from tracker.ranging import bearing_sd_deg, level_sd_db
 from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
-from acoustics.grid.tables import GridTables
 
 TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
                  "tack")

@@ -14,10 +14,10 @@ from enum import StrEnum
 import numpy as np
 import pandas as pd
 
-from envdata.errors import InputError
-from tracker.measurements import Measurements
-from tracker.errors import MeasurementFileError
 from acoustics.grid.tables import GridTables
+from envdata.errors import InputError
+from tracker.errors import MeasurementFileError
+from tracker.measurements import Measurements
 
 
 class Method(StrEnum):

@@ -15,9 +15,9 @@ import numpy as np
 
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.runner import default_timeout_s
+from acoustics.builder.runs import Run, RunStats
 from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
-from acoustics.builder.runs import Run, RunStats
 from envdata.area import Area, TlMode
 
 GRID_FORMAT_VERSION = 1

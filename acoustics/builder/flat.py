@@ -17,18 +17,23 @@ import xarray as xr
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.grid.dataset import flat_dataset
-from acoustics.builder.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key,
-                               run_frequencies_hz, run_timeout_s, source_hash)
-from acoustics.kcurve import spectral_term_db
-from acoustics.builder.radial import build_radial_grid
+from acoustics.builder.bandruns import (
+    BuildStats,
+    Model,
+    band_tl_from_runs,
+    freq_key,
+    run_frequencies_hz,
+    source_hash,
+)
 from acoustics.builder.plan import plan_runs, receiver_depths_m
+from acoustics.builder.radial import build_radial_grid
 from acoustics.builder.runs import Run, iter_runs
+from acoustics.grid.dataset import flat_dataset
+from acoustics.kcurve import spectral_term_db
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
 from envdata.datafiles import input_file_digests
 from envdata.limits import check_memory
-
 
 
 def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:
@@ -150,7 +155,7 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
                   cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                   exe=str(exe.path), stats=stats)
     else:
-        for ib, band in enumerate(area.bands):
+        for ib in range(len(area.bands)):
             tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]
         k[:] = k_urick
 

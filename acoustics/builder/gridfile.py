@@ -12,8 +12,8 @@ import time
 from pathlib import Path
 
 import envdata
-from acoustics.errors import GridFileError
 from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
+from acoustics.errors import GridFileError
 from acoustics.grid.io import open_grid, write_grid
 
 

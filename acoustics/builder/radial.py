@@ -30,15 +30,22 @@ import numpy as np
 import xarray as xr
 
 from acoustics.absorption import absorption_db_per_km
+from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.bellhop.exe import find_bellhop
-from acoustics.grid.dataset import grid_attrs, grid_coords
-from acoustics.builder.bandruns import (BuildStats, Model, band_tl_from_runs, freq_key, run_frequencies_hz,
-                               run_timeout_s, source_hash)
-from acoustics.kcurve import spectral_term_db
+from acoustics.builder.bandruns import (
+    BuildStats,
+    Model,
+    band_tl_from_runs,
+    freq_key,
+    run_frequencies_hz,
+    run_timeout_s,
+    source_hash,
+)
 from acoustics.builder.plan import run_spec
 from acoustics.builder.runs import Run, iter_runs
+from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.kcurve import spectral_term_db
 from acoustics.urick import k_urick_db
 from envdata.area import Area
 from envdata.datafiles import input_file_digests

@@ -11,6 +11,7 @@ from acoustics.errors import GridFileError
 from acoustics.grid.tables import GridTables, as_tables
 from envdata.files import atomic_path, check_input_file
 
+
 def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
     """Write ``ds`` as compressed netCDF4 via a temporary file (no half-written file, ever).
 

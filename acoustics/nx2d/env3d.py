@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from acoustics.nx2d.box3d import BoxEnvironment
 from acoustics.bellhop.envfile import RunSpec, fmt_list, fmt_number
+from acoustics.nx2d.box3d import BoxEnvironment
 from envdata.area import Absorption, Area
 
 

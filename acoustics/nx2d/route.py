@@ -21,17 +21,17 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustics.nx2d.box3d import BoxEnvironment, sample_box
-from acoustics.nx2d.env3d import bellhop3d_bearings, coverage_m, nx2d_files
 from acoustics.bellhop.exe import find_bellhop3d
 from acoustics.bellhop.runner import BASE, run_env
-from acoustics.nx2d.shd3d import read_shd3d
-from acoustics.errors import BellhopError
-from acoustics.builder.executor import TaskStats, run_tasks
 from acoustics.builder.bandruns import freq_key, run_frequencies_hz, run_timeout_s
-from acoustics.builder.radial import BOX_MARGIN, DEFAULT_STEP_M
+from acoustics.builder.executor import TaskStats, run_tasks
 from acoustics.builder.plan import run_spec
+from acoustics.builder.radial import BOX_MARGIN, DEFAULT_STEP_M
 from acoustics.builder.runs import Run
+from acoustics.errors import BellhopError
+from acoustics.nx2d.box3d import BoxEnvironment, sample_box
+from acoustics.nx2d.env3d import bellhop3d_bearings, coverage_m, nx2d_files
+from acoustics.nx2d.shd3d import read_shd3d
 from envdata.area import Area
 
 

@@ -25,8 +25,18 @@ from matplotlib.figure import Figure
 from acoustics.grid.detectionmap import detection_map
 from acoustics.grid.tables import RadialTables
 from acoustics.plots.figures import new_figure
-from acoustics.plots.style import (DEG, LAND_COLOR, ORIGIN_STYLE, What, band_label, check_plot_options,
-                                   class_label, contour_levels, label_depth, origin_label)
+from acoustics.plots.style import (
+    DEG,
+    LAND_COLOR,
+    ORIGIN_STYLE,
+    What,
+    band_label,
+    check_plot_options,
+    class_label,
+    contour_levels,
+    label_depth,
+    origin_label,
+)
 from envdata.bathymetry import ElevationGrid
 from envdata.radials import geodesic_points
 

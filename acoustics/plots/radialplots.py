@@ -18,8 +18,8 @@ from acoustics.grid.tables import RadialTables
 from acoustics.plots.bottomplot import bottom_figure
 from acoustics.plots.figures import save_figure
 from acoustics.plots.mapplot import map_figure
-from acoustics.plots.style import DPI, What, check_plot_options
 from acoustics.plots.sectionplot import section_figure
+from acoustics.plots.style import DPI, What, check_plot_options
 from envdata.bathymetry import ElevationGrid
 from envdata.files import atomic_paths
 

@@ -18,8 +18,15 @@ from matplotlib.figure import Figure
 from acoustics.grid.detectionmap import class_terms
 from acoustics.grid.tables import RadialTables
 from acoustics.plots.figures import new_figure
-from acoustics.plots.style import (DEG, LAND_COLOR, ORIGIN_STYLE, band_label, check_plot_options,
-                                   class_label, origin_label)
+from acoustics.plots.style import (
+    DEG,
+    LAND_COLOR,
+    ORIGIN_STYLE,
+    band_label,
+    check_plot_options,
+    class_label,
+    origin_label,
+)
 
 
 def section_figure(tables: RadialTables, *, bearing_deg: float, cls_name: str | None = None,

@@ -17,12 +17,12 @@ import xarray as xr
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.gridfile import remove_cache, resume_dir
+from acoustics.sensitivity import writeback
 from acoustics.sensitivity.files import write_study
 from acoustics.sensitivity.perturbspec import default_perturbations, parse_spec
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from acoustics.sensitivity.study import StudyStats, run_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
-from acoustics.sensitivity import writeback
 from envdata.files import atomic_paths
 
 

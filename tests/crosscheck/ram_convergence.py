@@ -14,7 +14,6 @@ receivers along range (20 lambda), over every receiver in the water; and the run
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import time
 from pathlib import Path
@@ -22,8 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from acoustics.ram import RamSettings, ram_tl_db
-from tests.crosscheck.ram_cases import (munk_environment, pekeris_environment, range_average_tl_db,
-                                        wedge_environment)
+from tests.crosscheck.ram_cases import munk_environment, pekeris_environment, range_average_tl_db, wedge_environment
 
 OUT = Path("docs/results/ram-convergence.json")
 REFERENCE = {"dz_wavelengths": 1 / 80, "dr_wavelengths": 1 / 8, "pade_terms": 8, "layer_wavelengths": 40.0}

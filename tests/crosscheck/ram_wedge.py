@@ -29,9 +29,16 @@ from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.ram import RamSettings, ram_tl_db
 from envdata.area import Absorption, TlMode
-from tests.crosscheck.ram_cases import (WEDGE_FREQ_HZ, WEDGE_RECEIVER_DEPTH_M, WEDGE_SHORE_M,
-                                        WEDGE_SOURCE_DEPTH_M, range_average_tl_db, wedge_area,
-                                        wedge_environment, wedge_radial)
+from tests.crosscheck.ram_cases import (
+    WEDGE_FREQ_HZ,
+    WEDGE_RECEIVER_DEPTH_M,
+    WEDGE_SHORE_M,
+    WEDGE_SOURCE_DEPTH_M,
+    range_average_tl_db,
+    wedge_area,
+    wedge_environment,
+    wedge_radial,
+)
 
 OUT = Path("docs/results/ram-wedge.json")
 RANGES_M = np.arange(100.0, 3401.0, 10.0)

@@ -15,10 +15,9 @@ import envdata
 from acoustics.errors import GridFileError
 from tracker import rpf
 from tracker.errors import MeasurementFileError
+from tracker.measurements import Measurements, read_measurements, write_measurements
 from tracker.studies.idm import simulate
 from tracker.studies.idm_scenarios import get_scenario
-from tracker.measurements import Measurements, read_measurements, write_measurements
-from acoustics.grid.tables import as_tables
 from tracker.track import track
 from tracker.trackfile import TRACK_COLUMNS, write_track
 

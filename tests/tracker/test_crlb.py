@@ -7,8 +7,8 @@ import math
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 from acoustics.grid.tables import LevelProfile
+from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 
 
 def test_two_step_bound_matches_the_hand_computation():

@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+from acoustics.grid.tables import as_tables
 from acoustics.kcurve import spectral_term_db
 from tracker.ranging import bearing_sd_deg
 from tracker.scenario import ScenarioError, load_scenario
 from tracker.simulate import simulate_batch
-from acoustics.grid.tables import as_tables
 
 SCENARIO = """[scenario]
 name = "tiny"

@@ -36,10 +36,10 @@ import math
 
 import numpy as np
 
+from acoustics.grid.tables import GridTables
 from tracker.errors import MeasurementFileError
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
-from tracker.mltma.course import (course_from_relative_deg, course_speed_slope_deg_per_mps,
-                                  relative_course_on_tack_deg)
+from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
 from tracker.mltma.eq25 import Eq25Estimate, Eq25Terms
 from tracker.mltma.params import MLParams
 from tracker.mltma.polish import polish
@@ -47,7 +47,6 @@ from tracker.mltma.range_prior import level_ranges_m, range_prior_m
 from tracker.mltma.search import search
 from tracker.mltma.window import TackWindow, tack_window
 from tracker.ranging import offset_nodes
-from acoustics.grid.tables import GridTables
 
 
 class MLBatch:

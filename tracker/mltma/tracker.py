@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pandas as pd
 
+from acoustics.grid.tables import GridTables
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
 from tracker.mltma.batch import MLBatch
 from tracker.mltma.params import MLParams
-from acoustics.grid.tables import GridTables
 from tracker.trackfile import TRACK_COLUMNS
 
 log = logging.getLogger(__name__)

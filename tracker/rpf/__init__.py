@@ -28,13 +28,11 @@ filter" (2003), sec. 6.4.1.1 (initialization).
 from tracker.rpf.batch import BatchResult, run_batch
 from tracker.rpf.config import BLOCK_PARTICLES, KNOT_MPS, Method, RpfConfig
 from tracker.rpf.estimate import estimate, particle_sds, weighted_covariance
-from tracker.rpf.likelihood import (bearing_loglik, bearing_rad, level_loglik,
-                                    predicted_level_db, wrap_rad)
+from tracker.rpf.likelihood import bearing_loglik, bearing_rad, level_loglik, predicted_level_db, wrap_rad
 from tracker.rpf.motion import predict
 from tracker.rpf.normals import standard_normal_pairs
 from tracker.rpf.prior import initial_particles
-from tracker.rpf.regularise import (epanechnikov_sample, optimal_bandwidth, regularise,
-                                    unit_ball_volume)
+from tracker.rpf.regularise import epanechnikov_sample, optimal_bandwidth, regularise, unit_ball_volume
 from tracker.rpf.resample import multinomial_resample
 from tracker.rpf.track import track_measurements
 from tracker.rpf.weights import n_eff, normalise, normalise_exp

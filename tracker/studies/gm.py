@@ -26,7 +26,6 @@ import pandas as pd
 
 from envdata.files import atomic_path
 from tracker.mltma import MLBatch, MLParams, wrap180
-from acoustics.grid.tables import GridTables
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -108,7 +107,7 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     err = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     est = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     for i in range(t):
-        rep = lambda a: np.repeat(a[:, i], n_cls, axis=0)  # noqa: E731
+        rep = lambda a, i=i: np.repeat(a[:, i], n_cls, axis=0)  # noqa: E731
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
                            rep(sim.bearing_deg), rep(sim.bearing_sigma_deg),
                            np.repeat(sim.level_db[:, i, :], n_cls, axis=0),

@@ -24,13 +24,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from acoustics.grid.tables import GridTables
 from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 from tracker.studies.idm_columns import COLUMN
 from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
-from acoustics.grid.tables import GridTables
 
 log = logging.getLogger(__name__)
 

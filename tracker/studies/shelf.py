@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from acoustics.builder.gridfile import build_grid_file
+from acoustics.grid.tables import GridTables
 from envdata.area import Area, Water
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
@@ -36,7 +37,6 @@ from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
-from acoustics.grid.tables import GridTables
 
 AREA = "shelf-break"
 SCENARIO = "shelf-tv"

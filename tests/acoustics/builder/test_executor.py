@@ -10,14 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from acoustics.errors import BellhopError
 from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
 from acoustics.builder.plan import plan_runs
 from acoustics.builder.runs import Run, execute_run
+from acoustics.errors import BellhopError
 from envdata.areafile import load_area
 from envdata.errors import InputError
 from tests.conftest import MALFORMED
-
 
 
 @pytest.fixture

@@ -7,9 +7,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 from acoustics.errors import GridFileError
+from acoustics.grid.tables import as_tables
 from acoustics.kcurve import spectral_term_db
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
-from acoustics.grid.tables import as_tables
 
 pytestmark = pytest.mark.bellhop
 

@@ -7,18 +7,17 @@ import pytest
 from numpy.testing import assert_allclose
 
 import envdata
-from acoustics.nx2d.box3d import BoxEnvironment, box_positions, sample_box
-from acoustics.nx2d.env3d import bellhop3d_bearings, coverage_m, nx2d_files
 from acoustics.bellhop.envfile import RunSpec
 from acoustics.bellhop.exe import find_bellhop, find_bellhop3d
-from acoustics.nx2d.route import (box_range_m, nx2d_fields, plan_nx2d_runs, ray_step_m,
-                                    sample_area_box)
 from acoustics.bellhop.runner import run_env
-from acoustics.nx2d.shd3d import read_shd3d
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.errors import BellhopError
 from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial_runs
 from acoustics.builder.runs import execute_runs
+from acoustics.errors import BellhopError
+from acoustics.nx2d.box3d import BoxEnvironment, box_positions, sample_box
+from acoustics.nx2d.env3d import bellhop3d_bearings, coverage_m, nx2d_files
+from acoustics.nx2d.route import box_range_m, nx2d_fields, plan_nx2d_runs, ray_step_m, sample_area_box
+from acoustics.nx2d.shd3d import read_shd3d
 from envdata.area import Absorption
 from envdata.radials import area_radials, geodesic_points
 from tests.conftest import DATA

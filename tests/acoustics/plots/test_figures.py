@@ -6,6 +6,7 @@ import pytest
 
 from acoustics.plots.figures import new_figure, save_figure
 
+
 def test_save_figure_writes_png_without_pyplot(tmp_path):
     fig = new_figure(figsize=(3, 2))
     fig.add_subplot().plot([0, 1], [1, 0])

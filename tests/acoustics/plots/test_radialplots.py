@@ -16,16 +16,16 @@ from numpy.testing import assert_allclose
 
 import acoustics
 import envdata
-from acoustics.plots.bottomplot import bottom_figure
 from acoustics.detection import band_snr_db, indicator_snr, k_needed_db
 from acoustics.grid.detectionmap import detection_map
-from acoustics.plots.bathymetry import find_bathymetry, load_around_origin
-from acoustics.plots.mapplot import map_figure
 from acoustics.grid.radialinterp import at_bearings, bearing_weights
+from acoustics.plots.bathymetry import find_bathymetry, load_around_origin
+from acoustics.plots.bottomplot import bottom_figure
 from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
+from acoustics.plots.mapplot import map_figure
 from acoustics.plots.radialplots import bearing_plot_paths, plot_bearing_grid
-from acoustics.plots.style import What
 from acoustics.plots.sectionplot import section_figure
+from acoustics.plots.style import What
 from envdata.errors import InputError
 
 pytestmark = pytest.mark.bellhop

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+from acoustics.absorption import thorp_db_per_km
 from acoustics.ram import RamEnvironment, RamInputError, RamSettings, ram_tl_db
 from envdata.area import Absorption
 from envdata.bottom import Bottom
-from acoustics.absorption import thorp_db_per_km
 
 FREQ_HZ = 100.0
 BOTTOM = Bottom(speed_mps=1700.0, density_gcc=1.5, attenuation_db_per_wavelength=0.5)

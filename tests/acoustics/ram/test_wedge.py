@@ -4,8 +4,8 @@ The setting, the BELLHOP run (coherent, the grids' geometric hat beams) and the 
 average are described in tests/crosscheck/ram_wedge.py, which also writes the measured figures
 (docs/results/ram-wedge.json). Tolerance: median |dTL| <= 1.5 dB and 90th percentile <= 3 dB
 after the range average, from 100 m to 3.4 km; measured median 0.84 dB, 90th percentile
-1.97 dB (point-wise, without the average, 0.95 / 3.05 dB). What is left is mostly BELLHOP's: beams at 25 Hz in 3.3 wavelengths of water, where the
-modes approach cut-off upslope.
+1.97 dB (point-wise, without the average, 0.95 / 3.05 dB). What is left is mostly BELLHOP's:
+beams at 25 Hz in 3.3 wavelengths of water, where the modes approach cut-off upslope.
 """
 
 from __future__ import annotations

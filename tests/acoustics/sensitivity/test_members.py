@@ -7,9 +7,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 from acoustics.builder.bandruns import BuildStats
+from acoustics.builder.executor import ResultCache
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.plan import k_runs
-from acoustics.builder.executor import ResultCache
 from acoustics.sensitivity.members import MemberResult, member_key
 
 

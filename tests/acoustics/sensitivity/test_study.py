@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import acoustics
 import numpy as np
 import pytest
 import xarray as xr
 from numpy.testing import assert_allclose
 
+import acoustics
 from acoustics import sensitivity as sens
 from acoustics.sensitivity import perturb as pt
 from tests.acoustics.sensitivity.conftest import TINY_SPECS, specs

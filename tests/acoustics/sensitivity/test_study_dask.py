@@ -10,8 +10,8 @@ import time
 import pytest
 import xarray as xr
 
-from acoustics.sensitivity import perturbspec as ps
 from acoustics import sensitivity as sens
+from acoustics.sensitivity import perturbspec as ps
 from envdata.errors import InputError
 
 pytestmark = [pytest.mark.bellhop, pytest.mark.slow]

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from tracker.mltma import MLBatch
 from acoustics.grid.tables import as_tables
+from tracker.mltma import MLBatch
 
 
 @pytest.mark.bellhop

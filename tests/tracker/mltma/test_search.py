@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from acoustics.grid.tables import as_tables
+from acoustics.levelrange import level_range
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.mltma import MLBatch, course_from_relative_deg
 from tracker.mltma.course import relative_course_on_tack_deg
-from acoustics.levelrange import level_range
 from tracker.ranging import level_sd_db, offset_nodes
 
 

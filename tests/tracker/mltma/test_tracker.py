@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
-from acoustics.grid.tables import as_tables
 
+from acoustics.grid.tables import as_tables
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements

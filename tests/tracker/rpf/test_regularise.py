@@ -11,8 +11,7 @@ from numpy.testing import assert_allclose
 from scipy import stats
 
 from tracker.rpf.estimate import weighted_covariance
-from tracker.rpf.regularise import (epanechnikov_sample, optimal_bandwidth, regularise,
-                                    unit_ball_volume)
+from tracker.rpf.regularise import epanechnikov_sample, optimal_bandwidth, regularise, unit_ball_volume
 
 
 @pytest.mark.parametrize("n_dim, a_silverman", [(1, 2.34), (2, 2.40), (3, 2.49)])

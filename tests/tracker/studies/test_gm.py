@@ -66,9 +66,9 @@ def test_tv_110km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
 
 
 def test_design_centre_is_the_class_distribution():
-    from tracker.studies.gm import center_offsets
     from envdata import TargetClass
     from tracker.scenario import load_scenario
+    from tracker.studies.gm import center_offsets
 
     cls = TargetClass(name="TV", depth_m=8.0, speed_mean_mps=7.5, speed_sd_mps=1.0,
                       noise_mean_db=133.02, noise_sd_db=2.5, k_error_sd_db=1.5)

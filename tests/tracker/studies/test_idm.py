@@ -15,7 +15,6 @@ import envdata
 from tracker import rpf
 from tracker.studies import idm
 from tracker.studies.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
-from acoustics.grid.tables import as_tables
 
 
 @pytest.fixture(scope="module")
@@ -138,8 +137,8 @@ def test_experiment_is_repeatable_whatever_the_worker_count(munk_grid, tmp_path)
 
 @pytest.mark.bellhop
 def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range(munk_grid):
-    from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
     from acoustics.grid.tables import LevelProfile
+    from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 
     sc = get_scenario("idm-static")
     t = sc.t_s

@@ -32,7 +32,7 @@ def test_run_writes_the_table_and_its_figures_agree_with_the_geometry(tmp_path):
         assert_allclose(loc.conditioning_number([a1, a2]), r["u"], rtol=1e-9)
         assert_allclose(abs(np.linalg.det(p)), r["determinant"], rtol=1e-9)
         # d13 and d24: distances between crossings of the extreme bearing lines
-        def vertex(e1, e2):
+        def vertex(e1, e2, ax=ax, ay=ay, a1=a1, bx=bx, by=by, a2=a2):
             vx, vy, *_ = loc.crossing_point(ax, ay, a1 + e1, bx, by, a2 + e2)
             return np.array([vx, vy])
 

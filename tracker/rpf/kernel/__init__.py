@@ -13,8 +13,7 @@ Not imported by `tracker.rpf`: numba loads only when the kernel engine runs.
 
 from tracker.rpf.kernel.cache import drop_stale_caches
 from tracker.rpf.kernel.driver import run
-from tracker.rpf.kernel.params import (Measured, Model, Observer, Outputs, Prior, Profiles,
-                                       Settings, profile_arrays)
+from tracker.rpf.kernel.params import Measured, Model, Observer, Outputs, Prior, Profiles, Settings, profile_arrays
 from tracker.rpf.kernel.random import seed_states
 
 __all__ = ["Measured", "Model", "Observer", "Outputs", "Prior", "Profiles", "Settings",

@@ -7,8 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from tracker.rpf.kernel.loop import run_runs
-from tracker.rpf.kernel.params import (Measured, Observer, Outputs, model_of, prior_of,
-                                       profile_arrays, settings_of)
+from tracker.rpf.kernel.params import Measured, Observer, Outputs, model_of, prior_of, profile_arrays, settings_of
 from tracker.rpf.kernel.random import seed_states
 
 

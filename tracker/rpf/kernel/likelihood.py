@@ -12,10 +12,9 @@ import math
 
 from numba import njit
 
-from envdata.classes import (ROSS_LEVEL_DB, ROSS_MIN_SPEED_MPS, ROSS_REFERENCE_SPEED_MPS,
-                             ROSS_SLOPE_DB_PER_DECADE)
-from tracker.rpf.kernel.fastmath import FASTMATH, atan2
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
+from envdata.classes import ROSS_LEVEL_DB, ROSS_MIN_SPEED_MPS, ROSS_REFERENCE_SPEED_MPS, ROSS_SLOPE_DB_PER_DECADE
+from tracker.rpf.kernel.fastmath import FASTMATH, atan2
 
 
 @njit(inline="always")

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tracker.rpf.kernel.cache import drop_stale_caches
 from acoustics.grid.tables import LevelProfile
+from tracker.rpf.kernel.cache import drop_stale_caches
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision
 

@@ -9,11 +9,10 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tests.tracker.rpf.kernel.conftest import RTOL, particles, profile
-from tests.tracker.rpf.kernel.wrappers import (bearing_loglik_arrays, k_at_arrays,
-                                               level_loglik_arrays)
-from tracker.rpf.likelihood import bearing_loglik, level_loglik
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
+from tests.tracker.rpf.kernel.conftest import RTOL, particles, profile
+from tests.tracker.rpf.kernel.wrappers import bearing_loglik_arrays, k_at_arrays, level_loglik_arrays
+from tracker.rpf.likelihood import bearing_loglik, level_loglik
 
 
 def test_bearing_loglik_matches_rpf():

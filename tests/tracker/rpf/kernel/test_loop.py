@@ -10,11 +10,11 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tests.tracker.rpf.kernel.conftest import profile
-from tracker.studies.idm import simulate
-from tracker.studies.idm_scenarios import get_scenario
 from tracker.rpf import config
 from tracker.rpf.batch import run_batch
 from tracker.rpf.config import RpfConfig
+from tracker.studies.idm import simulate
+from tracker.studies.idm_scenarios import get_scenario
 
 
 def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=False):

@@ -9,10 +9,16 @@ import numpy as np
 from numpy.testing import assert_allclose
 from scipy import stats
 
-from tests.tracker.rpf.kernel.wrappers import (exponentials, exponentials_filled,
-                                               normal_pairs_filled, normals, uniforms)
-from tracker.rpf.kernel.random import (ZIGGURAT_EXP_F, ZIGGURAT_EXP_R, ZIGGURAT_EXP_X, ZIGGURAT_F,
-                                       ZIGGURAT_R, ZIGGURAT_X, seed_states)
+from tests.tracker.rpf.kernel.wrappers import exponentials, exponentials_filled, normal_pairs_filled, normals, uniforms
+from tracker.rpf.kernel.random import (
+    ZIGGURAT_EXP_F,
+    ZIGGURAT_EXP_R,
+    ZIGGURAT_EXP_X,
+    ZIGGURAT_F,
+    ZIGGURAT_R,
+    ZIGGURAT_X,
+    seed_states,
+)
 
 
 def test_generator_is_seeded_per_run_and_reproducible():

@@ -14,8 +14,7 @@ from tracker.rpf.kernel.fastmath import FASTMATH
 from tracker.rpf.kernel.likelihood import bearing_pass, k_at, level_loglik_particle
 from tracker.rpf.kernel.motion import predict_pass
 from tracker.rpf.kernel.prior import init_particle
-from tracker.rpf.kernel.random import (exponential, fill_exponentials, fill_normal_pairs,
-                                       normal_pair, uniform)
+from tracker.rpf.kernel.random import exponential, fill_exponentials, fill_normal_pairs, normal_pair, uniform
 from tracker.rpf.kernel.regularise import fill_epanechnikov
 from tracker.rpf.kernel.resample import resample_indices
 
