@@ -1,6 +1,6 @@
 """When a band is detected: the indicator SNR of a class's level against the sea noise.
 
-DESIGN.md "Area file" (the meanings tests rely on) and Grinenkov & Mashoshin eqs. 2, 11, 12:
+docs/formats.md "[sonar]" and "[[bands]]" and Grinenkov & Mashoshin eqs. 2, 11, 12:
 the band level is W = P0 + K(r) + H; the band SNR after the array is
 
     10 lg q = W - H - (N_band - DI) = P0 + K(r) - (N_band - DI),

@@ -32,7 +32,6 @@ import numpy as np
 from bench_rpf import _scenario
 from tracker import rpf
 
-rpf.ENGINE = "kernel"
 _, t, obs, b = _scenario()
 cfg = rpf.RpfConfig(n_particles=5000)
 

@@ -6,7 +6,7 @@ Prints one line per figure, ``name: value unit``, all measured in this one run:
 
 - particle-steps per second of one tmakit filter (N = 5000, bearings only, the static-observer
   scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in blocks of runs, on
-  one thread and on 2 threads), with the compiled fused cycle loop (``tracker.rpf.config.ENGINE =
+  one thread and on 2 threads), with the compiled fused cycle loop (``RpfConfig(engine=
   "kernel"``, the default; `tracker.rpf.kernel`) and, for reference, the numpy implementation;
 - the same for Stone Soup's particle filter on the same bearings (ParticlePredictor,
   ParticleUpdater with a MultinomialResampler applied when N_eff < N/3, and the
@@ -111,13 +111,10 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
     Over the first ``cycles`` cycles (all by default); the best of ``repeat`` calls.
     """
     from tracker import rpf
-    from tracker.rpf import config as rpf_config
-
-    rpf_config.ENGINE = engine
 
     _, t, obs, b = _scenario()
     t, obs, b = t[:cycles], obs[:cycles], b[:cycles]
-    cfg = rpf.RpfConfig(n_particles=n)
+    cfg = rpf.RpfConfig(n_particles=n, engine=engine)
     best = 0.0
     for i in range(repeat):
         rng = np.random.default_rng(2 + i)
@@ -129,7 +126,6 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
     if runs == 1 and repeat > 1:
         say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
             float(res.resampled[:, 1:].mean()))
-    rpf_config.ENGINE = "kernel"
     return best
 
 

@@ -1,6 +1,6 @@
 """A sea area: water, bottom, noise, sonar, bands, target classes and the grid to compute.
 
-``envdata.areafile`` reads the TOML format of DESIGN.md into a frozen, validated ``Area``;
+``envdata.areafile`` reads the TOML format (docs/formats.md) into a frozen, validated ``Area``;
 ``Area.to_dict`` is its inverse, the document that reads back into an equal ``Area``.
 """
 
@@ -209,7 +209,7 @@ class Area:
     propagation: Propagation = field(default_factory=Propagation)
     latitude_deg: float = 45.0
     longitude_deg: float = -30.0
-    # range- and bearing-dependent areas (DESIGN.md "N x 2D"): the origin of the radials (then
+    # range- and bearing-dependent areas (docs/formats.md "[origin] and [bearings]"): the origin of the radials (then
     # latitude_deg and longitude_deg are the origin's) and their bearings; None: isotropic
     origin: Origin | None = None
     bearings: Bearings | None = None
@@ -298,7 +298,7 @@ class Area:
         return z
 
     def to_dict(self) -> dict[str, Any]:
-        """The area as an area-file document (DESIGN.md "Area file"), plain data.
+        """The area as an area-file document (docs/formats.md "Area file"), plain data.
 
         ``envdata.parse_area`` reads it back into an equal ``Area``: it is what grids store as
         ``area_json`` and what ``source_hash`` hashes. The profile is written as its table of

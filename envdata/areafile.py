@@ -1,4 +1,4 @@
-"""Area files: the TOML format of DESIGN.md, built-in areas, and the ``area_json`` of grids.
+"""Area files: the TOML format of docs/formats.md, built-in areas, and the ``area_json`` of grids.
 
 ``parse_area`` turns a TOML document into a validated ``Area``; ``Area.to_dict`` is its inverse,
 so ``area_from_json(area_to_json(area)) == area``. A grid's ``area_json`` is read back here,

@@ -1,7 +1,7 @@
 """CTD casts: temperature and salinity against depth or pressure, from a CSV or a Sea-Bird ``.cnv`` file.
 
 The cast gives an area its one sound-speed profile (``[water] cast = "cast.csv"`` or
-``"cast.cnv"``, DESIGN.md). Both kinds go through the same checks: depths strictly increasing,
+``"cast.cnv"``, docs/formats.md "CTD casts"). Both kinds go through the same checks: depths strictly increasing,
 the first no deeper than `MAX_CAST_TOP_M` (it is then continued up to the surface), T and S in
 the sea's range.
 

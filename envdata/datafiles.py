@@ -45,7 +45,7 @@ class DataFile:
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BathymetrySource:
     """A relief file in GEBCO's or EMODnet's layout: elevation(lat, lon), m, positive up
-    (DESIGN.md); cells with no value (EMODnet's land) are land (``envdata.bathymetry``).
+    (docs/formats.md "Bathymetry"); cells with no value (EMODnet's land) are land (``envdata.bathymetry``).
 
     ``variable`` names the elevation variable when it is not ``elevation`` or found by its CF
     standard_name (``bathymetry_variable`` in the area file).

@@ -1,6 +1,6 @@
 """Where a range- and bearing-dependent area is computed: its origin and the bearings of its radials.
 
-DESIGN.md "Range- and bearing-dependent areas (N x 2D)": the area is described around an
+docs/formats.md "[origin] and [bearings]": the area is described around an
 origin (WGS84 latitude and longitude, the point where the observer operates) and computed along
 radials from it, one per bearing, clockwise from true north.
 """

@@ -3,13 +3,17 @@
 Positions beyond 20 000 km or times beyond 100 years are typing or unit mistakes, not sea
 areas. Work whose arrays would not fit the machine (a grid, a scenario, a study, an experiment)
 is refused before it starts, with the size it would take: the limit is half the machine's
-memory unless ``TMAKIT_MAX_GIB`` (the command line's ``--max-gib``) says otherwise.
+memory unless a caller sets another for the work it runs (``memory_limit``: a context, not a
+process-wide switch; the executor's worker threads run in their caller's context).
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import os
+from collections.abc import Iterator
 
 from envdata.errors import InputError
 
@@ -17,10 +21,11 @@ from envdata.errors import InputError
 MAX_POSITION_M = 2.0e7
 #: Largest time, s (100 years).
 MAX_TIME_S = 100 * 365.25 * 86400.0
-#: Environment variable that sets the memory limit, GiB.
-LIMIT_VARIABLE = "TMAKIT_MAX_GIB"
-
 GIB = 2.0 ** 30
+
+#: The memory limit of the work under way, bytes, and who set it (None: half this machine's memory).
+_LIMIT: contextvars.ContextVar[tuple[float, str] | None] = contextvars.ContextVar("tmakit_memory_limit",
+                                                                                  default=None)
 
 
 class TooLargeError(InputError):
@@ -35,17 +40,24 @@ def machine_memory_bytes() -> float:
         return 8.0 * GIB
 
 
+@contextlib.contextmanager
+def memory_limit(gib: float | None, source: str = "the limit set for this work") -> Iterator[None]:
+    """Run the work inside the ``with`` block under a memory limit of ``gib`` GiB (None: the
+    default, half this machine's memory); ``source`` says in messages who set it."""
+    if gib is not None and not (math.isfinite(gib) and gib > 0):
+        raise InputError(f"{source}: must be a positive number of GiB, got {gib}")
+    token = _LIMIT.set(None if gib is None else (gib * GIB, source))
+    try:
+        yield
+    finally:
+        _LIMIT.reset(token)
+
+
 def memory_limit_bytes() -> tuple[float, str]:
     """The memory limit, bytes, and where it comes from (for messages)."""
-    text = os.environ.get(LIMIT_VARIABLE)
-    if text:
-        try:
-            value = float(text)
-        except ValueError:
-            raise InputError(f"{LIMIT_VARIABLE}={text!r}: must be a number of GiB") from None
-        if not (math.isfinite(value) and value > 0):
-            raise InputError(f"{LIMIT_VARIABLE}={text!r}: must be a positive number of GiB")
-        return value * GIB, f"--max-gib / {LIMIT_VARIABLE}"
+    limit = _LIMIT.get()
+    if limit is not None:
+        return limit
     return 0.5 * machine_memory_bytes(), "half this machine's memory"
 
 
@@ -60,8 +72,7 @@ def check_memory(nbytes: float, what: str) -> None:
     limit, why = memory_limit_bytes()
     if not nbytes <= limit:  # also refuses NaN
         raise TooLargeError(f"{what} would need {nbytes / GIB:.3g} GiB of memory, more than the "
-                            f"limit of {limit / GIB:.3g} GiB ({why}); --max-gib raises it on a "
-                            f"bigger machine")
+                            f"limit of {limit / GIB:.3g} GiB ({why})")
 
 
 def check_position(value_m: float, where: str) -> None:

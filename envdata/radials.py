@@ -1,6 +1,6 @@
 """Radials of a range- and bearing-dependent area: the bottom and the sound speed along geodesics.
 
-DESIGN.md "Range- and bearing-dependent areas (N x 2D)". Each radial is the WGS84 geodesic
+docs/formats.md "Real data" and README "Real areas". Each radial is the WGS84 geodesic
 (pyproj ``Geod(ellps="WGS84")``) from the area's origin along one bearing, clockwise from true
 north at the origin; negative ranges lie on the geodesic along the opposite bearing, behind the
 origin (rays reach there). Along it:

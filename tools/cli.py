@@ -2,7 +2,7 @@
 
 Bad input ends a command with exit status 2 and one ``error: ...`` line on stderr (no traceback);
 results go to files and a summary (or, with ``--json``, one JSON object) to stdout. ``main`` is
-the one place that turns failures into that line (DESIGN.md "Errors").
+the one place that turns failures into that line (README, after the command list).
 """
 
 from __future__ import annotations
@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import math
 import os
 import signal
 import sys
@@ -19,7 +18,7 @@ from collections.abc import Sequence
 from acoustics.bellhop.runner import kill_running
 from acoustics.errors import BellhopError
 from envdata.errors import InputError
-from envdata.limits import LIMIT_VARIABLE
+from envdata.limits import TooLargeError, memory_limit
 from tools import (
     areas_cmd,
     demo_cmd,
@@ -58,8 +57,27 @@ def _common_options(default) -> argparse.ArgumentParser:
                         help="show progress bars even when stderr is not a terminal")
     common.add_argument("-v", "--verbose", action="count", default=default, help="more log output")
     common.add_argument("--max-gib", type=float, default=default, metavar="GIB",
-                        help="memory a piece of work may take, GiB (default: half the machine's)")
+                        help="memory a piece of work may take, GiB (default: $TMAKIT_MAX_GIB, else half "
+                             "the machine's)")
     return common
+
+
+#: The environment variable that gives --max-gib its default.
+MAX_GIB_VARIABLE = "TMAKIT_MAX_GIB"
+
+
+def _max_gib(args) -> tuple[float | None, str]:
+    """The memory limit the command line sets, GiB, and how a message names it: --max-gib, else
+    TMAKIT_MAX_GIB, else none (the library's default, half the machine's memory)."""
+    if args.max_gib is not None:
+        return args.max_gib, "--max-gib"
+    text = os.environ.get(MAX_GIB_VARIABLE)
+    if not text:
+        return None, ""
+    try:
+        return float(text), f"{MAX_GIB_VARIABLE}={text}"
+    except ValueError:
+        raise InputError(f"{MAX_GIB_VARIABLE}={text!r}: must be a number of GiB") from None
 
 
 class Terminated(KeyboardInterrupt):
@@ -87,13 +105,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(level=logging.WARNING - 10 * min(args.verbose, 2), stream=sys.stderr,
                         format="%(levelname)s %(name)s: %(message)s")
     previous = signal.signal(signal.SIGTERM, _on_sigterm) if _main_thread() else None
-    limit_before = os.environ.get(LIMIT_VARIABLE)
     try:
-        if args.max_gib is not None:
-            if not (math.isfinite(args.max_gib) and args.max_gib > 0):
-                raise InputError(f"--max-gib: must be a positive number of GiB, got {args.max_gib}")
-            os.environ[LIMIT_VARIABLE] = repr(args.max_gib)
-        report = args.func(args)
+        gib, source = _max_gib(args)
+        with memory_limit(gib, source):
+            report = args.func(args)
         if args.json:
             print(json.dumps(report.data, default=_jsonable))
         else:
@@ -108,6 +123,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         # the reader of our output went away (``tmakit ... | head``): stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 128 + int(signal.SIGPIPE)
+    except TooLargeError as exc:
+        print(f"error: {_one_line(str(exc))}; --max-gib raises it on a bigger machine", file=sys.stderr)
+        return 2
     except (InputError, BellhopError) as exc:
         print(f"error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
@@ -121,10 +139,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
-        if limit_before is None:
-            os.environ.pop(LIMIT_VARIABLE, None)
-        else:
-            os.environ[LIMIT_VARIABLE] = limit_before
     return 0
 
 

@@ -10,6 +10,7 @@ The science is in `tracker.locate` (Schmidt et al.); this module parses, calls a
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 
 import numpy as np
@@ -142,15 +143,8 @@ def _fmt(value: float, spec: str) -> str:
     return format(value, spec) if math.isfinite(value) else "-"
 
 
-def _mc_data(mc, region) -> dict | None:
-    if mc is None:
-        return None
-    inside = (float(np.mean(region.contains(mc.x_m, mc.y_m, tol_m=1e-6)))
-              if region is not None and mc.x_m.size else None)
-    return {"trials": mc.n_trials, "fixes": int(mc.x_m.size),
-            "mean_x_m": mc.mean_x_m if mc.x_m.size else None,
-            "mean_y_m": mc.mean_y_m if mc.x_m.size else None,
-            "inside_fraction": inside}
+def _mc_data(summary) -> dict | None:
+    return None if summary is None else dataclasses.asdict(summary)
 
 
 def _mc_line(data: dict | None) -> list[str]:
@@ -172,35 +166,21 @@ def run_locate(args) -> Report:
     if args.plot:
         check_output_file(args.plot, Kind.PNG, force=args.force)
     bearings = loc.read_bearings_csv(args.bearings)
-    result = loc.locate(bearings, method=args.method, max_u=args.max_u)
+    from tracker.locate.study import locate_study
+
+    study = locate_study(bearings, method=args.method, max_u=args.max_u, d_alpha_deg=args.d_alpha_deg,
+                         n_trials=n_trials, rng=np.random.default_rng(args.seed))
+    result, region, region_note, region_problem = (study.result, study.region, study.region_note,
+                                                   study.region_problem)
+    mc = study.monte_carlo
     n = len(bearings)
-    region = None
-    region_note = ""
-    region_problem = None
-    try:
-        if n == 2 or result.method is loc.Method.CROSSING:
-            region_note = f"quadrilateral of rows {n - 1} and {n}"
-            region = loc.error_region(bearings.obs_x_m[-2:], bearings.obs_y_m[-2:], result.x_m,
-                                      result.y_m, d_alpha_deg=args.d_alpha_deg)
-        else:
-            region_note = f"intersection of the {n} bearing wedges"
-            region = loc.error_polygon(bearings.obs_x_m, bearings.obs_y_m, result.x_m,
-                                       result.y_m, d_alpha_deg=args.d_alpha_deg)
-    except LocateError as exc:
-        region_problem = str(exc)
-    mc = None
-    if n_trials:
-        mc = loc.monte_carlo_locate(bearings, result.x_m, result.y_m,
-                                    d_alpha_deg=args.d_alpha_deg, n_trials=n_trials,
-                                    rng=np.random.default_rng(args.seed), method=result.method,
-                                    max_u=args.max_u)
     if args.plot:
         from acoustics.plots.figures import save_figure
         from tracker.locate.plot import locate_figure
 
         save_figure(locate_figure(bearings, result, region, mc), args.plot)
 
-    mc_data = _mc_data(mc, region)
+    mc_data = _mc_data(study.monte_carlo_summary)
     data = {
         "bearings": str(args.bearings), "method": result.method.value, "n_bearings": n,
         "x_m": result.x_m, "y_m": result.y_m, "u": result.u, "determinant": result.determinant,
@@ -238,50 +218,21 @@ def run_plan(args) -> Report:
         outputs.append(check_output_file(args.out, Kind.ROUTE_CSV, force=args.force))
     if args.plot:
         outputs.append(check_output_file(args.plot, Kind.PNG, force=args.force))
-    rng = np.random.default_rng(args.seed)
-    route = loc.plan_route(
-        target_x_m=args.target_x_m, target_y_m=args.target_y_m, start_x_m=args.start_x_m,
-        start_y_m=args.start_y_m, speed_mps=args.speed_mps, leg_s=args.leg_s, n_legs=args.legs,
-        rule=args.rule, side=args.side, min_range_m=args.min_range_m,
-        first_leg_rule=args.first_leg, d_alpha_deg=args.d_alpha_deg if args.simulate else 0.0,
-        rng=rng if args.simulate else None)
-    exact = loc.plan_route(
-        target_x_m=args.target_x_m, target_y_m=args.target_y_m, start_x_m=args.start_x_m,
-        start_y_m=args.start_y_m, speed_mps=args.speed_mps, leg_s=args.leg_s, n_legs=1,
-        rule=args.rule, side=args.side, min_range_m=args.min_range_m,
-        first_leg_rule=args.first_leg)
-    region, region_problem = None, None
-    try:  # the first pair of the planned (exact) route, as in the paper's Fig. 8
-        region = loc.error_region(exact.obs_x_m, exact.obs_y_m, args.target_x_m, args.target_y_m,
-                                  d_alpha_deg=args.d_alpha_deg)
-    except LocateError as exc:
-        region_problem = str(exc)
-    mc = None
-    if n_trials:
-        mc = loc.monte_carlo_first_leg(
-            target_x_m=args.target_x_m, target_y_m=args.target_y_m, leg_m=route.leg_m,
-            d_alpha_deg=args.d_alpha_deg, n_trials=n_trials, rng=rng,
-            start_x_m=args.start_x_m, start_y_m=args.start_y_m,
-            rule=args.first_leg or args.rule, side=args.side, min_range_m=args.min_range_m)
+    from tracker.locate.study import plan_study
 
-    frame = route.to_frame()
-    d13, d24, area = [], [], []
-    for k in range(1, len(route.t_s)):
-        try:
-            r = loc.error_region(route.obs_x_m[k - 1:k + 1], route.obs_y_m[k - 1:k + 1],
-                                 args.target_x_m, args.target_y_m, d_alpha_deg=args.d_alpha_deg)
-            d13.append(r.d13_m), d24.append(r.d24_m), area.append(r.area_m2)
-        except LocateError:
-            d13.append(math.nan), d24.append(math.nan), area.append(math.nan)
-    frame["d13_m"] = [math.nan] + d13
-    frame["d24_m"] = [math.nan] + d24
-    frame["area_m2"] = [math.nan] + area
+    plan = plan_study(target_x_m=args.target_x_m, target_y_m=args.target_y_m, start_x_m=args.start_x_m,
+                      start_y_m=args.start_y_m, speed_mps=args.speed_mps, leg_s=args.leg_s,
+                      n_legs=args.legs, rule=args.rule, side=args.side, min_range_m=args.min_range_m,
+                      first_leg_rule=args.first_leg, d_alpha_deg=args.d_alpha_deg,
+                      simulate=bool(args.simulate), n_trials=n_trials,
+                      rng=np.random.default_rng(args.seed))
+    route, region, region_problem, frame = plan.route, plan.region, plan.region_problem, plan.table
 
     fig = None
     if args.plot:
         from tracker.locate.plot import plan_figure
 
-        fig = plan_figure(route, region, mc)
+        fig = plan_figure(route, region, plan.monte_carlo)
     with atomic_paths(outputs) as temps:  # the route and its plot: both or neither
         temps = list(temps)
         if args.out:
@@ -291,7 +242,7 @@ def run_plan(args) -> Report:
 
             save_figure(fig, temps.pop(0), atomic=False)
 
-    mc_data = _mc_data(mc, region)
+    mc_data = _mc_data(plan.monte_carlo_summary)
     rows = frame.replace({math.nan: None}).to_dict(orient="records")
     data = {
         "target_x_m": args.target_x_m, "target_y_m": args.target_y_m, "rule": route.rule.value,

@@ -1,4 +1,4 @@
-"""Measurement CSV: one row per sonar cycle (DESIGN.md "Measurement CSV").
+"""Measurement CSV: one row per sonar cycle (docs/formats.md "Measurement CSV").
 
 Columns: ``t_s, obs_x_m, obs_y_m, obs_depth_m, bearing_deg`` (required), ``bearing_sigma_deg``
 (optional) and, per band NAME of the grid, ``level_db_NAME`` (blank when the band is not

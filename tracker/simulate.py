@@ -149,7 +149,7 @@ def measurements_of(sim: SimBatch, run: int = 0, source: str = "simulated") -> M
 
 
 def truth_of(sim: SimBatch, sc: Scenario, run: int = 0) -> pd.DataFrame:
-    """Truth table of one run (DESIGN.md "Truth CSV")."""
+    """Truth table of one run (docs/formats.md "Truth CSV")."""
     n = len(sim.t_s)
     return pd.DataFrame({"t_s": sim.t_s, "x_m": sim.x_m[run], "y_m": sim.y_m[run],
                          "depth_m": np.full(n, sc.target_depth_m),

@@ -30,7 +30,7 @@ class Method(StrEnum):
 def track(tables: GridTables, measurements: Measurements, *, method: Method | str = "ml",
           rng: np.random.Generator | None = None, cls_name: str | None = None,
           band: str | None = None, ml_params=None, rpf_config=None) -> pd.DataFrame:
-    """Track one target; one row per cycle per class hypothesis (DESIGN.md "Track CSV").
+    """Track one target; one row per cycle per class hypothesis (docs/formats.md "Track CSV").
 
     Parameters
     ----------
@@ -61,7 +61,7 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
     try:
         method = Method(method)
     except ValueError:
-        raise InputError(f"--method: {method!r} is not a tracker ({', '.join(Method)})") from None
+        raise InputError(f"method {method!r} is not a tracker ({', '.join(Method)})") from None
     m = measurements
     if cls_name is not None:
         tables.class_index(cls_name)
@@ -85,6 +85,6 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
     from tracker import rpf
 
     if rng is None:
-        raise InputError(f"--method {method}: the particle filters need a random generator (--seed)")
+        raise InputError(f"method {method}: the particle filters need a random generator (rng)")
     return rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
                                   band=band, config=rpf_config)

@@ -1,4 +1,4 @@
-"""Track CSV: the trackers' output, one row per cycle per class hypothesis (DESIGN.md)."""
+"""Track CSV: the trackers' output, one row per cycle per class hypothesis (docs/formats.md "Track CSV")."""
 
 from __future__ import annotations
 

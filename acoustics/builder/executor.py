@@ -10,6 +10,7 @@ them in parallel: ``workers`` is how many tasks run at once on this machine. Wit
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import json
 import logging
 import os
@@ -166,7 +167,7 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
         Filled with counts and the wall time.
     """
     if scheduler is None and workers < 1:
-        raise InputError(f"--workers: must be >= 1, got {workers}")
+        raise InputError(f"workers: must be >= 1, got {workers}")
     stats = stats if stats is not None else TaskStats()
     start = time.perf_counter()
     unique = {}
@@ -208,7 +209,8 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
 
 def _on_threads(fn: Callable[[T], R], todo: list[T], workers: int) -> Iterator[tuple[T, R]]:
     with ThreadPoolExecutor(max_workers=min(workers, len(todo))) as pool:
-        futures = {pool.submit(fn, item): item for item in todo}
+        # each task runs in a copy of the caller's context (the memory limit set for the work)
+        futures = {pool.submit(contextvars.copy_context().run, fn, item): item for item in todo}
         try:
             for future in as_completed(futures):
                 yield futures[future], future.result()
@@ -231,7 +233,7 @@ def check_scheduler_address(scheduler: str) -> None:
     ok = (sep == ":" and port.isdigit() and 0 < int(port) < 65536 and host != ""
           and "://" not in host and all(ch.isalnum() or ch in ".-_:" for ch in host))
     if not ok:
-        raise InputError(f"--scheduler {scheduler!r}: expected tcp://HOST:PORT of a trusted Dask "
+        raise InputError(f"scheduler {scheduler!r}: expected tcp://HOST:PORT of a trusted Dask "
                          f"scheduler (results are unpickled from it)")
 
 
@@ -245,7 +247,7 @@ def _on_dask(fn: Callable[[T], R], todo: list[T], key: Callable[[T], str], sched
     try:
         client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
     except (OSError, TimeoutError, ValueError, TypeError) as exc:
-        raise InputError(f"--scheduler {scheduler}: cannot connect to a Dask scheduler "
+        raise InputError(f"scheduler {scheduler}: cannot connect to a Dask scheduler "
                          f"({type(exc).__name__}: {exc})") from None
     try:
         stats.workers = len(client.scheduler_info().get("workers", {}))

@@ -99,7 +99,7 @@ def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
 def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
                scheduler: str | None = None, cache_dir: str | Path | None = None,
                progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
-    """Compute the grid dataset of DESIGN.md for ``area``.
+    """Compute the grid dataset (docs/formats.md "Grid without bearings") for ``area``.
 
     Parameters
     ----------

@@ -58,7 +58,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
         ``wall_seconds`` and, for a build, ``dims``.
     """
     if workers < 1:
-        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
+        raise envdata.InputError(f"workers: must be >= 1, got {workers}")
     model = Model(model)
     area = area if isinstance(area, envdata.Area) else envdata.load_area(area)
     out = Path(out) if out is not None else Path(f"{area.name}-{model}.nc")

@@ -1,6 +1,6 @@
 """Bearing-dependent grids: N x 2D BELLHOP runs along radials from the origin.
 
-DESIGN.md "Range- and bearing-dependent areas (N x 2D)". Every area with an ``[origin]`` gets
+docs/formats.md "Bearing-dependent grid". Every area with an ``[origin]`` gets
 this grid. For each radial (``envdata.radials``) and run frequency, one BELLHOP run with the
 range-dependent bottom (.bty) and sound speed ('Q' .ssp) of that radial, the source at the
 observer's depth at the origin, and receivers on the grid's depth axis plus the class depths.
@@ -116,7 +116,7 @@ def radial_grid_bytes(area: Area, n_depth: int) -> float:
 def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
                       scheduler: str | None = None, cache_dir: str | Path | None = None,
                       progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
-    """The bearing-dependent grid dataset of DESIGN.md for an area with ``[origin]``.
+    """The bearing-dependent grid dataset (docs/formats.md) for an area with ``[origin]``.
 
     Parameters as ``acoustics.build_grid``, which calls this for such an area.
     """

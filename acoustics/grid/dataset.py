@@ -1,4 +1,4 @@
-"""The grid dataset of DESIGN.md: its coordinates, variables and attributes, CF-1.8.
+"""The grid dataset (docs/formats.md "Grid file"): its coordinates, variables and attributes, CF-1.8.
 
 ``flat_dataset`` makes the grid of an area without ``[origin]`` (``tl_db(class, band, depth,
 range)`` from the class's depth); ``acoustics.builder.radial`` makes the bearing-dependent one from
@@ -48,7 +48,7 @@ def grid_coords(area: Area, depth_m: np.ndarray, range_m: np.ndarray) -> dict:
 
 def grid_attrs(area: Area, model: str, digest: str, exe_info: dict | None, *,
                water_depth_m: float, ssp_interpolation: str) -> dict:
-    """The global attributes every grid has (DESIGN.md "Grid dataset")."""
+    """The global attributes every grid has (docs/formats.md "Grid without bearings")."""
     attrs = {
         "Conventions": "CF-1.8",
         "tmakit_format": GRID_FORMAT,

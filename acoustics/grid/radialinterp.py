@@ -1,6 +1,6 @@
 """A bearing-dependent grid between its radials: linear in bearing, across 0/360 deg.
 
-DESIGN.md "Range- and bearing-dependent areas": the trackers and the simulator take K
+README "Real areas": the trackers and the simulator take K
 interpolated between radials. It is the one rule for the figures and the trackers
 (``acoustics.grid.tables`` imports it): the two
 radials around a bearing (clockwise), weighted linearly by the angle from each; a radial of

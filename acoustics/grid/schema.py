@@ -1,4 +1,4 @@
-"""The grid contract of DESIGN.md ("Grid dataset"), checked: what ``open_grid`` lets in.
+"""The grid contract (docs/formats.md "What `open_grid` checks"), checked: what ``open_grid`` lets in.
 
 A grid is refused (``GridFileError``, one line naming the file and what is wrong) when a
 dimension, variable, coordinate or attribute is missing or of the wrong type, when its
@@ -26,7 +26,7 @@ REQUIRED_VARS = {"tl_db": ("class", "band", "depth", "range"), "k_db": ("class",
                  "k_urick_db": ("class", "band", "range")}
 REQUIRED_COORDS = ("class", "band", "depth", "range", "band_low_hz", "band_high_hz", "band_center_hz",
                    "source_depth_m")
-#: A bearing-dependent grid (DESIGN.md "Range- and bearing-dependent areas") adds the dimension
+#: A bearing-dependent grid (docs/formats.md "Bearing-dependent grid") adds the dimension
 #: ``bearing`` to these variables, and ``bottom_depth_m(bearing, range)``.
 BEARING_VARS = {"tl_db": ("class", "band", "bearing", "depth", "range"),
                 "k_db": ("class", "band", "bearing", "range"),
@@ -40,7 +40,7 @@ REQUIRED_ATTRS = {"Conventions": str, "area": str, "model": str, "observer_depth
 
 
 def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
-    """Raise GridFileError unless ``ds`` is a grid of DESIGN.md; return the area it stores."""
+    """Raise GridFileError unless ``ds`` is a grid (docs/formats.md); return the area it stores."""
     for dim in REQUIRED_DIMS:
         if dim not in ds.dims:
             raise GridFileError(f"{source}: missing dimension {dim!r}")

@@ -2,7 +2,7 @@
 the origin for a map.
 
 A grid records its input files by name (as the area file gave them, relative to that file) and
-sha256 (attribute ``input_files``, DESIGN.md "Range- and bearing-dependent areas"); where the
+sha256 (attribute ``input_files``, docs/formats.md "Bearing-dependent grid"); where the
 area file was is not recorded. So a file is looked for, in order, as the name resolves from the
 current directory, beside the grid file, and in the built-in areas' folder when the grid's area
 is a built-in one; a candidate counts only when its sha256 is the recorded one. A file given

@@ -1,6 +1,6 @@
 """The bottom along the radials of a bearing-dependent grid.
 
-DESIGN.md "Command line": the bottom along the radials. Left, ``bottom_depth_m`` against range,
+README "What it does" (``grids plot``): the bottom along the radials. Left, ``bottom_depth_m`` against range,
 one line per radial (coloured by bearing on a cyclic scale), a marker where a radial meets land
 and the observer at the origin; right, the radials side by side as a range-bearing image with
 the depth contours and land shaded.

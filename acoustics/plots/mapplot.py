@@ -1,6 +1,6 @@
 """The map around the origin of a bearing-dependent grid.
 
-DESIGN.md "Command line": for a bearing-dependent grid, the map around the origin, K(r) or the
+README "What it does" (``grids plot``): for a bearing-dependent grid, the map around the origin, K(r) or the
 detection range per band and class. One polar panel per class (north up, bearings clockwise,
 range outward in km) with
 

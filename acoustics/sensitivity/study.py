@@ -113,7 +113,8 @@ def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int
 
 def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], digest: str,
                   exe_info: dict) -> xr.Dataset:
-    """The study dataset of DESIGN.md from the nominal result (key None) and every member's."""
+    """The study dataset (docs/formats.md "Sensitivity study file") from the nominal result (key
+    None) and every member's."""
     area = spec.area
     members = np.arange(spec.members)
     nominal = results[None]

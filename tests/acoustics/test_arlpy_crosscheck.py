@@ -29,7 +29,7 @@ def test_tl_agrees_with_arlpy_on_the_munk_1000_environment(tmp_path):
         "water_depth_m": area.water.depth_m,
         "ssp": {"depth_m": np.asarray(ssp.depth_m, dtype=float).tolist(),
                 "speed_mps": np.asarray(ssp.speed_mps, dtype=float).tolist()},
-        "ssp_interpolation": "linear",  # tabulated profiles are linear (BELLHOP C), as in DESIGN.md
+        "ssp_interpolation": "linear",  # tabulated profiles are linear (BELLHOP C), as in docs/formats.md
         "bottom": {"speed_mps": area.bottom.speed_mps, "density_gcc": area.bottom.density_gcc,
                    "attenuation_db_per_wavelength": area.bottom.attenuation_db_per_wavelength},
         "beams": {"count": 2000, "min_angle_deg": -80.0, "max_angle_deg": 80.0},

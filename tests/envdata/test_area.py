@@ -42,7 +42,7 @@ AREA_CASES = {
     "name-quote.toml": r"\[area\] name: must be letters, digits",
     "band-name-space.toml": r"band name: must be letters, digits, .*got 'FB 1'",
     "run-timeout-negative.toml": r"\[propagation\] run_timeout_s: must be in \(0, 2592000\] s \(30 days\), got -5.0",
-    # range- and bearing-dependent areas (DESIGN.md "N x 2D")
+    # range- and bearing-dependent areas (docs/formats.md "[origin] and [bearings]")
     "origin-without-bearings.toml": r"\[origin\]: needs \[bearings\] \(step_deg or bearing_deg\)",
     "bearings-without-origin.toml": r"\[bearings\]: needs \[origin\] \(lat_deg, lon_deg\)",
     "bathymetry-without-origin.toml": r"\[water\] bathymetry: a data file needs \[origin\]",

@@ -32,7 +32,7 @@ def run_json(capsys, *argv) -> dict:
 
 
 def run_error(capsys, *argv) -> str:
-    """Exit status 2 and exactly one ``error:`` line (DESIGN.md "Errors")."""
+    """Exit status 2 and exactly one ``error:`` line (README, after the command list)."""
     status = cli.main([str(a) for a in argv])
     out, err = capsys.readouterr()
     assert status == 2, (out, err)

@@ -119,7 +119,7 @@ def test_missing_level_column_band_class_and_depth_are_errors(munk, static_csv, 
                        level_db=m.level_db, snr_db=m.snr_db)
     with pytest.raises(MeasurementFileError, match=r"nob.csv: column bearing_deg: no bearing"):
         track(munk, nob, method="rpf-bot", rng=rng)
-    with pytest.raises(MeasurementFileError, match=r"--method: 'ml' is not an RPF method"):
+    with pytest.raises(MeasurementFileError, match=r"method 'ml' is not an RPF method"):
         rpf.track_measurements(munk, m, method="ml", rng=rng)
 
 
@@ -163,9 +163,9 @@ def test_cli_experiment_idm_with_the_filters_level_sigma(munk_path, tmp_path, ca
 
 @pytest.mark.parametrize("argv, message", [
     (["experiment", "idm", "idm-static", "--level-sigma-db", "-1"],
-     "error: --level-sigma-db: must be a positive number of dB, got -1"),
+     "error: level sigma_l: must be a positive number of dB, got -1"),
     (["experiment", "idm", "idm-static", "--level-sigma-db", "nan"],
-     "error: --level-sigma-db: must be a positive number of dB, got nan"),
+     "error: level sigma_l: must be a positive number of dB, got nan"),
     (["experiment", "gm", "gm-tv-30km", "--level-sigma-db", "4", "--grid", "x.nc"],
      "error: --level-sigma-db: only the idm study has it (the gm tracker takes its level sd "
      "from the SNR, eq. 11)"),

@@ -123,7 +123,7 @@ def test_unreachable_scheduler_is_a_clear_error_within_seconds(tmp_path):
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(
-        "error: --scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler")
+        "error: scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -16,7 +16,7 @@ Modules: `bearings` (the input and its CSV), `geometry` (eqs. 1-12), `fixes` (cr
 squares, mean), `regions` (eqs. 24-28), `route` (eqs. 13-23), `montecarlo` (Figs. 5, 6, 9) and
 `plot` (the figures; not imported here, so that matplotlib loads only when a plot is drawn).
 
-Conventions (DESIGN.md): x east, y north, metres; bearings and courses in degrees clockwise
+Conventions (docs/formats.md): x east, y north, metres; bearings and courses in degrees clockwise
 from north in [0, 360); times in seconds. The paper's formulas are scale-free, so its unit-free
 example (x0 = y0 = 10, VT = 3) reads as kilometres or metres alike.
 

@@ -1,6 +1,6 @@
 """Bearings of one stationary target taken at known observer positions: the input and its CSV.
 
-The bearings CSV has the columns ``t_s, obs_x_m, obs_y_m, bearing_deg`` (DESIGN.md): times in
+The bearings CSV has the columns ``t_s, obs_x_m, obs_y_m, bearing_deg`` (docs/formats.md): times in
 seconds, increasing; observer positions east and north in metres; bearings in degrees clockwise
 from north in [0, 360). Both the file reader and the dataclass check their values.
 """

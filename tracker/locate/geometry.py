@@ -9,7 +9,7 @@ so that n bearings form the system P x = b (eqs. 5-7) and two of them cross at x
 (eq. 8). The conditioning number u of P (eq. 11) and its determinant (eq. 10) say how sensitive
 a fix is to bearing errors.
 
-Conventions (DESIGN.md): x east, y north, metres; bearings in degrees clockwise from north in
+Conventions (docs/formats.md): x east, y north, metres; bearings in degrees clockwise from north in
 [0, 360).
 """
 

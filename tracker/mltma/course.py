@@ -1,7 +1,7 @@
 """Course from bearings: the relative course by least squares over bearing triples (eq. 8,
 Annex 1) and the course from a relative course and a speed (eq. 7).
 
-Angles are degrees clockwise from north (DESIGN.md); differences are wrapped into [-180, 180).
+Angles are degrees clockwise from north (docs/formats.md "Conventions"); differences are wrapped into [-180, 180).
 """
 
 from __future__ import annotations

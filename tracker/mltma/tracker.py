@@ -111,7 +111,7 @@ def track_measurements(tables: GridTables, measurements: Measurements, *,
         Use only this band's levels.
     """
     if band is not None and band not in measurements.band_names:
-        raise MeasurementFileError(f"{measurements.source}: --band {band!r}: no level_db_{band} "
+        raise MeasurementFileError(f"{measurements.source}: band {band!r}: no level_db_{band} "
                                    f"column (bands: {', '.join(measurements.band_names)})")
     m = measurements
     if band is not None:

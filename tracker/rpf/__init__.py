@@ -6,7 +6,8 @@ jointly; see `RpfConfig.sl_offset_sd_db`), which is not in the paper.
 
 Modules, one part of the filter each:
 
-- `config`: `RpfConfig`, `Method`, the engine switch (`config.ENGINE`);
+- `config`: `RpfConfig` (its ``engine``: the compiled kernel or the numpy reference), `Method`,
+  `Engine`;
 - `prior`: initial particles from the first bearing;
 - `motion`: prediction, eqs. 4-6; `normals`: the normal draws it and the kernel use;
 - `likelihood`: bearings and levels, eqs. 9, 12, 16, 31-33;
@@ -26,7 +27,7 @@ filter" (2003), sec. 6.4.1.1 (initialization).
 """
 
 from tracker.rpf.batch import BatchResult, run_batch
-from tracker.rpf.config import BLOCK_PARTICLES, KNOT_MPS, Method, RpfConfig
+from tracker.rpf.config import BLOCK_PARTICLES, KNOT_MPS, Engine, Method, RpfConfig
 from tracker.rpf.estimate import estimate, particle_sds, weighted_covariance
 from tracker.rpf.likelihood import bearing_loglik, bearing_rad, level_loglik, predicted_level_db, wrap_rad
 from tracker.rpf.motion import predict
@@ -38,7 +39,7 @@ from tracker.rpf.track import track_measurements
 from tracker.rpf.weights import n_eff, normalise, normalise_exp
 
 __all__ = [
-    "BLOCK_PARTICLES", "KNOT_MPS", "BatchResult", "Method", "RpfConfig", "bearing_loglik",
+    "BLOCK_PARTICLES", "KNOT_MPS", "BatchResult", "Engine", "Method", "RpfConfig", "bearing_loglik",
     "bearing_rad", "epanechnikov_sample", "estimate", "initial_particles", "level_loglik",
     "multinomial_resample", "n_eff", "normalise", "normalise_exp", "optimal_bandwidth",
     "particle_sds", "predict", "predicted_level_db", "regularise", "run_batch",

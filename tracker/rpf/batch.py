@@ -14,7 +14,7 @@ each component is contiguous):
 4. estimate and covariance after the regularization step, eqs. 29-30
    (`tracker.rpf.estimate.estimate`).
 
-This module's cycle loop is the numpy reference engine; by default (`tracker.rpf.config.ENGINE`)
+This module's cycle loop is the numpy reference engine; by default (`RpfConfig.engine`)
 each block of runs goes to the compiled fused loop of `tracker.rpf.kernel` instead.
 
 References
@@ -30,8 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tracker.rpf import config
-from tracker.rpf.config import BLOCK_PARTICLES, RpfConfig
+from tracker.rpf.config import BLOCK_PARTICLES, Engine, RpfConfig
 from tracker.rpf.estimate import estimate, particle_sds
 from tracker.rpf.likelihood import bearing_loglik, level_loglik
 from tracker.rpf.motion import predict
@@ -92,7 +91,7 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
         Blocks of runs filtered at once on this many threads (the compiled loop and numpy's
         array loops release the GIL). The results do not depend on it: the runs go in blocks
         of about ``BLOCK_PARTICLES`` particles, each with its own generator spawned from
-        ``rng`` (and, with ``ENGINE = "kernel"``, one generator per run seeded from it).
+        ``rng`` (and, with the kernel engine, one generator per run seeded from it).
 
     Returns
     -------
@@ -130,7 +129,7 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
 def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, cfg, rng,
                source_level_model, p0_db, p0_sd_db, summaries) -> BatchResult:
     """`run_batch` on one block of runs, one generator."""
-    if config.ENGINE == "kernel" and (level_db_meas is None
+    if cfg.engine is Engine.KERNEL and (level_db_meas is None
                                       or all(p is None or hasattr(p, "k_db")
                                              for p in k_profiles)):
         from tracker.rpf.kernel import run as run_kernel  # numba loads only here

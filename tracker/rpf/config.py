@@ -1,4 +1,4 @@
-"""Settings of the regularized particle filter: `RpfConfig`, `Method`, and the engine switch.
+"""Settings of the regularized particle filter: `RpfConfig`, `Method` and `Engine`.
 
 References
 ----------
@@ -16,11 +16,15 @@ KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
 BLOCK_PARTICLES = 20_000
-#: Cycle loop of `tracker.rpf.batch.run_batch`: "kernel" (default) the compiled fused loop of
-#: `tracker.rpf.kernel`; "numpy" the reference implementation of `tracker.rpf.batch` (same
-#: statistics, other random numbers). Read at each call, so set it here
-#: (``tracker.rpf.config.ENGINE = "numpy"``), not on the package.
-ENGINE = "kernel"
+
+
+class Engine(StrEnum):
+    """The cycle loop of `tracker.rpf.batch.run_batch`: the compiled fused loop of
+    `tracker.rpf.kernel` (the default), or the numpy reference implementation of
+    `tracker.rpf.batch` (same statistics, other random numbers)."""
+
+    KERNEL = "kernel"
+    NUMPY = "numpy"
 
 
 class Method(StrEnum):
@@ -40,7 +44,7 @@ class RpfConfig:
     n_particles : int
         N (5000).
     sigma_a_mps2 : float
-        Acceleration process-noise sd, m/s^2 (1.5e-3; DESIGN.md reads the paper's Q = sigma_a I
+        Acceleration process-noise sd, m/s^2 (1.5e-3; docs/idm.md reads the paper's Q = sigma_a I
         with sigma_a a standard deviation).
     bearing_sigma_deg : float
         sigma_theta of eq. 32, deg (1.5).
@@ -65,6 +69,8 @@ class RpfConfig:
         inflation acts as artificial process noise on the velocity; when the bearings carry no
         range information (observer parallel to the target) it lets the filter forget the
         speed prior and drift out along the SL(v) - TL(r) ridge.
+    engine : Engine
+        The cycle loop (`Engine`; the compiled kernel by default).
     """
 
     n_particles: int = 5000
@@ -79,6 +85,7 @@ class RpfConfig:
     course_sd_deg: float = math.degrees(math.pi / math.sqrt(12.0))
     sl_offset_sd_db: float = 0.0
     shrink: bool = False
+    engine: Engine = Engine.KERNEL
 
     def __post_init__(self) -> None:
         if int(self.n_particles) != self.n_particles or self.n_particles < 2:
@@ -92,6 +99,7 @@ class RpfConfig:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise ValueError(f"{name} must be > 0, got {v}")
+        object.__setattr__(self, "engine", Engine(self.engine))
         if not 0.0 < self.neff_fraction <= 1.0:
             raise ValueError(f"neff_fraction must be in (0, 1], got {self.neff_fraction}")
 

@@ -69,7 +69,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     try:
         method = Method(method)
     except ValueError:
-        raise MeasurementFileError(f"--method: {method!r} is not an RPF method (rpf, rpf-bot, "
+        raise MeasurementFileError(f"method {method!r} is not an RPF method (rpf, rpf-bot, "
                                    f"rpf-vp)") from None
     spl = method is not Method.RPF_BOT
     cfg = config or RpfConfig()
@@ -86,7 +86,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
             if not usable:
                 raise MeasurementFileError(
                     f"{m.source}: method rpf needs a level column level_db_NAME for a band of "
-                    f"the grid ({', '.join(bands)}); none found (use --method rpf-bot for "
+                    f"the grid ({', '.join(bands)}); none found (method rpf-bot tracks on "
                     f"bearings only)")
             band = usable[0]
         if band not in m.band_names:

@@ -55,7 +55,7 @@ def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
 def check_level_sigma(level_sigma_db: float) -> None:
     """ScenarioError unless the filters' sigma_l is a positive number of dB."""
     if not (math.isfinite(level_sigma_db) and level_sigma_db > 0):
-        raise ScenarioError(f"--level-sigma-db: must be a positive number of dB, got "
+        raise ScenarioError(f"level sigma_l: must be a positive number of dB, got "
                             f"{level_sigma_db:g}")
 
 
@@ -113,7 +113,7 @@ def _find_grid(grid):
 
     if grid is None:
         raise ScenarioError(f"the idm experiment needs the {AREA} grid: build it with "
-                            f"'tmakit grids build {AREA}' and pass it with --grid")
+                            f"'tmakit grids build {AREA}' and give its file")
     if isinstance(grid, GridTables):
         return grid, grid.source
     return acoustics.open_grid(grid), str(grid)
@@ -156,7 +156,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     """
     sc = get_scenario(scenario)
     if int(runs) != runs or runs < 1:
-        raise ScenarioError(f"--runs: must be a positive integer, got {runs}")
+        raise ScenarioError(f"runs: must be a positive integer, got {runs}")
     check_level_sigma(level_sigma_db)
     out_dir = Path(out_dir)
     tables, grid_name = _find_grid(grid)

@@ -26,7 +26,7 @@ def test_build_on_a_two_worker_cluster_equals_the_local_build(tiny_area, tiny_gr
 
 def test_unreachable_scheduler_fails_fast_with_a_clear_error(tiny_area):
     start = time.perf_counter()
-    with pytest.raises(InputError, match=r"--scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler"):
+    with pytest.raises(InputError, match=r"scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler"):
         acoustics.build_grid(tiny_area, scheduler="tcp://127.0.0.1:9")
     assert time.perf_counter() - start < 15.0
 
@@ -37,5 +37,5 @@ def test_cli_with_an_unreachable_scheduler_is_one_error_line(capsys, tiny_area_p
     out = tmp_path / "g.nc"
     assert main(["grids", "build", str(tiny_area_path), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("error: --scheduler tcp://127.0.0.1:9: cannot connect")
+    assert len(err) == 1 and err[0].startswith("error: scheduler tcp://127.0.0.1:9: cannot connect")
     assert list(tmp_path.iterdir()) == []  # no output and no empty resume folder

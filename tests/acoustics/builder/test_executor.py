@@ -95,7 +95,7 @@ def test_tasks_not_yet_started_are_cancelled_when_the_caller_stops(tmp_path):
 
 
 def test_workers_must_be_positive():
-    with pytest.raises(InputError, match=r"--workers: must be >= 1, got 0"):
+    with pytest.raises(InputError, match=r"workers: must be >= 1, got 0"):
         list(run_tasks(int, ["1"], key=str, workers=0))
 
 

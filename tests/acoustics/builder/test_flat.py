@@ -1,4 +1,4 @@
-"""Grid building: the dataset of DESIGN.md, K(r) from BELLHOP, the shortcuts and their cost."""
+"""Grid building: the dataset of docs/formats.md, K(r) from BELLHOP, the shortcuts and their cost."""
 
 from __future__ import annotations
 

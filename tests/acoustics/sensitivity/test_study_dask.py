@@ -73,7 +73,7 @@ def test_a_worker_killed_mid_study_does_not_lose_members(tiny_area, one_worker_s
 
 def test_unreachable_scheduler_fails_within_seconds(tiny_area, tmp_path):
     start = time.perf_counter()
-    with pytest.raises(InputError, match=r"--scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler"):
+    with pytest.raises(InputError, match=r"scheduler tcp://127.0.0.1:9: cannot connect to a Dask scheduler"):
         sens.run_study(tiny_area, specs(), members=2, scheduler="tcp://127.0.0.1:9", cache_dir=tmp_path / "c")
     assert time.perf_counter() - start < 10.0  # 5 s connect timeout
     assert not (tmp_path / "c").exists()

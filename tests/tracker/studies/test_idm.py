@@ -56,7 +56,7 @@ def test_unknown_scenario_and_bad_runs_are_errors(tmp_path, munk_grid):
     with pytest.raises(ScenarioError, match=r"scenario 'idm-nope': unknown idm scenario \(known: "
                                             r"idm-maneuvering"):
         get_scenario("idm-nope")
-    with pytest.raises(ScenarioError, match=r"--runs: must be a positive integer, got 0"):
+    with pytest.raises(ScenarioError, match=r"runs: must be a positive integer, got 0"):
         idm.run("idm-static", runs=0, out_dir=tmp_path, seed=1, grid=munk_grid)
     assert not any(tmp_path.iterdir())
 

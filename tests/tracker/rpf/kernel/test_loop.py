@@ -10,22 +10,20 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tests.tracker.rpf.kernel.conftest import profile
-from tracker.rpf import config
 from tracker.rpf.batch import run_batch
-from tracker.rpf.config import RpfConfig
+from tracker.rpf.config import Engine, RpfConfig
 from tracker.studies.idm import simulate
 from tracker.studies.idm_scenarios import get_scenario
 
 
 def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=False):
-    monkeypatch.setattr(config, "ENGINE", engine)
     sc = get_scenario("idm-static")
     p = profile(uniform=shrink)  # both K(r) paths of the kernel: the walk and the uniform axis
     t = sc.t_s
     obs = sc.observer_state(t)
     rel = sc.target_state(t) - obs
     b, lv = simulate(sc, p, runs, np.random.default_rng(100))  # same measurements for both
-    cfg = RpfConfig(n_particles=n, shrink=shrink)
+    cfg = RpfConfig(n_particles=n, shrink=shrink, engine=engine)
     res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=b,
                     level_db_meas=lv if levels else None, k_profiles=[p] * t.size, cfg=cfg,
                     rng=np.random.default_rng(seed), threads=threads)
@@ -34,7 +32,7 @@ def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=Fals
 
 
 def test_kernel_is_the_default_and_independent_of_threads(monkeypatch):
-    assert config.ENGINE == "kernel"
+    assert RpfConfig().engine is Engine.KERNEL
     a, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=3, threads=1)
     b, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=3, threads=2)
     c, _ = _batch("kernel", monkeypatch, runs=9, n=500, levels=True, seed=4, threads=1)
@@ -73,7 +71,6 @@ def test_rmse_curves_agree_with_the_numpy_reference(levels, shrink, monkeypatch)
 
 
 def test_track_summaries_and_missing_bearings(monkeypatch):
-    monkeypatch.setattr(config, "ENGINE", "kernel")
     t = np.arange(0.0, 600.0, 60.0)
     obs = np.zeros((t.size, 4))
     obs[:, 2] = 2.0

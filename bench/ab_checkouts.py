@@ -1,0 +1,137 @@
+"""The same workloads on two checkouts of tmakit, interleaved: is one slower than the other?
+
+    python bench/ab_checkouts.py BEFORE_DIR AFTER_DIR [--repeats 3] [--out docs/results/ab.json]
+
+Each workload runs in a fresh process with the checkout first on the import path and the same Python
+and BELLHOP (this venv's), alternately A B, B A, A B, ... so that drift in the machine's load falls
+on both; the figure is the median over the repeats and the ratio after / before of those medians.
+Workloads: the ``grids build`` of ocean-deep and of shelf-break on 2 workers (wall time of the
+command), one cycle of the ML tracker with 3 class hypotheses and 220-240 bearings on the tack (as
+bench_gm.py, on the Urick grid: no BELLHOP in it), and the compiled particle filter's throughput on
+bearings (one filter, as bench_rpf.py). Not part of ``make bench``: it compares a change with its
+parent.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+#: Each snippet prints one number (seconds, or particle-steps per second) and runs in the
+#: checkout's directory with the checkout first on sys.path.
+WORKLOADS = {
+    "grids_build_ocean_deep_2_workers_s": ("""
+import subprocess, sys, time, tempfile, os
+out = os.path.join(tempfile.mkdtemp(), "g.nc")
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "ocean-deep", "--out", out,
+                "--workers", "2"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+""", "lower"),
+    "grids_build_shelf_break_2_workers_s": ("""
+import subprocess, sys, time, tempfile, os
+out = os.path.join(tempfile.mkdtemp(), "g.nc")
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "shelf-break", "--out", out,
+                "--workers", "2"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+""", "lower"),
+    "ml_cycle_3_classes_240_bearings_ms": ("""
+import dataclasses, time, numpy as np, envdata, acoustics
+from tracker.mltma import MLTracker
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate
+grid = acoustics.build_grid(envdata.load_area("ocean-deep"), model="urick")
+try:
+    from acoustics.grid.tables import as_tables
+    grid = as_tables(grid)
+except ImportError:  # the checkout before the typed face takes the dataset
+    pass
+sc = load_scenario("gm-tv-30km")
+sc = dataclasses.replace(sc, target_tacks=(dataclasses.replace(sc.target_tacks[0], duration_s=2400.0),))
+m, _ = simulate(sc, grid, np.random.default_rng(0))
+trk = MLTracker(grid, capacity=len(m))
+vx, vy = m.obs_velocity_mps()
+lat = []
+for i in range(len(m)):
+    t0 = time.perf_counter()
+    trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
+    lat.append(time.perf_counter() - t0)
+print(1000.0 * float(np.median(lat[-20:])))
+""", "lower"),
+    "rpf_one_filter_bearings_msteps_per_s": ("""
+import time, sys, numpy as np
+sys.path.insert(0, "bench")
+from bench_rpf import _scenario
+from tracker import rpf
+_, t, obs, b = _scenario()
+cfg = rpf.RpfConfig(n_particles=5000)
+rpf.run_batch(t_s=t[:5], obs_state=obs[:5], bearing_rad_meas=b[None, :5], level_db_meas=None,
+              k_profiles=None, cfg=cfg, rng=np.random.default_rng(0))  # compile
+best = 0.0
+for i in range(3):
+    s = time.perf_counter()
+    rpf.run_batch(t_s=t, obs_state=obs, bearing_rad_meas=b[None], level_db_meas=None,
+                  k_profiles=None, cfg=cfg, rng=np.random.default_rng(2 + i))
+    best = max(best, t.size * 5000 / (time.perf_counter() - s))
+print(best / 1e6)
+""", "higher"),
+}
+
+
+def run_one(checkout: Path, snippet: str) -> float:
+    env = dict(os.environ, PYTHONPATH=str(checkout))
+    with tempfile.NamedTemporaryFile("w", suffix=".py", delete=False) as fh:
+        fh.write(snippet)
+    try:
+        done = subprocess.run([sys.executable, fh.name], cwd=checkout, env=env, capture_output=True,
+                              text=True, check=True)
+    finally:
+        os.unlink(fh.name)
+    return float(done.stdout.strip().splitlines()[-1])
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("before", type=Path)
+    parser.add_argument("after", type=Path)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args(argv)
+    sides = {"before": args.before.resolve(), "after": args.after.resolve()}
+    result = {"load_average_1min_at_start": os.getloadavg()[0], "repeats": args.repeats,
+              "checkouts": {k: _describe(v) for k, v in sides.items()}, "workloads": {}}
+    for name, (snippet, better) in WORKLOADS.items():
+        values = {"before": [], "after": []}
+        for i in range(args.repeats):
+            order = ("before", "after") if i % 2 == 0 else ("after", "before")
+            for side in order:
+                values[side].append(run_one(sides[side], snippet))
+        med = {side: statistics.median(v) for side, v in values.items()}
+        ratio = med["after"] / med["before"]
+        result["workloads"][name] = {"values": values, "median": med, "after_over_before": ratio,
+                                     "better": better}
+        print(f"{name}: before {med['before']:.4g}, after {med['after']:.4g}, after/before {ratio:.3f}",
+              flush=True)
+    result["load_average_1min_at_end"] = os.getloadavg()[0]
+    if args.out:
+        args.out.write_text(json.dumps(result, indent=1) + "\n")
+    return 0
+
+
+def _describe(checkout: Path) -> str:
+    done = subprocess.run(["git", "-C", str(checkout), "rev-parse", "--short", "HEAD"], capture_output=True,
+                          text=True)
+    return done.stdout.strip() or str(checkout)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
