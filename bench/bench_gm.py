@@ -29,7 +29,7 @@ def main() -> None:
     if len(sys.argv) > 1:
         path = Path(sys.argv[1])
     else:
-        path = Path(build_grid_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2)["file"])
+        path = build_grid_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2).file
     grid = acoustics.open_grid(path)
     # one 40-min tack (the scenario's first, made 2400 s long): the last cycles carry 220-240
     # bearings on the tack, as the latency figure asks

@@ -9,6 +9,7 @@ from pathlib import Path
 import acoustics
 import envdata
 from acoustics.builder.gridfile import build_grid_file
+from tools.grids_cmd import grid_file_data
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report, want_progress
 
@@ -56,9 +57,9 @@ def run(args) -> Report:
     map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
     plot_map_set(acoustics.open_grid(map_grid), map_pngs, grid_path=map_grid)
     plots.extend(str(p) for p in map_pngs.values())
-    state = "up to date" if info["up_to_date"] else f"built in {info['wall_seconds']:.1f} s"
-    map_state = "up to date" if map_info["up_to_date"] else f"built in {map_info['wall_seconds']:.1f} s"
+    state = "up to date" if info.up_to_date else f"built in {info.wall_seconds:.1f} s"
+    map_state = "up to date" if map_info.up_to_date else f"built in {map_info.wall_seconds:.1f} s"
     summary = (f"demo: area {envdata.DEFAULT_AREA}: grid {grid_path} ({state})\n"
                f"      area {MAP_AREA}: grid {map_grid} ({map_state})\n"
                + "\n".join(f"  plot {p}" for p in plots))
-    return Report(summary, {"grid": info, "map_grid": map_info, "plots": plots})
+    return Report(summary, {"grid": grid_file_data(info), "map_grid": grid_file_data(map_info), "plots": plots})

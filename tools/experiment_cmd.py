@@ -76,7 +76,7 @@ def run_experiment(args) -> Report:
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
-                              workers=args.workers, progress=want_progress(args))["file"]
+                              workers=args.workers, progress=want_progress(args)).file
         res = idm_experiment.run(args.scenario, runs=runs,
                                  out_dir=Path(args.out), seed=args.seed, progress=want_progress(args),
                                  workers=args.workers, grid=grid,

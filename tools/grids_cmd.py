@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 
@@ -65,14 +66,24 @@ def run_build(args) -> Report:
     check_output_file(out, Kind.NETCDF, force=args.force)
     info = build_grid_file(area, out, model=args.model, workers=args.workers,
                            scheduler=args.scheduler, force=args.force, progress=want_progress(args))
-    if info["up_to_date"]:
-        summary = f"{info['file']}: up to date for area {info['area']} ({info['model']}); --force rebuilds"
+    if info.up_to_date:
+        summary = f"{info.file}: up to date for area {info.area} ({info.model}); --force rebuilds"
     else:
-        dims = ", ".join(f"{k} {v}" for k, v in info["dims"].items())
-        summary = (f"wrote {info['file']}: area {info['area']}, model {info['model']} ({dims})\n"
-                   f"  BELLHOP runs: {info['runs']} ({info['runs_reused']} reused), "
-                   f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['wall_seconds']:.1f} s wall")
-    return Report(summary, info)
+        dims = ", ".join(f"{k} {v}" for k, v in info.dims.items())
+        summary = (f"wrote {info.file}: area {info.area}, model {info.model} ({dims})\n"
+                   f"  BELLHOP runs: {info.runs} ({info.runs_reused} reused), "
+                   f"{info.bellhop_seconds:.1f} s of BELLHOP, {info.wall_seconds:.1f} s wall")
+    return Report(summary, grid_file_data(info))
+
+
+def grid_file_data(info) -> dict:
+    """A ``GridFileResult`` as the JSON report gives it."""
+    data = dataclasses.asdict(info)
+    data.update(file=str(info.file), model=str(info.model),
+                bellhop_seconds=round(info.bellhop_seconds, 3), wall_seconds=round(info.wall_seconds, 3))
+    if info.up_to_date:
+        del data["dims"]
+    return data
 
 
 def run_show(args) -> Report:

@@ -9,12 +9,45 @@ from __future__ import annotations
 import os
 import shutil
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import envdata
 from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
 from acoustics.errors import GridFileError
 from acoustics.grid.io import open_grid, write_grid
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class GridFileResult:
+    """What ``build_grid_file`` did.
+
+    Attributes
+    ----------
+    file : Path
+    area : str
+    model : Model
+    up_to_date : bool
+        The file was current and reused: nothing was computed.
+    source_hash : str
+    runs, runs_reused : int
+        BELLHOP runs of the build, and those taken from the resume folder.
+    bellhop_seconds, wall_seconds : float
+        BELLHOP's process time of the runs done now, and the build's wall time, s.
+    dims : dict
+        The grid's dimension sizes ({} when the file was reused).
+    """
+
+    file: Path
+    area: str
+    model: Model
+    up_to_date: bool
+    source_hash: str
+    runs: int = 0
+    runs_reused: int = 0
+    bellhop_seconds: float = 0.0
+    wall_seconds: float = 0.0
+    dims: dict[str, int] = field(default_factory=dict)
 
 
 def resume_dir(out: str | os.PathLike, digest: str) -> Path:
@@ -30,7 +63,7 @@ def remove_cache(cache_dir: str | os.PathLike) -> None:
 
 def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLike | None = None, *,
                     model: Model | str = Model.BELLHOP, workers: int = 1, scheduler: str | None = None,
-                    force: bool = False, progress: bool = False) -> dict:
+                    force: bool = False, progress: bool = False) -> GridFileResult:
     """Build the grid file of an area, or reuse it when its ``source_hash`` is current.
 
     Parameters
@@ -52,10 +85,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
 
     Returns
     -------
-    dict
-        What was done, as the ``grids build`` command reports it: ``file``, ``area``, ``model``,
-        ``up_to_date``, ``source_hash``, ``runs``, ``runs_reused``, ``bellhop_seconds``,
-        ``wall_seconds`` and, for a build, ``dims``.
+    GridFileResult
     """
     if workers < 1:
         raise envdata.InputError(f"workers: must be >= 1, got {workers}")
@@ -69,9 +99,8 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
         except GridFileError:
             existing = None  # unreadable: rebuilt below
         if existing is not None and existing.dataset.attrs.get("source_hash") == digest:
-            return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": True,
-                    "source_hash": digest, "runs": 0, "runs_reused": 0, "bellhop_seconds": 0.0,
-                    "wall_seconds": 0.0}
+            return GridFileResult(file=out, area=area.name, model=model, up_to_date=True,
+                                  source_hash=digest)
     cache_dir = resume_dir(out, digest)
     stats = BuildStats()
     start = time.perf_counter()
@@ -79,8 +108,8 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
                     cache_dir=cache_dir if model is Model.BELLHOP else None, progress=progress, stats=stats)
     write_grid(ds, out)
     remove_cache(cache_dir)
-    return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": False,
-            "source_hash": digest, "runs": stats.runs_total, "runs_reused": stats.runs_reused,
-            "bellhop_seconds": round(stats.bellhop_seconds, 3),
-            "wall_seconds": round(time.perf_counter() - start, 3),
-            "dims": {k: int(v) for k, v in ds.sizes.items()}}
+    return GridFileResult(file=out, area=area.name, model=model, up_to_date=False, source_hash=digest,
+                          runs=stats.runs_total, runs_reused=stats.runs_reused,
+                          bellhop_seconds=stats.bellhop_seconds,
+                          wall_seconds=time.perf_counter() - start,
+                          dims={str(k): int(v) for k, v in ds.sizes.items()})

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from acoustics.grid.formats import RESULT_FORMAT
 from envdata.files import atomic_path
 from tracker.mltma import MLBatch, MLParams, wrap180
 from tracker.scenario import load_scenario
@@ -209,7 +210,7 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     except ImportError:  # pragma: no cover - matplotlib is a dependency
         summary["plots"] = []
     with atomic_path(out / "summary.json") as tmp:
-        tmp.write_text(json.dumps(summary, indent=1, default=float))
+        tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **summary}, indent=1, default=float))
     lines = [f"experiment gm {sc.name}: {n_runs} runs x {len(names)} classes x {len(t_s)} cycles "
              f"in {elapsed:.1f} s"]
     for name in names:

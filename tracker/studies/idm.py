@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.tables import GridTables
 from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
@@ -265,7 +266,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         "particle_steps_per_s": particle_steps / elapsed,
     }
     with atomic_path(json_path) as tmp:
-        tmp.write_text(json.dumps(data, indent=2))
+        tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **data}, indent=2))
     data["summary"] = _summary(data, sc, methods)
     return data
 

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from acoustics.grid.formats import RESULT_FORMAT
 from envdata.files import atomic_path
 from tracker import locate as loc
 
@@ -112,7 +113,7 @@ def run(out_path, seed: int = 12345, trials: int = 1000,
     out = Path(out_path)
     out.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(out) as tmp:
-        tmp.write_text(json.dumps(result, indent=1) + "\n")
+        tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **result}, indent=1) + "\n")
     return result
 
 

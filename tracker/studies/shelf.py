@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from acoustics.builder.gridfile import build_grid_file
+from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.tables import GridTables
 from envdata.area import Area, Water
 from envdata.areafile import load_area
@@ -126,9 +127,9 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     out = Path(out_dir)
     area = load_area(AREA)
     grids = {"bearing": build_grid_file(area, out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
-                                        progress=progress)["file"],
+                                        progress=progress).file,
              "isotropic": build_grid_file(origin_area(area), out / "grids" / f"{AREA}-origin-bellhop.nc",
-                                          workers=workers, progress=progress)["file"]}
+                                          workers=workers, progress=progress).file}
     from acoustics.grid.io import open_grid
 
     tables = {name: open_grid(path) for name, path in grids.items()}
@@ -168,7 +169,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
 
     with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):
         frame.to_csv(csv_tmp, index=False, float_format="%.6g")
-        json_tmp.write_text(json.dumps(summary, indent=1) + "\n")
+        json_tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **summary}, indent=1) + "\n")
         save_figure(fig, png_tmp, atomic=False)
     summary["files"] = [str(f) for f in files]
     summary["summary"] = _text(summary)

@@ -14,10 +14,10 @@ from acoustics.builder.runs import iter_runs
 def test_urick_file_is_built_then_reused(tiny_area, tmp_path):
     out = tmp_path / "u.nc"
     built = build_grid_file(tiny_area, out, model="urick")
-    assert built["up_to_date"] is False and built["runs"] == 0 and built["model"] == "urick"
-    assert built["source_hash"] == acoustics.expected_source_hash(tiny_area, "urick")
+    assert built.up_to_date is False and built.runs == 0 and built.model == "urick"
+    assert built.source_hash == acoustics.expected_source_hash(tiny_area, "urick")
     again = build_grid_file(tiny_area, out, model="urick")
-    assert again["up_to_date"] is True and again["file"] == str(out)
+    assert again.up_to_date is True and again.file == out
     assert sorted(p.name for p in tmp_path.iterdir()) == ["u.nc"]
 
 
@@ -31,5 +31,5 @@ def test_a_build_resumes_from_the_runs_beside_the_output(tiny_area, tiny_area_pa
         pass
     assert len(list(cache.glob("*.npy"))) == 3
     info = build_grid_file(tiny_area_path, out, workers=2)  # an area file path works as well
-    assert info["runs"] == 4 and info["runs_reused"] == 3 and not cache.exists()
+    assert info.runs == 4 and info.runs_reused == 3 and not cache.exists()
     xr.testing.assert_identical(acoustics.open_grid(out).dataset.drop_attrs(), tiny_grid.drop_attrs())
