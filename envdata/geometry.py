@@ -90,3 +90,15 @@ class Bearings:
         if self.step_deg is not None:
             return {"step_deg": self.step_deg}
         return {"bearing_deg": list(self.listed_deg)}
+
+
+def local_plane_to_lat_lon(origin_lat_deg: float, origin_lon_deg: float, x_m, y_m):
+    """Latitude and longitude, deg, of points x east and y north of an origin, m, in the
+    azimuthal equidistant projection centred on it (WGS84): the local plane of scenario,
+    measurement, truth and track files of an area with an ``[origin]``."""
+    import numpy as np
+    from pyproj import Proj
+
+    proj = Proj(proj="aeqd", lat_0=origin_lat_deg, lon_0=origin_lon_deg, ellps="WGS84")
+    lon, lat = proj(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float), inverse=True)
+    return np.asarray(lat), np.asarray(lon)

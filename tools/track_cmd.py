@@ -6,6 +6,8 @@ import argparse
 
 import numpy as np
 
+from envdata.errors import InputError
+from envdata.files import atomic_paths
 from tools.outputs import Kind, check_output_file
 from tools.report import Report
 
@@ -23,8 +25,12 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed of the particle filters")
     p.add_argument("--class", dest="cls_name", metavar="NAME", help="only this class hypothesis")
     p.add_argument("--band", metavar="NAME", help="only this band's levels")
+    p.add_argument("--plot", metavar="PNG",
+                   help="also draw the observer's path, the bearing fan and each hypothesis's track with its "
+                        "uncertainty ellipses over the area (and the errors against --truth)")
+    p.add_argument("--truth", metavar="CSV", help="truth CSV (simulate's truth.csv) drawn on --plot")
     p.add_argument("--force", action="store_true",
-                   help="replace --out even if it is not a track CSV")
+                   help="replace --out (and --plot) even if it is not a track CSV (a PNG)")
     p.set_defaults(func=run_track)
 
 
@@ -33,16 +39,32 @@ def run_track(args) -> Report:
     from tracker.measurements import read_measurements
     from tracker.track import track
     from tracker.trackfile import write_track
+    from tracker.truthfile import read_truth
 
     check_output_file(args.out, Kind.TRACK_CSV, force=args.force)
+    if args.plot is not None:
+        check_output_file(args.plot, Kind.PNG, force=args.force)
+    elif args.truth is not None:
+        raise InputError("--truth is drawn on the picture: give --plot PNG too")
     tables = open_grid(args.grid)
     m = read_measurements(args.measurements, list(tables.band_names))
+    truth = read_truth(args.truth) if args.truth is not None else None
     df = track(tables, m, method=args.method, rng=np.random.default_rng(args.seed),
                cls_name=args.cls_name, band=args.band)
-    write_track(args.out, df)
+    if args.plot is None:
+        write_track(args.out, df)
+    else:  # the track and its picture: both or neither
+        from acoustics.plots.figures import save_figure
+        from tracker.trackplot import track_figure
+
+        fig = track_figure(df, m, tables, truth=truth, grid_path=args.grid)
+        with atomic_paths([args.out, args.plot]) as (csv_tmp, png_tmp):
+            write_track(csv_tmp, df, atomic=False)
+            save_figure(fig, png_tmp, atomic=False)
     last = df.groupby("class").tail(1)
-    lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"]
-    data = {"out": args.out, "method": args.method, "cycles": len(m), "final": {}}
+    lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"
+             + (f" and {args.plot}" if args.plot else "")]
+    data = {"out": args.out, "plot": args.plot, "method": args.method, "cycles": len(m), "final": {}}
     offset = tables.observer_offset(m.obs_x_m, m.obs_y_m)
     if offset is not None:
         lines.append(f"  observer up to {offset.distance_m / 1000:.2f} km from the grid's origin "

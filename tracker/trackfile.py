@@ -38,9 +38,13 @@ def check_track(df: pd.DataFrame, where: str = "track") -> pd.DataFrame:
     return out
 
 
-def write_track(path: str | os.PathLike, df: pd.DataFrame) -> None:
-    """Write a track CSV atomically after checking its columns (TRACK_COLUMNS order)."""
+def write_track(path: str | os.PathLike, df: pd.DataFrame, *, atomic: bool = True) -> None:
+    """Write a track CSV after checking its columns (TRACK_COLUMNS order): through a temporary
+    file, or straight to ``path`` for a caller that renames several files together."""
     out = check_track(df, str(path))
+    if not atomic:
+        out.to_csv(path, index=False, na_rep="", float_format="%.9g")
+        return
     with atomic_path(path) as tmp:
         out.to_csv(tmp, index=False, na_rep="", float_format="%.9g")
 

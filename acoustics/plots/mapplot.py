@@ -200,23 +200,9 @@ def _latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict
                   bearings: np.ndarray, note: str) -> None:
     """The bathymetry file's relief and contours on lat/lon axes, with the radials and outlines."""
     import matplotlib
-    from matplotlib.colors import ListedColormap
 
     lat0, lon0 = tables.origin_lat_deg, tables.origin_lon_deg
-    depth = -bathy.elevation_m
-    water = np.where(depth > 0, depth, np.nan)
-    deepest = float(np.nanmax(water)) if np.isfinite(water).any() else 1.0
-    mesh = ax.pcolormesh(bathy.lon_deg, bathy.lat_deg, water, shading="nearest", cmap="Blues",
-                         vmin=0.0, vmax=max(deepest, 1.0), rasterized=True)
-    ax.pcolormesh(bathy.lon_deg, bathy.lat_deg, np.where(depth <= 0, 1.0, np.nan), shading="nearest",
-                  cmap=ListedColormap([LAND_COLOR]), vmin=0, vmax=1, rasterized=True)
-    levels = contour_levels(depth)
-    if levels:
-        cs = ax.contour(bathy.lon_deg, bathy.lat_deg, depth, levels=levels, colors="k", linewidths=0.6,
-                        alpha=0.7)
-        ax.clabel(cs, fmt=label_depth, fontsize=6)
-    if np.nanmin(depth) < 0.0 < np.nanmax(depth):
-        ax.contour(bathy.lon_deg, bathy.lat_deg, depth, levels=[0.0], colors="saddlebrown", linewidths=1.0)
+    mesh = draw_relief(ax, bathy)
     rng = tables.range_m
     for b, row in zip(tables.bearing_deg, tables.bottom_depth_m):
         wet = np.isfinite(row)
@@ -241,6 +227,28 @@ def _latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict
     ax.figure.colorbar(mesh, ax=ax, shrink=0.75, label="water depth in the file, m")
     ax.set_title(f"bathymetry file {bathy.path.name}: depth contours, land (tan)"
                  + (f"\n{note}" if note else ""), fontsize=8.5)
+
+
+def draw_relief(ax, bathy: ElevationGrid):
+    """A bathymetry file's water depth (blues), land (tan), depth contours and the coast on
+    latitude-longitude axes; returns the depth mesh (for a colour bar)."""
+    from matplotlib.colors import ListedColormap
+
+    depth = -bathy.elevation_m
+    water = np.where(depth > 0, depth, np.nan)
+    deepest = float(np.nanmax(water)) if np.isfinite(water).any() else 1.0
+    mesh = ax.pcolormesh(bathy.lon_deg, bathy.lat_deg, water, shading="nearest", cmap="Blues",
+                         vmin=0.0, vmax=max(deepest, 1.0), rasterized=True)
+    ax.pcolormesh(bathy.lon_deg, bathy.lat_deg, np.where(depth <= 0, 1.0, np.nan), shading="nearest",
+                  cmap=ListedColormap([LAND_COLOR]), vmin=0, vmax=1, rasterized=True)
+    levels = contour_levels(depth)
+    if levels:
+        cs = ax.contour(bathy.lon_deg, bathy.lat_deg, depth, levels=levels, colors="k", linewidths=0.6,
+                        alpha=0.7)
+        ax.clabel(cs, fmt=label_depth, fontsize=6)
+    if np.nanmin(depth) < 0.0 < np.nanmax(depth):
+        ax.contour(bathy.lon_deg, bathy.lat_deg, depth, levels=[0.0], colors="saddlebrown", linewidths=1.0)
+    return mesh
 
 
 def _ring(lat0: float, lon0: float, bearings: np.ndarray, range_m: np.ndarray):
