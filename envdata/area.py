@@ -312,6 +312,8 @@ class Area:
             item = _plain(dataclasses.asdict(cls))
             if item["noise_mean_db"] is None:
                 del item["noise_mean_db"]  # the Ross model needs none
+            if item["depth_range_m"] is None:
+                del item["depth_range_m"]  # optional: the tables' water column
             classes.append(item)
         out = {
             "area": {"name": self.name, "description": self.description,

@@ -146,7 +146,8 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
             noise_mean_db=t.number("noise_mean_db", required=model == "p0"),
             noise_sd_db=t.number("noise_sd_db", 0.0), k_error_sd_db=t.number("k_error_sd_db", 2.0),
             source_slope_db_per_octave=t.number("source_slope_db_per_octave", F_MINUS_2_DB_PER_OCTAVE),
-            source_level_model=SourceLevelModel(model)))
+            source_level_model=SourceLevelModel(model),
+            depth_range_m=_depth_range(t.numbers("depth_range_m", required=False))))
         t.done()
 
     t = TomlTable(data["grid"], "[grid]", source)
@@ -305,3 +306,8 @@ def area_from_json(text: str, source: str = "<grid>") -> Area:
     if not isinstance(data, dict):
         raise AreaError(f"{where}: must be a JSON object, got {type(data).__name__}")
     return parse_area(data, where)
+
+
+def _depth_range(values: list[float] | None) -> tuple[float, ...] | None:
+    """A class's ``depth_range_m`` as given (the class checks it is [min, max])."""
+    return None if values is None else tuple(values)

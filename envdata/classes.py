@@ -58,9 +58,19 @@ class TargetClass:
     k_error_sd_db: float = 2.0
     source_slope_db_per_octave: float = F_MINUS_2_DB_PER_OCTAVE
     source_level_model: SourceLevelModel = SourceLevelModel.P0
+    #: Depths the target may be at, m (min, max), when its depth is unknown (``tmakit track
+    #: --target-depth unknown``); None: the water column the tables hold. ``depth_m`` stays the
+    #: depth the tables are computed at.
+    depth_range_m: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         where = f"class {self.name!r}"
+        if self.depth_range_m is not None:
+            span = tuple(float(v) for v in self.depth_range_m)
+            if len(span) != 2 or not all(math.isfinite(v) for v in span) or not 0.0 <= span[0] < span[1]:
+                raise AreaError(f"{where}: depth_range_m must be two depths [min, max] with "
+                                f"0 <= min < max, m, got {list(self.depth_range_m)}")
+            object.__setattr__(self, "depth_range_m", span)
         check_name(self.name, "class name")
         for field_name, value, lo in (("depth_m", self.depth_m, 0.0),
                                       ("speed_mean_mps", self.speed_mean_mps, 0.0)):

@@ -40,3 +40,25 @@ def tiny_grid_file(tiny_grid, tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("grid") / "tiny-munk-bellhop.nc"
     acoustics.write_grid(tiny_grid, path)
     return path
+
+
+@pytest.fixture(scope="session")
+def tiny_depth_area(tiny_area) -> envdata.Area:
+    """The tiny area whose submarine's depth is uncertain (``depth_range_m`` 20-300 m): its flat
+    grid also holds TL from the observer (``tl_obs_db``)."""
+    doc = tiny_area.to_dict()
+    doc["classes"] = [{**c, "depth_range_m": [20.0, 300.0]} if c["name"] == "SUB" else c
+                      for c in doc["classes"]]
+    return envdata.parse_area(doc, "tiny-depth")
+
+
+@pytest.fixture(scope="session")
+def tiny_depth_grid(tiny_depth_area) -> "xr.Dataset":  # noqa: F821
+    return acoustics.build_grid(tiny_depth_area, workers=2)
+
+
+@pytest.fixture(scope="session")
+def tiny_depth_grid_file(tiny_depth_grid, tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("depth-grid") / "tiny-munk-depth.nc"
+    acoustics.write_grid(tiny_depth_grid, path)
+    return path

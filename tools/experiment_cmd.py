@@ -19,12 +19,13 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
         description="gm: the 11 x 11 x 11 design of Grinenkov & Mashoshin (eqs. 32-34); "
                     "idm: the Iglesis & de Montella scenarios; shelf: tracking in the shelf-break "
                     "area with its bearing-dependent grid and with the origin's column over a "
-                    "flat bottom (docs/shelf.md).")
-    p.add_argument("study", choices=("gm", "idm", "shelf"))
+                    "flat bottom (docs/shelf.md); depth: a submarine off its class's table depth, "
+                    "tracked with the class's depth, the true depth and the depth unknown (docs/depth.md).")
+    p.add_argument("study", choices=("gm", "idm", "shelf", "depth"))
     p.add_argument("scenario", help="scenario name or TOML file")
     p.add_argument("--runs", type=int, default=None,
                    help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs (1000); "
-                        "shelf: runs (100)")
+                        "shelf: runs (100); depth: runs (24)")
     p.add_argument("--grid", metavar="FILE",
                    help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -51,6 +52,20 @@ def run_experiment(args) -> Report:
     if args.workers < 1:
         raise InputError(f"--workers: must be >= 1, got {args.workers}")
     check_output_dir(args.out)
+    if args.study == "depth":
+        from tracker.scenario import load_scenario
+        from tracker.studies import depth
+
+        if args.level_sigma_db is not None or args.grid is not None:
+            raise InputError("--level-sigma-db, --grid: the depth study builds its own grid")
+        if args.scenario != depth.SCENARIO:
+            raise InputError(f"depth: the study is written for scenario {depth.SCENARIO!r}, got "
+                             f"{args.scenario!r}")
+        runs = 24 if args.runs is None else args.runs
+        _check_runs(runs, load_scenario(depth.SCENARIO).times_s().size, 8.0 * 60, "depth")
+        res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
+                        progress=want_progress(args))
+        return Report(res["summary"], res)
     if args.study == "shelf":
         from tracker.scenario import load_scenario
         from tracker.studies import shelf

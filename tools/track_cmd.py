@@ -29,6 +29,9 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
                    help="also draw the observer's path, the bearing fan and each hypothesis's track with its "
                         "uncertainty ellipses over the area (and the errors against --truth)")
     p.add_argument("--truth", metavar="CSV", help="truth CSV (simulate's truth.csv) drawn on --plot")
+    p.add_argument("--target-depth", default="class", metavar="unknown|class|METRES",
+                   help="the target's depth: its class's (default, where the tables are "
+                        "computed), a depth in metres, or unknown (estimated with the motion)")
     p.add_argument("--force", action="store_true",
                    help="replace --out (and --plot) even if it is not a track CSV (a PNG)")
     p.set_defaults(func=run_track)
@@ -50,7 +53,7 @@ def run_track(args) -> Report:
     m = read_measurements(args.measurements, list(tables.band_names))
     truth = read_truth(args.truth) if args.truth is not None else None
     df = track(tables, m, method=args.method, rng=np.random.default_rng(args.seed),
-               cls_name=args.cls_name, band=args.band)
+               cls_name=args.cls_name, band=args.band, target_depth=args.target_depth)
     if args.plot is None:
         write_track(args.out, df)
     else:  # the track and its picture: both or neither
@@ -72,8 +75,21 @@ def run_track(args) -> Report:
                      f"bearing-dependent tables are computed from there")
         data["observer_max_distance_from_origin_m"] = offset.distance_m
     for _, r in last.iterrows():
+        depth = (f", depth {r.depth_m:.0f} m" + (f" (sd {r.depth_sd_m:.0f} m)"
+                                                  if np.isfinite(r.depth_sd_m) else "")
+                 if np.isfinite(r.depth_m) else "")
         lines.append(f"  {r['class']}: range {r.range_m / 1000:.2f} km, course "
-                     f"{r.course_deg:.1f} deg, speed {r.speed_mps:.2f} m/s (tack {r.tack})")
+                     f"{r.course_deg:.1f} deg, speed {r.speed_mps:.2f} m/s (tack {r.tack}){depth}")
         data["final"][r["class"]] = {k: float(r[k]) for k in ("range_m", "course_deg",
-                                                               "speed_mps")}
+                                                               "speed_mps", "depth_m", "depth_sd_m")}
+    for choice in df.attrs.get("depth", []):
+        vs_class = ("" if choice.log_lr_class_depth is None else
+                    f", {choice.log_lr_class_depth:.1f} over its table depth")
+        lines.append(f"  {choice.cls_name}: most likely depth {choice.depth_m:.0f} m of "
+                     f"{len(choice.depths_m)} hypotheses (ln likelihood ratio "
+                     f"{choice.log_lr_next:.1f} over the next{vs_class})")
+        data.setdefault("depth", {})[choice.cls_name] = {
+            "depth_m": choice.depth_m, "depths_m": list(choice.depths_m),
+            "log_likelihood": list(choice.log_likelihood), "log_lr_next": choice.log_lr_next,
+            "log_lr_class_depth": choice.log_lr_class_depth}
     return Report("\n".join(lines), data)

@@ -28,6 +28,8 @@ from tracker.measurements import Measurements, write_measurements
 from tracker.ranging import bearing_sd_deg, level_sd_db
 from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
 
+#: A target within this of its class's depth is heard with the class's K as built, m.
+TARGET_DEPTH_TOLERANCE_M = 0.01
 TRUTH_COLUMNS = ("t_s", "x_m", "y_m", "depth_m", "course_deg", "speed_mps", "class", "noise_db",
                  "tack")
 
@@ -66,7 +68,9 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
     tables : GridTables
         Propagation grid of the scenario's area; its K(r) of the scenario's class at the
         scenario's observer depth (`acoustics.grid.tables.GridTables.k_db`) is the "actual" transfer
-        characteristic, linear in range and held at the ends of the range axis.
+        characteristic, linear in range and held at the ends of the range axis. A target at
+        another depth than its class's (``[target] depth_m``) is heard with K at its own depth,
+        from the tables' depth axis (`acoustics.grid.tables.GridTables.at_target_depth`).
     rng : numpy.random.Generator
         Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
     dv_mps, dp0_db : array_like, shape (E,) or scalar
@@ -113,8 +117,10 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
                             f"{tables.depth_problem(sc.obs_depth_m)}")
     # K at the target's bearing and range from the observer (between radials for a grid with
     # bearings); NaN where the grid has none (beyond land): no level reaches the observer
-    k = tables.k_at(ic, r, sc.obs_depth_m,
-                    bearing_deg=b_true)  # (E, T, M)
+    heard = tables
+    if abs(sc.target_depth_m - cls.depth_m) > TARGET_DEPTH_TOLERANCE_M:
+        heard = tables.at_target_depth(sc.target_depth_m)  # K with the target at its own depth
+    k = heard.k_at(ic, r, sc.obs_depth_m, bearing_deg=b_true)  # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
     noise = tables.noise_band_db - sonar.directivity_index_db
     snr_db = w_true - sonar.receiver_gain_db - noise

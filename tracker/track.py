@@ -9,12 +9,13 @@ variance-preserving regularization).
 
 from __future__ import annotations
 
+import math
 from enum import StrEnum
 
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.tables import OBSERVER_DEPTH_TOLERANCE_M, GridTables
 from envdata.errors import InputError
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
@@ -27,9 +28,17 @@ class Method(StrEnum):
     RPF_VP = "rpf-vp"
 
 
+class TargetDepth(StrEnum):
+    """What the trackers take the target's depth to be, beside a depth in metres."""
+
+    CLASS = "class"      # the class's depth_m, where its tables are computed (the default)
+    UNKNOWN = "unknown"  # estimated with the motion (docs/depth.md)
+
+
 def track(tables: GridTables, measurements: Measurements, *, method: Method | str = "ml",
           rng: np.random.Generator | None = None, cls_name: str | None = None,
-          band: str | None = None, ml_params=None, rpf_config=None) -> pd.DataFrame:
+          band: str | None = None, ml_params=None, rpf_config=None,
+          target_depth: TargetDepth | str | float = TargetDepth.CLASS) -> pd.DataFrame:
     """Track one target; one row per cycle per class hypothesis (docs/formats.md "Track CSV").
 
     Parameters
@@ -49,6 +58,13 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
         the first grid band with a level column).
     ml_params : tracker.mltma.MLParams, optional
     rpf_config : tracker.rpf.RpfConfig, optional
+    target_depth : TargetDepth or float
+        ``"class"``: K with the target at its class's depth (the tables as built); a depth, m:
+        K with the target there (``GridTables.at_target_depth``); ``"unknown"``: the depth is
+        estimated (the particle filters carry it as a state, the ML analysis weighs depth
+        hypotheses; the choice and its likelihood ratio are in ``DataFrame.attrs["depth"]``).
+        The rows' ``depth_m`` is the depth used or estimated, ``depth_sd_m`` its sd (blank where
+        assumed).
 
     Raises
     ------
@@ -78,13 +94,69 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
                                    f"{tables.depth_problem(float(m.obs_depth_m[i]))}")
     if not np.isfinite(m.bearing_deg).any():
         raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row")
+    depth = _target_depth(target_depth)
+    if depth is not TargetDepth.CLASS:
+        _check_target_depth(tables, m, method, depth)
+        if depth is not TargetDepth.UNKNOWN:
+            tables = tables.at_target_depth(depth)
+    unknown = depth is TargetDepth.UNKNOWN
     if method is Method.ML:
         from tracker import mltma
 
-        return mltma.track_measurements(tables, m, cls_name=cls_name, band=band, params=ml_params)
+        if unknown:
+            from tracker.mltma.depths import track_depths
+
+            df, choices = track_depths(tables, m, cls_name=cls_name, band=band, params=ml_params)
+            df.attrs["depth"] = choices
+            return df
+        df = mltma.track_measurements(tables, m, cls_name=cls_name, band=band, params=ml_params)
+        return _assumed_depth(df, tables, depth)
     from tracker import rpf
 
     if rng is None:
         raise InputError(f"method {method}: the particle filters need a random generator (rng)")
-    return rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
-                                  band=band, config=rpf_config)
+    df = rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
+                                band=band, config=rpf_config, depth_unknown=unknown)
+    return df if unknown else _assumed_depth(df, tables, depth)
+
+
+def _target_depth(value) -> TargetDepth | float:
+    """``value`` as a `TargetDepth` or a finite depth >= 0, m."""
+    if isinstance(value, str):
+        try:
+            return TargetDepth(value)
+        except ValueError:
+            pass
+        try:
+            value = float(value)
+        except ValueError:
+            raise InputError(f"target depth: {value!r} is not a depth in metres, 'class' or "
+                             f"'unknown'") from None
+    value = float(value)
+    if not (math.isfinite(value) and value >= 0.0):
+        raise InputError(f"target depth: must be a depth >= 0 m, 'class' or 'unknown', got {value:g}")
+    return value
+
+
+def _check_target_depth(tables: GridTables, m: Measurements, method: Method, depth) -> None:
+    """The measurements and method a target depth other than the class's needs."""
+    if depth is TargetDepth.UNKNOWN and method is Method.RPF_BOT:
+        raise InputError("target depth unknown: bearings alone say nothing of the depth; use a "
+                         "method with levels (ml, rpf, rpf-vp)")
+    bad = np.flatnonzero(np.abs(np.asarray(m.obs_depth_m, dtype=float) - tables.observer_depth_m)
+                         > OBSERVER_DEPTH_TOLERANCE_M)
+    if bad.size:
+        i = int(bad[0])
+        raise MeasurementFileError(
+            f"{m.source}: row {i + 1}, column obs_depth_m: {float(m.obs_depth_m[i]):g} m is not the "
+            f"grid's observer depth {tables.observer_depth_m:g} m; with a target depth other than "
+            f"the class's the grid's TL from the observer serves that depth only")
+
+
+def _assumed_depth(df: pd.DataFrame, tables: GridTables, depth) -> pd.DataFrame:
+    """The rows' ``depth_m``: the depth the tables assumed (the class's, or the one given)."""
+    by_class = {c.name: c.depth_m for c in tables.classes}
+    df["depth_m"] = ([float(depth)] * len(df) if not isinstance(depth, TargetDepth)
+                     else [by_class.get(str(c), np.nan) for c in df["class"]])
+    df["depth_sd_m"] = np.nan
+    return df

@@ -10,7 +10,11 @@ import pandas as pd
 from envdata.files import atomic_path
 
 TRACK_COLUMNS = ("t_s", "class", "x_m", "y_m", "range_m", "bearing_deg", "course_deg", "speed_mps",
-                 "range_sd_m", "course_sd_deg", "speed_sd_mps", "tack", "method")
+                 "range_sd_m", "course_sd_deg", "speed_sd_mps", "tack", "method", "depth_m",
+                 "depth_sd_m")
+#: Columns a track CSV of an earlier version may lack (read as blank): the target's depth, m,
+#: and its sd (blank where the depth was assumed, not estimated).
+OPTIONAL_COLUMNS = ("depth_m", "depth_sd_m")
 _TEXT_COLUMNS = ("class", "method")
 
 
@@ -52,4 +56,7 @@ def write_track(path: str | os.PathLike, df: pd.DataFrame, *, atomic: bool = Tru
 def read_track(path: str | os.PathLike) -> pd.DataFrame:
     """Read a track CSV written by write_track."""
     df = pd.read_csv(path, keep_default_na=True, dtype={"class": str, "method": str})
+    for col in OPTIONAL_COLUMNS:
+        if col not in df.columns:
+            df[col] = np.nan
     return check_track(df, str(path))

@@ -1,6 +1,9 @@
 """Building the propagation grid of an area: TL(class, band, depth, range), K(r), Urick K(r).
 
-The BELLHOP route runs one job per (class source depth, run frequency). In incoherent mode with
+The BELLHOP route runs one job per (source depth, run frequency): the classes' depths, and, when
+a class has a ``depth_range_m`` (its target's depth is not known), the observer's depth for
+``tl_obs_db`` (TL from the observer to every depth: by reciprocity, K with the target at any
+depth; a class at the observer's depth shares its runs). In incoherent mode with
 a fixed beam fan, frequency changes TL almost only through volume absorption, so by default one
 run at each band's centre serves the whole band: TL(f) = TL(f_c) + (alpha(f) - alpha(f_c)) r.
 Otherwise every quadrature frequency of every band is its own run.
@@ -53,40 +56,54 @@ def _tl_by_freq(area: Area, runs: list[Run], fields: dict[str, np.ndarray], rows
     return {f: combined_tl_db(parts, prop.mode, prop.tl_max_db) for f, parts in groups.items()}
 
 
-def _assemble(area: Area, runs: list[Run], fill, **run_options) -> None:
-    """Run ``runs`` and call ``fill(ic, ib, band_tl)`` for each (class, band) as soon as its runs
-    are in, dropping each run's field once no pending (class, band) needs it."""
+def _assemble(area: Area, runs: list[Run], fill, *, observer_end: bool, **run_options) -> None:
+    """Run ``runs`` and call ``fill(end, ic, ib, band_tl)`` for each (class, band) as soon as its
+    runs are in, ``end`` "source" for the runs from the class's depth and "observer" for those
+    from the observer's, dropping each run's field once nothing pending needs it."""
     pending = {}
-    for ic, cls in enumerate(area.classes):
-        for ib, band in enumerate(area.bands):
-            freqs = {freq_key(f) for f in run_frequencies_hz(area, band)}
-            pending[(ic, ib)] = {run.key for run in runs
-                                 if run.source_depth_m == cls.depth_m and freq_key(run.freq_hz) in freqs}
+    sources = {"source": lambda cls: cls.depth_m}
+    if observer_end:
+        sources["observer"] = lambda cls: area.observer.depth_m
+    for end, source_of in sources.items():
+        for ic, cls in enumerate(area.classes):
+            for ib, band in enumerate(area.bands):
+                freqs = {freq_key(f) for f in run_frequencies_hz(area, band)}
+                pending[(end, ic, ib)] = {run.key for run in runs
+                                          if run.source_depth_m == source_of(cls)
+                                          and freq_key(run.freq_hz) in freqs}
     fields: dict[str, np.ndarray] = {}
     by_key = {run.key: run for run in runs}
     for run, pressure in iter_runs(runs, **run_options):
         fields[run.key] = pressure
-        for (ic, ib), keys in list(pending.items()):
+        for (end, ic, ib), keys in list(pending.items()):
             if keys <= fields.keys():
                 by_freq = _tl_by_freq(area, [by_key[key] for key in keys], fields)
-                fill(ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
-                del pending[(ic, ib)]
+                fill(end, ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
+                del pending[(end, ic, ib)]
         needed = set().union(*pending.values()) if pending else set()
         for key in list(fields):
             if key not in needed:
                 del fields[key]
 
 
+def needs_observer_tl(area: Area) -> bool:
+    """Whether a flat grid of ``area`` holds ``tl_obs_db``: when a class has a ``depth_range_m``."""
+    return any(cls.depth_range_m is not None for cls in area.classes)
+
+
 def grid_size_bytes(area: Area) -> float:
     """Memory a grid build of ``area`` needs at its peak, bytes (an estimate).
 
-    The float32 TL table (class x band x depth x range) twice (built, then encoded for
-    netCDF), and a few float64 / complex64 fields of depth x range per run in flight.
+    The float32 TL tables (from the class's depth, and from the observer's when a class has a
+    ``depth_range_m``: class x band x depth x range) twice (built, then encoded for netCDF), and a
+    few float64 / complex64 fields
+    of depth x range per run in flight.
     """
     n_depth = math.ceil(area.water.depth_m / area.grid.depth_step_m) + 1
     n_range = round(area.grid.range_max_m / area.grid.range_step_m)
     cells = float(n_depth) * n_range
-    return 8.0 * len(area.classes) * len(area.bands) * cells + 48.0 * cells
+    tables = 2.0 if needs_observer_tl(area) else 1.0
+    return 8.0 * tables * len(area.classes) * len(area.bands) * cells + 48.0 * cells
 
 
 def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
@@ -131,6 +148,9 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     exe = find_bellhop() if model is Model.BELLHOP else None
     n_cls, n_band = len(area.classes), len(area.bands)
     tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
+    # TL from the observer for the trackers that look for the target's depth: only where a class
+    # says its depth is uncertain (the extra source depth costs a third more runs on ocean-deep)
+    tl_obs = np.empty_like(tl) if needs_observer_tl(area) else None
     k = np.empty((n_cls, n_band, rng.size))
     k_urick = np.empty((n_cls, n_band, rng.size))
     beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
@@ -143,22 +163,29 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
         rz = receiver_depths_m(area)
         on_grid = np.searchsorted(rz, depth)
         obs_row = int(np.searchsorted(rz, area.observer.depth_m))
-        runs = plan_runs(area, receiver_depths=rz)
+        source_depths = sorted({cls.depth_m for cls in area.classes}
+                               | ({area.observer.depth_m} if tl_obs is not None else set()))
+        runs = plan_runs(area, source_depths, receiver_depths=rz)
         stats.runs = runs
 
-        def fill(ic: int, ib: int, band_tl: np.ndarray) -> None:
+        def fill(end: str, ic: int, ib: int, band_tl: np.ndarray) -> None:
+            if end == "observer":
+                tl_obs[ic, ib] = band_tl[on_grid]
+                return
             cls, band = area.classes[ic], area.bands[ib]
             tl[ic, ib] = band_tl[on_grid]
             k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
 
-        _assemble(area, runs, fill, workers=workers, scheduler=scheduler,
+        _assemble(area, runs, fill, observer_end=tl_obs is not None, workers=workers, scheduler=scheduler,
                   cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                   exe=str(exe.path), stats=stats)
     else:
         for ib in range(len(area.bands)):
             tl[:, ib] = spherical_tl_db(rng, beta_db_per_km=beta[ib])[None, None, :]
+        if tl_obs is not None:
+            tl_obs[:] = tl  # spherical spreading does not depend on either end's depth
         k[:] = k_urick
 
     return flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
                     source_hash(area, model, exe.sha256 if exe else None, input_file_digests(area.water)),
-                    exe.describe() if exe else None)
+                    exe.describe() if exe else None, tl_obs=tl_obs)

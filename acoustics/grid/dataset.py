@@ -83,8 +83,10 @@ def grid_attrs(area: Area, model: str, digest: str, exe_info: dict | None, *,
     return attrs
 
 
-def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info) -> xr.Dataset:
-    """The grid of an area without ``[origin]``: TL from the class's depth (``fixed_end = "source"``)."""
+def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info, *,
+                 tl_obs=None) -> xr.Dataset:
+    """The grid of an area without ``[origin]``: TL from the class's depth (``fixed_end = "source"``)
+    and, when given, ``tl_obs_db``: TL from the observer's depth (``fixed_end = "observer"``)."""
     prop = area.propagation
     dims4 = ("class", "band", "depth", "range")
     dims3 = ("class", "band", "range")
@@ -105,6 +107,13 @@ def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info
         "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
                                              "long_name": "volume attenuation at the band centre"}),
     }
+    if tl_obs is not None:
+        data_vars["tl_obs_db"] = (dims4, tl_obs, {
+            "units": "dB", "long_name": "band transmission loss from a source at the observer depth",
+            "reference": "1 m from the source", "fixed_end": "observer",
+            "comment": "by reciprocity the loss from a target at depth to the observer (K at any "
+                       "target depth); the class spectrum weights the band as in tl_db; shadows "
+                       f"capped at {prop.tl_max_db:g} dB"})
     attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=area.water.depth_m,
                        ssp_interpolation=area.water.ssp.interpolation)
     return xr.Dataset(data_vars, coords=grid_coords(area, depth, rng), attrs=attrs)

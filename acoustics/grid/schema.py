@@ -32,6 +32,9 @@ BEARING_VARS = {"tl_db": ("class", "band", "bearing", "depth", "range"),
                 "k_db": ("class", "band", "bearing", "range"),
                 "k_urick_db": ("class", "band", "range"),
                 "bottom_depth_m": ("bearing", "range")}
+#: Variables a grid may have (a flat grid's TL from the observer depth, written since it could
+#: track a target at an unknown depth; older grids of the same format lack it).
+OPTIONAL_VARS = {"tl_obs_db": ("class", "band", "depth", "range")}
 BEARING_ATTRS = {"origin_lat_deg": numbers.Real, "origin_lon_deg": numbers.Real}
 FIXED_ENDS = {False: "source", True: "observer"}
 #: Global attributes and the type each must have.
@@ -54,6 +57,11 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
         if not np.issubdtype(ds[name].dtype, np.floating):
             raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers, "
                                 f"got {ds[name].dtype}")
+    for name, dims in ({} if by_bearing else OPTIONAL_VARS).items():
+        if name in ds.data_vars and (ds[name].dims != dims
+                                     or not np.issubdtype(ds[name].dtype, np.floating)):
+            raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers "
+                                f"on dimensions {dims}, got {ds[name].dtype} on {ds[name].dims}")
     for name in REQUIRED_COORDS + (("bearing",) if by_bearing else ()):
         if name not in ds.coords:
             raise GridFileError(f"{source}: missing coordinate {name!r}")

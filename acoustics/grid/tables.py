@@ -22,6 +22,13 @@ Two geometries implement the face:
   linear between the two nearest radials (across 0/360 deg); TL is the loss to a point at
   ``depth``, ``range`` along the bearing.
 
+Both answer K with the target at any depth (`GridTables.target_depth_k`, a
+`acoustics.grid.targetdepth.TargetDepthK` of (depth, range) slabs; `GridTables.at_target_depth`,
+the same tables with K at another target depth): a bearing-dependent grid from its ``tl_db``, a
+flat grid from ``tl_obs_db`` (TL from a source at the observer depth, by reciprocity; grids
+built before it was written lack it and are refused for this with the command that rebuilds
+them).
+
 One interpolation rule: linear in depth, range and bearing; ranges outside the axis take the
 end values; NaN where the grid has no value (below the bottom, beyond land), which the
 simulator reads as "not detected" and the filters' level model as a level no target gives
@@ -41,6 +48,7 @@ from acoustics.grid.depthinterp import tl_at_depths
 from acoustics.grid.formats import upgrade_grid
 from acoustics.grid.radialinterp import at_bearings, bearing_weights, mix, nearest_radial
 from acoustics.grid.schema import check_grid
+from acoustics.grid.targetdepth import TargetDepthK
 from acoustics.kcurve import spectral_term_db
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 from envdata.area import Area
@@ -116,6 +124,9 @@ class GridTables(ABC):
         with bearings from the observer at the origin to a point at ``depth_m``.
     observer_depth_m : float
         Observer depth of ``k_grid_db``, m.
+    target_depth_m : float or None
+        None: ``k_grid_db`` is K with the target at its class's depth (as built); else the depth
+        of the target these tables give K for (`at_target_depth`), m.
     """
 
     source: str
@@ -128,6 +139,7 @@ class GridTables(ABC):
     k_grid_db: np.ndarray
     tl_db: np.ndarray
     observer_depth_m: float
+    target_depth_m: float | None = None
     _cache: dict = field(default_factory=dict, repr=False)
 
     # -- names and the area's terms ------------------------------------------------------------
@@ -259,6 +271,78 @@ class GridTables(ABC):
                           bearing_deg=None if bearing_deg is None
                           else np.full(self.range_m.shape, float(bearing_deg)))
 
+    # -- the target at another depth -----------------------------------------------------------
+
+    @property
+    @abstractmethod
+    def serves_target_depth(self) -> bool:
+        """Whether the tables hold TL from the observer at every depth (K at any target depth)."""
+
+    @abstractmethod
+    def _observer_tl_db(self) -> np.ndarray:
+        """TL from the observer to a point at each depth, (C, M, [N,] D, R), dB."""
+
+    def _need_target_depth(self) -> None:
+        if not self.serves_target_depth:
+            raise GridFileError(
+                f"{self.source}: the grid has no TL from the observer depth (variable "
+                f"tl_obs_db), needed for K at a target depth other than its class's; give the "
+                f"class a depth_range_m in the area file and rebuild it with tmakit grids build")
+
+    def target_depth_k(self, ic: int, ib: int) -> TargetDepthK:
+        """K of one class and band with the target at every depth of the axis, per radial
+        (kept: the same class and band give the same table).
+
+        K(z, r) = S - TL_obs(z, r): S the class's spectral term in the band (eq. 13), TL_obs the
+        band TL between the observer and a point at depth z (docs/formats.md, ``tl_obs_db``).
+
+        Raises
+        ------
+        GridFileError
+            A flat grid built without ``tl_obs_db``.
+        """
+        self._need_target_depth()
+        key = ("target-depth-k", ic, ib)
+        if key not in self._cache:
+            tl = self._observer_tl_db()[ic, ib]
+            k = self.spectral_db(ic, ib) - (tl if tl.ndim == 3 else tl[None])
+            bearings = getattr(self, "bearing_deg", np.zeros(0))
+            self._cache[key] = TargetDepthK(bearing_deg=np.asarray(bearings, dtype=float),
+                                            depth_m=self.depth_m, range_m=self.range_m, k_db=k)
+        return self._cache[key]
+
+    def target_depth_span_m(self, ic: int) -> tuple[float, float]:
+        """Depths a target of class ``ic`` may be at, m: the class's ``depth_range_m``, else
+        the water column the tables hold (the top of the depth axis to the deepest water)."""
+        cls = self.classes[ic]
+        if cls.depth_range_m is not None:
+            return cls.depth_range_m
+        self._need_target_depth()
+        wet = np.isfinite(self._observer_tl_db()[ic, 0])
+        wet = wet.any(axis=tuple(a for a in range(wet.ndim) if a != wet.ndim - 2))
+        return float(self.depth_m[0]), float(self.depth_m[wet][-1] if wet.any() else self.depth_m[-1])
+
+    def at_target_depth(self, depth_m: float) -> GridTables:
+        """These tables with K of every class for a target at ``depth_m`` (the class's ``depth_m``
+        is only where the tables were computed): every tracker and the simulator take it as
+        they take the grid. Only the grid's observer depth is served.
+
+        Raises
+        ------
+        GridFileError
+            A depth off the grid's depth axis, or a flat grid without ``tl_obs_db``.
+        """
+        self._need_target_depth()
+        z = float(depth_m)
+        self._check_point_depth(np.array([z]))
+        s = np.array([[self.spectral_db(ic, ib) for ib in range(len(self.bands))]
+                      for ic in range(len(self.classes))])
+        tl = tl_at_depths(self._observer_tl_db(), self.depth_m, [z])[..., 0, :]
+        k = s.reshape(s.shape + (1,) * (tl.ndim - 2)) - tl
+        from dataclasses import replace
+
+        return replace(self, k_grid_db=k, target_depth_m=z, _cache={})
+
     # -- what a summary says of the geometry ----------------------------------------------------
 
     @abstractmethod
@@ -276,17 +360,40 @@ class GridTables(ABC):
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class FlatTables(GridTables):
-    """A grid without bearings: one profile over a flat bottom, the same along every bearing."""
+    """A grid without bearings: one profile over a flat bottom, the same along every bearing.
 
+    Attributes (beyond `GridTables`)
+    --------------------------------
+    tl_obs_db : ndarray, shape (C, M, D, R), or None
+        Band TL from a source at the observer depth to a receiver at ``depth_m``, dB (by
+        reciprocity the loss from a target there to the observer); None in grids built before
+        it was written.
+    """
+
+    tl_obs_db: np.ndarray | None = None
     _depth_role = "receiver"
 
     @property
     def depth_range_m(self) -> tuple[float, float]:
+        if self.target_depth_m is not None:  # K for another target depth: the observer's only
+            return (self.observer_depth_m - OBSERVER_DEPTH_TOLERANCE_M,
+                    self.observer_depth_m + OBSERVER_DEPTH_TOLERANCE_M)
         return float(self.depth_m[0]), float(self.depth_m[-1])
 
     def depth_problem(self, depth_m: float) -> str:
+        if self.target_depth_m is not None:
+            return (f"{depth_m:g} m is not the grid's observer depth {self.observer_depth_m:g} m "
+                    f"(with the target at {self.target_depth_m:g} m the grid has TL from the "
+                    f"observer depth only)")
         lo, hi = self.depth_range_m
         return f"{depth_m:g} m is outside the grid's depth axis [{lo:g}, {hi:g}] m"
+
+    @property
+    def serves_target_depth(self) -> bool:
+        return self.tl_obs_db is not None
+
+    def _observer_tl_db(self) -> np.ndarray:
+        return self.tl_obs_db
 
     def _tl_rows(self, depth_m: float) -> np.ndarray:
         """TL of every class and band along range at one depth, linear in depth, (C, M, R)."""
@@ -297,6 +404,9 @@ class FlatTables(GridTables):
             return self.k_grid_db
         d = float(depth_m)
         if d == self.observer_depth_m:
+            return self.k_grid_db
+        if self.target_depth_m is not None:
+            self.check_depth(d)  # within the observer tolerance: the one K there is
             return self.k_grid_db
         key = ("k", d)
         if key not in self._cache:
@@ -357,6 +467,13 @@ class RadialTables(GridTables):
         return (f"{depth_m:g} m is not the observer depth {self.observer_depth_m:g} m "
                 f"of the bearing-dependent grid (its TL is computed from the observer; rebuild it "
                 f"with [observer] depth_m = {depth_m:g})")
+
+    @property
+    def serves_target_depth(self) -> bool:
+        return True
+
+    def _observer_tl_db(self) -> np.ndarray:
+        return self.tl_db
 
     def _need_bearing(self, bearing_deg) -> None:
         if bearing_deg is None:
@@ -480,7 +597,9 @@ def as_tables(ds: xr.Dataset, source: str | None = None) -> GridTables:
                   observer_depth_m=float(np.asarray(ds.attrs["observer_depth_m"]).item()))
     if "bearing" not in ds.dims:
         return FlatTables(k_grid_db=_values(ds, "k_db", "class", "band", "range"),
-                          tl_db=_values(ds, "tl_db", "class", "band", "depth", "range"), **common)
+                          tl_db=_values(ds, "tl_db", "class", "band", "depth", "range"),
+                          tl_obs_db=(_values(ds, "tl_obs_db", "class", "band", "depth", "range")
+                                     if "tl_obs_db" in ds.data_vars else None), **common)
     return RadialTables(
         k_grid_db=_values(ds, "k_db", "class", "band", "bearing", "range"),
         tl_db=_values(ds, "tl_db", "class", "band", "bearing", "depth", "range"),

@@ -90,7 +90,8 @@ def _frame(t_s, class_names, out) -> pd.DataFrame:
                          "speed_mps": out["speed_mps"], "range_sd_m": out["range_sd_m"],
                          "course_sd_deg": out["course_sd_deg"],
                          "speed_sd_mps": out["speed_sd_mps"], "tack": out["tack"],
-                         "method": "ml"}).loc[:, list(TRACK_COLUMNS)]
+                         "method": "ml", "depth_m": np.nan,
+                         "depth_sd_m": np.nan}).loc[:, list(TRACK_COLUMNS)]
 
 
 def track_measurements(tables: GridTables, measurements: Measurements, *,

@@ -21,7 +21,7 @@ log = logging.getLogger(__name__)
 
 def track_measurements(tables, measurements, *, method: str, rng: np.random.Generator,
                        cls_name: str | None = None, band: str | None = None,
-                       config: RpfConfig | None = None):
+                       config: RpfConfig | None = None, depth_unknown: bool = False):
     """Track one target from a measurement CSV with the RPF; one row per cycle per class.
 
     The measurements are checked against the grid by ``tracker.track.track``, the way in.
@@ -45,6 +45,12 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     config : RpfConfig, optional
         Filter settings (the paper's by default). A ``bearing_sigma_deg`` column, where
         complete, sets sigma_theta (its median).
+    depth_unknown : bool
+        Carry the target's depth as a state (`tracker.rpf.depthbatch`): prior uniform over the
+        class's ``depth_range_m`` (else the water the tables hold), K at each particle's depth;
+        the rows' ``depth_m`` and ``depth_sd_m`` are its estimate. Needs levels (``rpf``,
+        ``rpf-vp``). Otherwise those columns are blank here (``tracker.track.track`` fills in
+        the depth the tables assume).
 
     Returns
     -------
@@ -128,10 +134,16 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                                         f"model {model!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
             profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]))
-        res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
-                        level_db_meas=None if levels is None else levels[rows][None],
-                        k_profiles=profiles, cfg=cfg, rng=rng, source_level_model=model,
-                        p0_db=p0, p0_sd_db=p0_sd, summaries=True)
+        if depth_unknown:
+            res = _run_depth(tables, ic, ib, t, obs, bearings[rows], levels[rows], cfg, rng,
+                             model, p0, p0_sd)
+            depth_m, depth_sd_m = res.mean[0][:, -1], np.sqrt(res.cov[0][:, -1, -1])
+        else:
+            res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
+                            level_db_meas=None if levels is None else levels[rows][None],
+                            k_profiles=profiles, cfg=cfg, rng=rng, source_level_model=model,
+                            p0_db=p0, p0_sd_db=p0_sd, summaries=True)
+            depth_m = depth_sd_m = np.full(t.size, np.nan)
         mean = res.mean[0]
         ax, ay = mean[:, 0] + obs[:, 0], mean[:, 1] + obs[:, 1]
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]
@@ -143,8 +155,21 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
             "course_deg": np.mod(np.degrees(np.arctan2(tvx, tvy)), 360.0),
             "speed_mps": np.hypot(tvx, tvy), "range_sd_m": sds[:, 0],
             "course_sd_deg": sds[:, 1], "speed_sd_mps": sds[:, 2], "tack": 1,
-            "method": method.value}))
+            "method": method.value, "depth_m": depth_m, "depth_sd_m": depth_sd_m}))
     return pd.concat(frames, ignore_index=True)
+
+
+def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0, p0_sd):
+    """One track with the depth state: K against depth and range of the class and band, the
+    span of `GridTables.target_depth_span_m`, each cycle reading the radials of its bearing."""
+    from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
+
+    lo, hi = tables.target_depth_span_m(ic)
+    return run_batch_depth(t_s=t, obs_state=obs, bearing_rad_meas=bearings_rad[None],
+                           level_db_meas=levels[None], target_k=tables.target_depth_k(ic, ib),
+                           cycle_bearing_deg=np.degrees(bearings_rad),
+                           depth=DepthConfig(depth_min_m=lo, depth_max_m=hi), cfg=cfg, rng=rng,
+                           source_level_model=model, p0_db=p0, p0_sd_db=p0_sd, summaries=True)
 
 
 def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg) -> list:

@@ -1,0 +1,104 @@
+"""Benchmarks of the unknown target depth: the particle filter's cost, and the reciprocity error
+of a flat grid's observer-centred TL near the surface.
+
+    make bench, or: python bench/bench_depth.py
+
+Prints one line per figure, ``name: value unit``, all measured in this one run, and writes
+docs/results/depth.json:
+
+- particle-cycles per second of the compiled filter with the depth fixed (K(r) profiles,
+  ``tracker.rpf.run_batch``) and with the depth a state (K from (depth, range) slabs,
+  ``tracker.rpf.depthbatch.run_batch_depth``), side by side on the same measurements (scenario
+  ``shelf-nps`` on the built-in shelf-break grid: 12 radials x 251 depths x 300 ranges; 20 runs
+  x 2000 particles x 181 cycles, bearings and FB1 levels), 5 repeats interleaved, medians, and
+  their ratio (target >= 0.5);
+- K of a class by reciprocity (``tl_obs_db``: source at the observer) less K from the direct runs
+  (source at the class depth), median |dB| over range, for classes at 5 to 200 m in the tiny
+  Munk test area (observer at 100 m).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
+from benchresults import median, say, write  # noqa: E402
+
+RUNS, PARTICLES, REPEATS = 20, 2000, 5
+RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
+
+
+def throughput() -> None:
+    import acoustics
+    import envdata
+    from tracker.rpf import run_batch
+    from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
+    from tracker.rpf.track import cycle_profiles
+    from tracker.scenario import load_scenario
+    from tracker.simulate import simulate_batch
+    from tracker.studies.depth import DEPTH_SPAN_M, _rpf_config
+
+    grid = REPO / "docs" / "results" / "depth" / "grids" / "shelf-break-bellhop.nc"
+    if not grid.exists():
+        acoustics.build_grid_file(envdata.load_area("shelf-break"), grid, workers=2)
+    tables = acoustics.open_grid(grid)
+    sc = load_scenario("shelf-nps")
+    ic = tables.class_index(sc.target_class)
+    sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(RUNS))
+    cfg = _rpf_config(tables, sim, ic, PARTICLES)
+    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
+                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
+    bearing = np.radians(sim.bearing_deg)
+    level = sim.level_db[:, :, 0]
+    cls = tables.classes[ic]
+    common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing, level_db_meas=level,
+                  cfg=cfg, source_level_model="p0", p0_db=cls.noise_mean_db)
+    # one bearing's profiles for every run (the fixed-depth filter's cost does not depend on it)
+    profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
+    target_k = tables.target_depth_k(ic, 0)
+    depth = DepthConfig(depth_min_m=DEPTH_SPAN_M[0], depth_max_m=DEPTH_SPAN_M[1])
+
+    def fixed(seed):
+        return run_batch(k_profiles=profiles, rng=np.random.default_rng(seed), **common)
+
+    def unknown(seed):
+        return run_batch_depth(target_k=target_k, cycle_bearing_deg=sim.bearing_deg[0], depth=depth,
+                               rng=np.random.default_rng(seed), **common)
+
+    fixed(0), unknown(0)  # compile (or load the cache) outside the timing
+    work = RUNS * PARTICLES * sim.t_s.size
+    rates = {"fixed": [], "unknown": []}
+    for rep in range(REPEATS):
+        for name, fn in (("fixed", fixed), ("unknown", unknown)):
+            start = time.perf_counter()
+            fn(rep + 1)
+            rates[name].append(work / (time.perf_counter() - start))
+    say("rpf_fixed_depth_particle_cycles_per_s", median(rates["fixed"]), "1/s", runs=rates["fixed"])
+    say("rpf_depth_state_particle_cycles_per_s", median(rates["unknown"]), "1/s", runs=rates["unknown"])
+    ratios = [u / f for u, f in zip(rates["unknown"], rates["fixed"])]
+    say("rpf_depth_state_throughput_ratio", median(ratios), "", runs=ratios)
+
+
+def reciprocity() -> None:
+    import acoustics
+    import envdata
+
+    doc = envdata.load_area(REPO / "tests" / "data" / "tiny-munk.toml").to_dict()
+    base = doc["classes"][0]
+    doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z} for z in RECIPROCITY_DEPTHS_M]
+    t = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
+    for ic, cls in enumerate(t.classes):
+        diff = t.at_target_depth(cls.depth_m).k_grid_db[ic] - t.k_grid_db[ic]   # (M, R)
+        say(f"reciprocity_error_median_abs_db_at_{cls.depth_m:g}m", float(np.median(np.abs(diff))), "dB")
+
+
+if __name__ == "__main__":
+    throughput()
+    reciprocity()
+    write("depth")
