@@ -8,6 +8,7 @@ Each kind of file has its own integer format, raised when what a reader relies o
   the attribute added in memory; 0 (``area_json`` a record of the program's objects, not the
   area-file document) is refused.
 - sensitivity study netCDF, `STUDY_FORMAT`: 2 carries it; 1 is the same file without it.
+- atlas Zarr store, `ATLAS_FORMAT`: 1, the first (docs/formats.md "Atlas (Zarr store)").
 
 A file of a format this version cannot read is refused with an error that names the file's
 format, the formats this version reads and the command that writes the file anew.
@@ -25,6 +26,8 @@ GRID_FORMAT_OLDEST = 1
 #: The sensitivity-study format this version writes, and the oldest it reads.
 STUDY_FORMAT = 2
 STUDY_FORMAT_OLDEST = 1
+#: The atlas (Zarr store) format this version writes and reads (the first atlas format).
+ATLAS_FORMAT = 1
 
 
 def file_format(ds: xr.Dataset, source: str, error: type[ValueError], what: str) -> int | None:
