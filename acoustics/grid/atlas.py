@@ -268,10 +268,11 @@ def open_atlas(path: str | Path) -> AtlasTables:
     except Exception as exc:  # noqa: BLE001 - a missing array or a damaged small chunk
         raise AtlasFileError(f"{path}: not a readable atlas ({type(exc).__name__}: {str(exc)[:120]})") from None
     # a table counts as done only with every chunk of it in the store
+    arrays = {name: group[name] for name in ("tl_db", "k_db", "bottom_depth_m")}
     for m, o in zip(*np.nonzero(done)):
         for name, index in (("tl_db", (m, o, 0, 0, 0, 0, 0)), ("k_db", (m, o, 0, 0, 0, 0)),
                             ("bottom_depth_m", (o, 0, 0))):
-            if not chunk_exists(path, group[name], index):
+            if not chunk_exists(path, arrays[name], index):
                 done[m, o] = False
                 if name == "bottom_depth_m":
                     done[:, o] = False
