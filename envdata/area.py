@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from envdata.atlas import AtlasSpec
 from envdata.bands import Band
 from envdata.bottom import Bottom
 from envdata.classes import TargetClass
@@ -213,6 +214,8 @@ class Area:
     # latitude_deg and longitude_deg are the origin's) and their bearings; None: isotropic
     origin: Origin | None = None
     bearings: Bearings | None = None
+    # many observer positions and months (README "Atlases"); None: one table at the origin
+    atlas: AtlasSpec | None = None
 
     def __post_init__(self) -> None:
         if not self.bands:
@@ -225,6 +228,7 @@ class Area:
             if dupes:
                 raise AreaError(f"duplicate {kind} name {dupes[0]!r}")
         self._check_origin()
+        self._check_atlas()
         if self.water.depth_m is None:  # bathymetry: the radials check the depths (envdata.radials)
             if not (math.isfinite(self.observer.depth_m) and self.observer.depth_m > 0.0):
                 raise AreaError(f"[observer] depth_m: must be > 0 m, got {self.observer.depth_m}")
@@ -260,6 +264,27 @@ class Area:
             raise AreaError(f"[area] latitude_deg, longitude_deg: {self.latitude_deg}, {self.longitude_deg} "
                             f"deg differ from [origin] {self.origin.lat_deg}, {self.origin.lon_deg} deg; "
                             f"give the position once, in [origin]")
+
+    def _check_atlas(self) -> None:
+        if self.atlas is None:
+            return
+        if self.origin is None:
+            raise AreaError("[atlas]: needs [origin] and [bearings] (the atlas holds bearing-dependent "
+                            "tables; [origin] is the reference point of the local plane)")
+        months = self.atlas.months
+        clim = self.water.climatology
+        if months is not None and len(months) > 1 and clim is None:
+            raise AreaError(f"[atlas] months: {list(months)}, but the area's sound speed is one profile, the "
+                            f"same in every month; give one month, or a climatology")
+
+    @property
+    def atlas_months(self) -> tuple[int, ...]:
+        """The atlas's months: ``[atlas] months``, else the area's ``[water] month``, else (0,):
+        the data files' own water, whatever month that is."""
+        if self.atlas is not None and self.atlas.months is not None:
+            return self.atlas.months
+        clim = self.water.climatology
+        return (clim.month,) if clim is not None and clim.month is not None else (0,)
 
     @property
     def is_bearing_dependent(self) -> bool:
@@ -333,6 +358,8 @@ class Area:
         if self.origin is not None:
             out["origin"] = {"lat_deg": self.origin.lat_deg, "lon_deg": self.origin.lon_deg}
             out["bearings"] = self.bearings.to_dict()
+        if self.atlas is not None:
+            out["atlas"] = self.atlas.to_dict()
         return out
 
 

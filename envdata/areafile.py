@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from envdata.area import MUNK_TABLE_DEPTH_M, Absorption, Area, GridSpec, Observer, Propagation, TlMode, Water
+from envdata.atlas import AtlasSpec
 from envdata.bands import Band
 from envdata.bottom import Bottom
 from envdata.casts import read_cast
@@ -73,7 +74,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
     top = TomlTable(data, "top level", source)
     for key in ("area", "water", "bottom", "noise", "observer", "sonar", "bands", "classes", "grid"):
         top._get(key, None, True)
-    for key in ("propagation", "origin", "bearings"):
+    for key in ("propagation", "origin", "bearings", "atlas"):
         top._get(key, None, False)
     top.done()
 
@@ -179,7 +180,41 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
     return _wrap_area(source, name=name, description=description, water=water, bottom=bottom,
                       noise=noise, observer=observer, sonar=sonar, bands=tuple(bands),
                       classes=tuple(classes), grid=grid, propagation=propagation,
-                      latitude_deg=latitude, longitude_deg=longitude, origin=origin, bearings=bearings)
+                      latitude_deg=latitude, longitude_deg=longitude, origin=origin, bearings=bearings,
+                      atlas=_parse_atlas(data["atlas"], source) if "atlas" in data else None)
+
+
+def _parse_atlas(data: Any, source: str) -> AtlasSpec:
+    """The ``[atlas]`` table (envdata.atlas)."""
+    t = TomlTable(data, "[atlas]", source)
+    lat = t.numbers("lat_deg", required=False)
+    lon = t.numbers("lon_deg", required=False)
+    positions = t._get("positions", None, False)
+    if positions is not None:
+        if not isinstance(positions, list) or not positions:
+            raise AreaError(f"{source}: [atlas] positions: must be a non-empty list of [lat_deg, lon_deg], "
+                            f"got {positions!r:.80}")
+        pairs = []
+        for item in positions:
+            if (not isinstance(item, list) or len(item) != 2
+                    or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in item)):
+                raise AreaError(f"{source}: [atlas] positions: each must be [lat_deg, lon_deg] (two numbers), "
+                                f"got {item!r:.80}")
+            pairs.append((float(item[0]), float(item[1])))
+        positions = tuple(pairs)
+    months = t._get("months", None, False)
+    if months is not None:
+        if not isinstance(months, list):
+            raise AreaError(f"{source}: [atlas] months: must be a list of integers 1..12, got {months!r:.80}")
+        months = tuple(months)
+    depths = t.numbers("depth_m", required=False)
+    spec = t.wrap(AtlasSpec, lat_deg=tuple(lat) if lat is not None else None,
+                  lon_deg=tuple(lon) if lon is not None else None,
+                  spacing_km=t.number("spacing_km", required=False), positions=positions, months=months,
+                  depth_step_m=t.number("depth_step_m", required=False),
+                  depth_m=tuple(depths) if depths is not None else None)
+    t.done()
+    return spec
 
 
 #: The ways [water] gives the sound speed; exactly one is allowed.

@@ -33,6 +33,7 @@ from envdata.climatology import ClimatologyFiles, open_climatology
 from envdata.errors import AreaError
 from envdata.geogrid import LatLonAxes
 from envdata.ssp import teos10_speed_mps
+from envdata.watersources import WaterSources
 
 #: Most bathymetry samples along one radial (ahead and behind the origin together).
 MAX_SAMPLES = 5000
@@ -104,7 +105,8 @@ class Radial:
         return float(self.ssp_depth_m[-1])
 
 
-def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False) -> list[Radial]:
+def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False,
+                 sources: WaterSources | None = None) -> list[Radial]:
     """One Radial per bearing of the area, in the area's bearing order.
 
     Parameters
@@ -117,6 +119,9 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
         which rays leaving the origin backwards reach.
     progress : bool
         Show a progress bar over the bearings on stderr.
+    sources : WaterSources, optional
+        The area's bathymetry and climatology already read into memory (an atlas reads the box
+        of all its tables once, ``envdata.watersources``); None: the files are opened here.
 
     Returns
     -------
@@ -137,8 +142,13 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
     bearings = area.bearings.bearing_deg
     water = area.water
     with contextlib.ExitStack() as stack:
-        bathy = stack.enter_context(open_bathymetry(water.bathymetry)) if water.bathymetry else None
-        clim = stack.enter_context(open_climatology(water.climatology)) if water.climatology else None
+        if sources is not None:
+            bathy, clim = sources.bathymetry, sources.climatology
+            if (bathy is None) != (water.bathymetry is None) or (clim is None) != (water.climatology is None):
+                raise ValueError("sources: must hold exactly the area's data files")
+        else:
+            bathy = stack.enter_context(open_bathymetry(water.bathymetry)) if water.bathymetry else None
+            clim = stack.enter_context(open_climatology(water.climatology)) if water.climatology else None
         sections = _bottom_sections(area, bathy, behind_m, bearings)
         columns = [_column_positions(area, s, clim) for s in sections]
         ts_field = None

@@ -21,6 +21,7 @@ from envdata.errors import InputError
 from envdata.limits import TooLargeError, memory_limit
 from tools import (
     areas_cmd,
+    atlas_cmd,
     demo_cmd,
     doctor_cmd,
     experiment_cmd,
@@ -31,8 +32,8 @@ from tools import (
     track_cmd,
 )
 
-COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, sensitivity_cmd, simulate_cmd, track_cmd, experiment_cmd,
-                   locate_cmd, demo_cmd)
+COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, atlas_cmd, sensitivity_cmd, simulate_cmd, track_cmd,
+                   experiment_cmd, locate_cmd, demo_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:

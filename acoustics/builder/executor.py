@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import functools
 import json
 import logging
 import os
@@ -137,7 +138,7 @@ def _read(path: Path) -> Stored:
 def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], str], workers: int = 1,
               scheduler: str | None = None, cache: ResultCache[R] | None = None, progress: bool = False,
               desc: str = "tasks", unit: str = "task",
-              stats: TaskStats | None = None) -> Iterator[TaskDone[T, R]]:
+              stats: TaskStats | None = None, context: Any = None) -> Iterator[TaskDone[T, R]]:
     """Yield ``TaskDone(item, fn(item), reused)`` as tasks finish: reused results first.
 
     Items with the same key run once. Tasks start in the order of ``items``; results come in
@@ -165,6 +166,10 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
         Show a progress bar (tqdm) on stderr, labelled ``desc`` and counting ``unit``.
     stats : TaskStats, optional
         Filled with counts and the wall time.
+    context : object, optional
+        Data every task needs (an atlas's bathymetry and climatology boxes): ``fn`` is then
+        called as ``fn(item, context)``. On a Dask cluster it is sent to each worker once
+        (``Client.scatter(..., broadcast=True)``), not with every task.
     """
     if scheduler is None and workers < 1:
         raise InputError(f"workers: must be >= 1, got {workers}")
@@ -193,9 +198,10 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
             return
         if scheduler is None:
             stats.workers = min(workers, len(todo))
-            finished = _on_threads(fn, todo, workers)
+            call = fn if context is None else functools.partial(fn, context=context)
+            finished = _on_threads(call, todo, workers)
         else:
-            finished = _on_dask(fn, todo, key, scheduler, desc, stats)
+            finished = _on_dask(fn, todo, key, scheduler, desc, stats, context)
         with contextlib.closing(finished):  # cancels what has not run when the caller stops
             for item, result in finished:
                 if cache is not None:
@@ -238,7 +244,7 @@ def check_scheduler_address(scheduler: str) -> None:
 
 
 def _on_dask(fn: Callable[[T], R], todo: list[T], key: Callable[[T], str], scheduler: str, desc: str,
-             stats: TaskStats) -> Iterator[tuple[T, R]]:
+             stats: TaskStats, context: Any = None) -> Iterator[tuple[T, R]]:
     """The one place that talks to Dask: connect, map, collect, release, close."""
     from distributed import Client
     from distributed import as_completed as dask_as_completed
@@ -254,8 +260,11 @@ def _on_dask(fn: Callable[[T], R], todo: list[T], key: Callable[[T], str], sched
         # the token keeps two jobs on one cluster from sharing results under the same item key
         token = uuid.uuid4().hex[:12]
         names = [key(item) for item in todo]
+        extra = {}
+        if context is not None:  # once per worker, not once per task
+            extra["context"] = client.scatter(context, broadcast=True, hash=False)
         futures = client.map(fn, todo, key=[f"tmakit-{token}-{name}" for name in names], pure=False,
-                             retries=DASK_RETRIES)
+                             retries=DASK_RETRIES, **extra)
         by_key: dict[Hashable, tuple[T, str]] = {f.key: (item, name) for f, item, name in zip(futures, todo, names)}
         for future in dask_as_completed(futures):
             item, name = by_key[future.key]

@@ -115,18 +115,29 @@ def radial_grid_bytes(area: Area, n_depth: int) -> float:
 
 def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
                       scheduler: str | None = None, cache_dir: str | Path | None = None,
-                      progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
+                      progress: bool = False, stats: BuildStats | None = None,
+                      radials: list[Radial] | None = None, depth_m: np.ndarray | None = None,
+                      inputs: dict | None = None) -> xr.Dataset:
     """The bearing-dependent grid dataset (docs/formats.md) for an area with ``[origin]``.
 
-    Parameters as ``acoustics.build_grid``, which calls this for such an area.
+    Parameters as ``acoustics.build_grid``, which calls this for such an area, and, for a
+    caller that builds many such grids (an atlas, ``acoustics.builder.atlas``):
+
+    radials : list of Radial, optional
+        The area's radials, already sampled (default: ``area_radials(area)``).
+    depth_m : ndarray, optional
+        The TL depth axis, m (default: ``depth_axis_m``, 0 to the deepest bottom every
+        ``[grid] depth_step_m``).
+    inputs : dict, optional
+        The data files' digests (``input_file_digests(area.water)``), already computed.
     """
     model = Model(model)
     stats = stats if stats is not None else BuildStats()
-    inputs = input_file_digests(area.water)
+    inputs = inputs if inputs is not None else input_file_digests(area.water)
     exe = find_bellhop() if model is Model.BELLHOP else None
     digest = source_hash(area, model, exe.sha256 if exe else None, inputs)
-    radials = area_radials(area, progress=progress)
-    depth = depth_axis_m(area, radials)
+    radials = radials if radials is not None else area_radials(area, progress=progress)
+    depth = np.asarray(depth_m, dtype=float) if depth_m is not None else depth_axis_m(area, radials)
     check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
     rng = area.grid.range_m()
     class_depths = sorted({c.depth_m for c in area.classes})

@@ -10,6 +10,7 @@ Each kind of file has its own integer format, raised when what a reader relies o
 - sensitivity study netCDF, `STUDY_FORMAT`: 2 carries it; 1 is the same file without it.
 - the studies' JSON result files, `RESULT_FORMAT`: a key ``tmakit_format`` (1). tmakit writes
   them and reads none back; CSVs are known by their header.
+- atlas Zarr store, `ATLAS_FORMAT`: 1, the first (docs/formats.md "Atlas (Zarr store)").
 
 A file of a format this version cannot read is refused with an error that names the file's
 format, the formats this version reads and the command that writes the file anew.
@@ -29,6 +30,8 @@ STUDY_FORMAT = 2
 STUDY_FORMAT_OLDEST = 1
 #: The format of the studies' JSON result files (gm, idm, shelf, schmidt): a key ``tmakit_format``.
 RESULT_FORMAT = 1
+#: The atlas (Zarr store) format this version writes and reads (the first atlas format).
+ATLAS_FORMAT = 1
 
 
 def file_format(ds: xr.Dataset, source: str, error: type[ValueError], what: str) -> int | None:

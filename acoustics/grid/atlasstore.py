@@ -1,0 +1,197 @@
+"""What an atlas store is on disk: one Zarr (format 3) store, one chunk per table slab.
+
+docs/formats.md "Atlas (Zarr store)". Dimensions ``month, origin, class, band, bearing, depth,
+range``; ``tl_db(month, origin, class, band, bearing, depth, range)`` float32 and ``k_db(month,
+origin, class, band, bearing, range)`` float64 have one chunk per (month, origin) table;
+``bottom_depth_m(origin, bearing, range)`` one per origin; ``done(month, origin)`` and
+``table_hash(month, origin)`` one per table. Every chunk ends with a CRC-32C checksum (Zarr's
+``crc32c`` codec), so a damaged chunk fails to decode instead of being read as numbers; a
+missing one is found by its key. ``class`` and ``band`` are integer coordinates with the names
+in their ``labels`` attribute (Zarr 3 has no stable string type). The store is written from a
+template (metadata and the small variables; xarray ``to_zarr(compute=False)``), then each
+table by whichever process computed it, with a region write aligned to its chunks (one writer
+per chunk: unaligned parallel region writes lose data silently, xarray issues 8371 and 10501),
+then its ``done`` flag and hash.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.errors import GridFileError
+from acoustics.grid.formats import ATLAS_FORMAT
+
+#: The kind attribute every atlas store carries beside ``tmakit_format``.
+ATLAS_KIND = "atlas"
+TABLE_DIMS = ("month", "origin")
+TL_DIMS = ("month", "origin", "class", "band", "bearing", "depth", "range")
+K_DIMS = ("month", "origin", "class", "band", "bearing", "range")
+BOTTOM_DIMS = ("origin", "bearing", "range")
+#: The variables written per table (the bottom by the table of the first month).
+TABLE_VARS = ("tl_db", "k_db")
+
+
+class AtlasFileError(GridFileError):
+    """An atlas store that is missing, not tmakit's, of another format or area, or damaged."""
+
+
+def _codecs():
+    from zarr.codecs import Crc32cCodec, ZstdCodec
+
+    return [ZstdCodec(level=3), Crc32cCodec()]
+
+
+def table_hash_u64(digest: str) -> int:
+    """The first 64 bits of a table's sha256 (hex), as stored in ``table_hash``."""
+    return int(digest[:16], 16)
+
+
+def template_dataset(sizes: dict[str, int], coords: dict, small_vars: dict, attrs: dict) -> xr.Dataset:
+    """The atlas's dataset with lazy (dask) tables: written as metadata only by `write_template`."""
+    import dask.array as da
+
+    def lazy(dims, dtype, fill, per_table):
+        shape = tuple(sizes[d] for d in dims)
+        chunks = tuple(1 if d in per_table else sizes[d] for d in dims)
+        return da.full(shape, fill, chunks=chunks, dtype=dtype)
+
+    data_vars = dict(small_vars)
+    data_vars["tl_db"] = (TL_DIMS, lazy(TL_DIMS, "float32", np.nan, TABLE_DIMS), {
+        "units": "dB", "long_name": "band transmission loss between the observer and a point at depth",
+        "reference": "1 m from the source", "fixed_end": "observer"})
+    data_vars["k_db"] = (K_DIMS, lazy(K_DIMS, "float64", np.nan, TABLE_DIMS), {
+        "units": "dB", "long_name": "transfer characteristic K(r) of a target of the class along the bearing",
+        "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)"})
+    data_vars["bottom_depth_m"] = (BOTTOM_DIMS, lazy(BOTTOM_DIMS, "float64", np.nan, ("origin",)), {
+        "units": "m", "long_name": "water depth along the radial", "positive": "down"})
+    data_vars["done"] = (TABLE_DIMS, lazy(TABLE_DIMS, "uint8", 0, TABLE_DIMS), {
+        "long_name": "1 where the table of (month, origin) is complete", "flag_values": [0, 1]})
+    data_vars["table_hash"] = (TABLE_DIMS, lazy(TABLE_DIMS, "uint64", 0, TABLE_DIMS), {
+        "long_name": "first 64 bits of the sha256 of the table's inputs"})
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def write_template(path: str | os.PathLike, ds: xr.Dataset) -> None:
+    """Write the store's metadata, coordinates and small variables (the tables stay empty)."""
+    path = Path(path)
+    if path.exists():
+        remove_store(path)
+    encoding = {name: {"compressors": _codecs()} for name in ds.data_vars}
+    for name in ("done", "table_hash"):
+        encoding[name]["fill_value"] = 0
+    ds.to_zarr(path, mode="w-", compute=False, encoding=encoding, zarr_format=3, consolidated=False)
+
+
+def remove_store(path: str | os.PathLike) -> None:
+    """Remove a store (a folder) or a file in its place."""
+    path = Path(path)
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path)
+    elif path.exists() or path.is_symlink():
+        path.unlink()
+
+
+def _region(m: int, o: int) -> dict:
+    return {"month": slice(m, m + 1), "origin": slice(o, o + 1)}
+
+
+def write_table(path: str | os.PathLike, m: int, o: int, tl_db: np.ndarray, k_db: np.ndarray,
+                bottom_depth_m: np.ndarray | None) -> None:
+    """Write the table of (month index m, origin index o): its chunks, and none other.
+
+    ``tl_db`` (class, band, bearing, depth, range), ``k_db`` (class, band, bearing, range);
+    ``bottom_depth_m`` (bearing, range) for the table of the first month, None for the others.
+    """
+    table = xr.Dataset({"tl_db": (TL_DIMS, tl_db[None, None].astype(np.float32)),
+                        "k_db": (K_DIMS, k_db[None, None].astype(np.float64))})
+    table.to_zarr(path, region=_region(m, o), mode="r+", consolidated=False)
+    if bottom_depth_m is not None:
+        bottom = xr.Dataset({"bottom_depth_m": (BOTTOM_DIMS, bottom_depth_m[None].astype(np.float64))})
+        bottom.to_zarr(path, region={"origin": slice(o, o + 1)}, mode="r+", consolidated=False)
+
+
+def set_done(path: str | os.PathLike, m: int, o: int, table_hash: int) -> None:
+    """Mark a table complete, with the hash of its inputs (after `write_table`).
+
+    Each flag is its own one-element chunk, so Zarr's own element write is the aligned region
+    write here (xarray's costs 40 ms of opening the store for two numbers).
+    """
+    import zarr
+
+    group = zarr.open_group(str(path), mode="r+", zarr_format=3)
+    group["table_hash"][m, o] = np.uint64(table_hash)
+    group["done"][m, o] = 1
+
+
+def clear_done(path: str | os.PathLike, pairs) -> None:
+    """Mark tables incomplete before they are recomputed (by the one process that plans)."""
+    import zarr
+
+    group = zarr.open_group(str(path), mode="r+", zarr_format=3)
+    for m, o in pairs:
+        group["done"][m, o] = 0
+        group["table_hash"][m, o] = 0
+
+
+def read_attrs(path: str | os.PathLike) -> dict | None:
+    """The store's global attributes, or None when ``path`` is not a Zarr 3 group."""
+    meta = Path(path) / "zarr.json"
+    try:
+        doc = json.loads(meta.read_text(encoding="utf-8"))
+    except (OSError, ValueError, UnicodeDecodeError):
+        return None
+    if not isinstance(doc, dict) or doc.get("node_type") != "group" or doc.get("zarr_format") != 3:
+        return None
+    attrs = doc.get("attributes", {})
+    return attrs if isinstance(attrs, dict) else None
+
+
+def is_atlas_store(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a store tmakit wrote as an atlas (any format)."""
+    attrs = read_attrs(path)
+    return attrs is not None and attrs.get("tmakit_kind") == ATLAS_KIND and "tmakit_format" in attrs
+
+
+def check_format(path: str | os.PathLike, attrs: dict) -> None:
+    """Refuse a store of another format, naming it and this version's."""
+    fmt = attrs.get("tmakit_format")
+    if isinstance(fmt, bool) or not isinstance(fmt, int):
+        raise AtlasFileError(f"{path}: global attribute tmakit_format must be an integer, got {fmt!r:.40}")
+    if fmt != ATLAS_FORMAT:
+        newer = " (written by a newer tmakit)" if fmt > ATLAS_FORMAT else ""
+        raise AtlasFileError(f"{path}: an atlas of tmakit format {fmt}{newer}; this version reads format "
+                             f"{ATLAS_FORMAT}; build it anew with tmakit atlas build "
+                             f"{attrs.get('area', 'AREA')}")
+
+
+def chunk_exists(path: Path, array, index: tuple[int, ...]) -> bool:
+    """Whether the chunk at ``index`` (chunk coordinates) is in the store (a local folder)."""
+    return (path / array.path / array.metadata.encode_chunk_key(index)).is_file()
+
+
+def table_chunks(group, m: int, o: int, with_bottom: bool):
+    """(array, chunk index) of every chunk a table owns."""
+    out = [(group["tl_db"], (m, o, 0, 0, 0, 0, 0)), (group["k_db"], (m, o, 0, 0, 0, 0))]
+    if with_bottom:
+        out.append((group["bottom_depth_m"], (o, 0, 0)))
+    return out
+
+
+def table_readable(path: Path, group, m: int, o: int, with_bottom: bool) -> bool:
+    """Whether every chunk of a table is there and decodes (its checksum holds)."""
+    for array, index in table_chunks(group, m, o, with_bottom):
+        if not chunk_exists(path, array, index):
+            return False
+        lead = 1 if array.path.endswith("bottom_depth_m") else 2  # the table's own axes
+        selection = tuple(slice(i, i + 1) for i in index[:lead]) + (slice(None),) * (len(index) - lead)
+        try:
+            array[selection]
+        except Exception:  # noqa: BLE001 - zarr and numcodecs raise many kinds for a damaged chunk
+            return False
+    return True

@@ -1,0 +1,116 @@
+"""Weights of an atlas's positions around observer positions: how tables are mixed between them.
+
+README "Atlases": between positions the tables are interpolated in dB. On a lattice the four
+nodes around the observer are weighted bilinearly in (row, column); where one of them has no
+table (left out: land, shallow water), the observer is weighted barycentrically over the other
+three if it lies in their triangle. Listed positions are triangulated (Delaunay, in the
+azimuthal equidistant plane about the area's origin) and the observer weighted barycentrically
+over the triangle around it. An observer outside (the hull of the positions, or a lattice cell
+without tables enough around it) is an error, never an extrapolation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from envdata.errors import InputError
+
+#: A weight this far below 0 still counts as inside a triangle (rounding).
+INSIDE_TOLERANCE = 1e-9
+
+
+def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Origins (P, 4) and weights (P, 4) around observers on a lattice.
+
+    Parameters
+    ----------
+    lat_deg, lon_deg : array_like, shape (P,)
+        Observer positions, deg.
+    lattice : dict
+        ``lat0_deg, lon0_deg, dlat_deg, dlon_deg, rows, cols``.
+    node_origin : ndarray, shape (rows, cols)
+        The origin index of each node, -1 where it has no table.
+
+    Raises
+    ------
+    InputError
+        An observer outside the lattice, or in a cell without three tables around it; the message
+        names the first such observer (its index in the input, from 0).
+    """
+    lat = np.atleast_1d(np.asarray(lat_deg, dtype=float))
+    lon = np.atleast_1d(np.asarray(lon_deg, dtype=float))
+    rows, cols = int(lattice["rows"]), int(lattice["cols"])
+    fr = (lat - lattice["lat0_deg"]) / lattice["dlat_deg"]
+    fc = (lon - lattice["lon0_deg"]) / lattice["dlon_deg"]
+    eps = 1e-9
+    outside = (fr < -eps) | (fr > rows - 1 + eps) | (fc < -eps) | (fc > cols - 1 + eps) | ~np.isfinite(fr + fc)
+    if outside.any():
+        i = int(np.argmax(outside))
+        raise InputError(f"observer {i}: {lat[i]:.5f} N {lon[i]:.5f} E is outside the atlas's lattice")
+    r0 = np.clip(np.floor(fr), 0, max(rows - 2, 0)).astype(int)
+    c0 = np.clip(np.floor(fc), 0, max(cols - 2, 0)).astype(int)
+    tr = np.clip(fr - r0, 0.0, 1.0) if rows > 1 else np.zeros_like(fr)
+    tc = np.clip(fc - c0, 0.0, 1.0) if cols > 1 else np.zeros_like(fc)
+    r1 = np.minimum(r0 + 1, rows - 1)
+    c1 = np.minimum(c0 + 1, cols - 1)
+    idx = np.stack([node_origin[r0, c0], node_origin[r0, c1], node_origin[r1, c0], node_origin[r1, c1]], axis=1)
+    w = np.stack([(1 - tr) * (1 - tc), (1 - tr) * tc, tr * (1 - tc), tr * tc], axis=1)
+    corner_rc = np.stack([np.stack([r0, c0], 1), np.stack([r0, c1], 1), np.stack([r1, c0], 1),
+                          np.stack([r1, c1], 1)], axis=1).astype(float)  # (P, 4, 2)
+    missing = (idx < 0) & (w > eps)
+    for p in np.flatnonzero(missing.any(axis=1)):
+        have = np.flatnonzero(idx[p] >= 0)
+        lam = None
+        if have.size == 3:
+            lam = _barycentric(corner_rc[p, have], np.array([fr[p], fc[p]]))
+        if lam is None or lam.min() < -INSIDE_TOLERANCE:
+            raise InputError(f"observer {p}: {lat[p]:.5f} N {lon[p]:.5f} E is not surrounded by the atlas's "
+                             f"tables (a lattice node next to it was left out: land or shallow water)")
+        w[p] = 0.0
+        w[p, have] = np.clip(lam, 0.0, None)
+    idx = np.where(w > 0, idx, np.maximum(idx, 0))  # a corner of no weight: any valid index
+    idx = np.where(idx < 0, 0, idx)
+    return idx, w
+
+
+def _barycentric(tri: np.ndarray, point: np.ndarray) -> np.ndarray | None:
+    """Barycentric coordinates of ``point`` in triangle ``tri`` (3, 2); None if degenerate."""
+    a, b, c = tri
+    m = np.array([[b[0] - a[0], c[0] - a[0]], [b[1] - a[1], c[1] - a[1]]])
+    det = np.linalg.det(m)
+    if abs(det) < 1e-12:
+        return None
+    l1, l2 = np.linalg.solve(m, point - a)
+    return np.array([1.0 - l1 - l2, l1, l2])
+
+
+def listed_weights(x_m, y_m, pos_x_m: np.ndarray, pos_y_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Origins (P, 3) and barycentric weights (P, 3) over the Delaunay triangle around each
+    observer (plane coordinates, m).
+
+    Raises
+    ------
+    InputError
+        Fewer than three positions not on a line, or an observer outside their hull.
+    """
+    from matplotlib.tri import Triangulation
+
+    x = np.atleast_1d(np.asarray(x_m, dtype=float))
+    y = np.atleast_1d(np.asarray(y_m, dtype=float))
+    if pos_x_m.size < 3:
+        raise InputError(f"the atlas has {pos_x_m.size} position(s): between positions it needs three or more")
+    try:
+        tri = Triangulation(pos_x_m, pos_y_m)
+    except (ValueError, RuntimeError) as exc:
+        raise InputError(f"the atlas's positions cannot be triangulated ({exc})") from None
+    found = tri.get_trifinder()(x, y)
+    if (found < 0).any():
+        i = int(np.argmax(found < 0))
+        raise InputError(f"observer {i}: ({x[i]:.0f} m, {y[i]:.0f} m) from the origin is outside the hull of "
+                         f"the atlas's positions")
+    idx = tri.triangles[found]  # (P, 3)
+    w = np.empty(idx.shape)
+    for p in range(x.size):
+        lam = _barycentric(np.stack([pos_x_m[idx[p]], pos_y_m[idx[p]]], axis=1), np.array([x[p], y[p]]))
+        w[p] = np.clip(lam, 0.0, None)
+    return idx, w / w.sum(axis=1, keepdims=True)

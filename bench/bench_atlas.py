@@ -1,0 +1,150 @@
+"""Benchmarks of atlases (README "Atlases").
+
+Run with ``python bench/bench_atlas.py [--repeats N]``; writes ``docs/results/atlas.json``.
+
+- Speed: an atlas of the test area (the shelf-break relief and 12 synthetic months; 12 radials to
+  10 km, one band and class, 2 months x 13 positions = 26 tables, 312 BELLHOP runs) built with
+  ``--force`` on 1 and on 2 local workers, in turn, ``--repeats`` times; each build's own sum of
+  BELLHOP process times is the raw serial time of its runs. Targets: 2 workers within 1.05 x half
+  that raw time; 2 workers vs 1 >= 1.9x.
+- Memory: the peak resident size of the building process (``atlas build`` in a child process;
+  BELLHOP's own processes are not counted) on the atlas above and on one about 4x larger (a 2 km
+  lattice): flat, < 1 GiB.
+- The store: open, one table slab read, ``values_at`` of 10 000 points, size against float32 raw.
+- Cost per table against the number of TL depths (the atlas's own depth axis).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from tests.acoustics.atlas.atlasarea import write_atlas_area  # noqa: E402
+
+CHILD = """
+import json, resource, sys
+sys.path.insert(0, {root!r})
+import envdata
+from acoustics.builder.atlas import build_atlas_file
+area = envdata.load_area({area!r})
+info = build_atlas_file(area, {out!r}, workers={workers}, force=True)
+info["peak_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps({{k: info[k] for k in ("tables", "runs", "bellhop_seconds", "wall_seconds", "peak_rss_mib",
+                                        "raw_bytes", "positions")}}))
+"""
+
+
+def area_file(folder: Path, spacing_km: float, step_deg: float = 30.0, depth_step_m: float = 50.0) -> Path:
+    path = write_atlas_area(folder, months=(2, 8), spacing_km=spacing_km)
+    text = path.read_text().replace("step_deg = 90.0", f"step_deg = {step_deg}")
+    text = text.replace("depth_step_m = 50.0\n\n[water]", f"depth_step_m = {depth_step_m}\n\n[water]")
+    path.write_text(text)
+    return path
+
+
+def build(area: Path, out: Path, workers: int) -> dict:
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", CHILD.format(root=str(ROOT), area=str(area), out=str(out),
+                                                              workers=workers)],
+                          capture_output=True, text=True, check=True)
+    info = json.loads(done.stdout.strip().splitlines()[-1])
+    info["process_seconds"] = time.perf_counter() - start
+    return info
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "results" / "atlas.json")
+    args = parser.parse_args()
+    results: dict = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        area = area_file(tmp / "small", spacing_km=4.0)
+        one, two = [], []
+        for i in range(args.repeats):
+            order = (1, 2) if i % 2 == 0 else (2, 1)
+            for workers in order:
+                info = build(area, tmp / f"w{workers}.zarr", workers)
+                (one if workers == 1 else two).append(info)
+                print(f"repeat {i + 1}: {workers} worker(s): {info['wall_seconds']:.2f} s, BELLHOP "
+                      f"{info['bellhop_seconds']:.2f} s, {info['runs']} runs", flush=True)
+        w1 = statistics.median(x["wall_seconds"] for x in one)
+        w2 = statistics.median(x["wall_seconds"] for x in two)
+        raw = statistics.median(x["bellhop_seconds"] for x in one)
+        ratio_half = statistics.median(b["wall_seconds"] / (0.5 * a["bellhop_seconds"]) for a, b in zip(one, two))
+        speedup = statistics.median(a["wall_seconds"] / b["wall_seconds"] for a, b in zip(one, two))
+        results["speed"] = {
+            "tables": one[0]["tables"], "runs": one[0]["runs"], "positions": one[0]["positions"],
+            "build_1_worker_s": round(w1, 2), "build_2_workers_s": round(w2, 2),
+            "raw_serial_bellhop_s": round(raw, 2), "per_run_ms": round(1000 * raw / one[0]["runs"], 1),
+            "two_workers_over_half_raw": round(ratio_half, 3), "target_two_workers_over_half_raw": 1.05,
+            "two_vs_one_worker": round(speedup, 3), "target_two_vs_one": 1.9,
+            "process_seconds_2_workers": round(statistics.median(x["process_seconds"] for x in two), 2),
+            "repeats": args.repeats}
+        big_area = area_file(tmp / "big", spacing_km=2.0)
+        big = build(big_area, tmp / "big.zarr", 2)
+        results["memory"] = {"small_tables": two[0]["tables"], "small_peak_rss_mib": round(two[0]["peak_rss_mib"], 1),
+                             "large_tables": big["tables"], "large_peak_rss_mib": round(big["peak_rss_mib"], 1),
+                             "target_mib": 1024}
+        print(json.dumps(results["memory"]), flush=True)
+
+        from acoustics.grid.atlas import open_atlas
+
+        store = tmp / "big.zarr"
+        t = time.perf_counter()
+        atlas = open_atlas(store)
+        open_s = time.perf_counter() - t
+        slab_times = []
+        for o in range(min(20, atlas.lat_deg.size)):
+            t = time.perf_counter()
+            atlas.slab(1, o)
+            slab_times.append(time.perf_counter() - t)
+        rng = np.random.default_rng(1)
+        rows = atlas.row_col
+        lat = atlas.lat_deg[rows[:, 0] <= 1]
+        n = 10_000
+        plat = rng.uniform(lat.min(), lat.max(), n)
+        plon = rng.uniform(atlas.lon_deg.min(), atlas.lon_deg.max() - 1e-6, n)
+        t = time.perf_counter()
+        atlas.values_at(lat_deg=plat, lon_deg=plon, month=rng.choice([2, 8], n), cls_name="TV", band_name="FB2",
+                        bearing_deg=rng.uniform(0, 360, n), range_m=rng.uniform(200, 10000, n))
+        sample_s = time.perf_counter() - t
+        size = sum(f.stat().st_size for f in store.rglob("*") if f.is_file())
+        results["store"] = {"tables": int(atlas.done.size), "open_s": round(open_s, 4),
+                            "slab_read_ms_median": round(1000 * statistics.median(slab_times), 2),
+                            "sample_10000_points_s": round(sample_s, 3), "store_bytes": size,
+                            "raw_float32_bytes": int(big["raw_bytes"]),
+                            "store_over_raw": round(size / big["raw_bytes"], 3),
+                            "targets": {"open_s": 1.0, "slab_read_ms": 50.0, "sample_s": 2.0}}
+        print(json.dumps(results["store"]), flush=True)
+        depth_cost = []
+        for step in (100.0, 25.0, 10.0):
+            a = area_file(tmp / f"d{int(step)}", spacing_km=8.0, depth_step_m=step)
+            info = build(a, tmp / f"d{int(step)}.zarr", 1)
+            from acoustics.grid.atlas import open_atlas as _open
+
+            depths = int(_open(tmp / f"d{int(step)}.zarr").depth_m.size)
+            depth_cost.append({"depth_step_m": step, "depths": depths, "tables": info["tables"],
+                               "bellhop_s_per_table": round(info["bellhop_seconds"] / info["tables"], 3)})
+        results["cost_per_table_vs_depths"] = depth_cost
+        print(json.dumps(depth_cost), flush=True)
+    results["machine"] = {"cores": 2, "note": "shared with other jobs; read the ratios"}
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(results, indent=2) + "\n")
+    print(json.dumps(results["speed"], indent=1))
+
+
+if __name__ == "__main__":
+    main()
