@@ -119,6 +119,12 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
     # bearings); NaN where the grid has none (beyond land): no level reaches the observer
     heard = tables
     if abs(sc.target_depth_m - cls.depth_m) > TARGET_DEPTH_TOLERANCE_M:
+        if not tables.serves_target_depth:
+            raise ScenarioError(
+                f"{sc.source}: [target] depth_m: {sc.target_depth_m:g} m is not the depth of class "
+                f"{cls.name}'s tables ({cls.depth_m:g} m), and {tables.source} holds no TL from the "
+                f"observer for other depths: set depth_m = {cls.depth_m:g}, or give the class a "
+                f"depth_range_m in the area file and rebuild the grid")
         heard = tables.at_target_depth(sc.target_depth_m)  # K with the target at its own depth
     k = heard.k_at(ic, r, sc.obs_depth_m, bearing_deg=b_true)  # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db

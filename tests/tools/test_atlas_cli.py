@@ -58,7 +58,7 @@ def test_show_plot_and_sample(store, tmp_path):
     (["atlas", "show", "{tmp}"], "not a tmakit atlas"),
     (["atlas", "build", "{area}", "--out", "{tmp}/notes.txt"], "exists and is not a tmakit atlas (a file); --force"),
     (["atlas", "build", "{area}", "--out", "{tmp}/x.zarr", "--workers", "0"], "--workers: must be >= 1"),
-    (["atlas", "build", "{area}", "--out", "{tmp}/x.zarr", "--scheduler", "http://evil"], "--scheduler"),
+    (["atlas", "build", "{area}", "--out", "{tmp}/x.zarr", "--scheduler", "http://evil"], "scheduler 'http://evil': expected tcp://HOST:PORT"),
     (["atlas", "build", "shelf-break", "--out", "{tmp}/x.zarr"], "has no [atlas]"),
     (["atlas", "plot", "{store}", "--out", "{tmp}/m.png", "--class", "XX"], "class 'XX' is not in the atlas"),
     (["atlas", "plot", "{store}", "--out", "{tmp}/m.png", "--month", "3"], "month 3 is not in the atlas"),

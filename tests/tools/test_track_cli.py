@@ -17,11 +17,12 @@ def test_simulate_then_track(tiny_grid_file, tmp_path, capsys):
 
     # the tiny grid's classes and bands: a scenario for its first class
     g = xr.open_dataset(tiny_grid_file)
-    cls = str(g["class"].values[0])
+    cls, cls_depth = str(g["class"].values[0]), float(g["source_depth_m"].values[0])
     g.close()
     sc = tmp_path / "sc.toml"
     sc.write_text((BAD / "scenario" / "unknown_key.toml").read_text()
                   .replace('colour = "red"', "").replace('"TV"', f'"{cls}"')
+                  .replace("depth_m = 8.0", f"depth_m = {cls_depth}")
                   .replace("130.0", "150.0").replace("10000.0", "3000.0"))
     assert main(["simulate", str(sc), "--grid", str(tiny_grid_file), "--out",
                  str(tmp_path / "sim")]) == 0

@@ -25,10 +25,11 @@ def simulated(tiny_grid_file, tmp_path_factory):
 
     folder = tmp_path_factory.mktemp("trackplot")
     with xr.open_dataset(tiny_grid_file) as g:
-        cls = str(g["class"].values[0])
+        cls, cls_depth = str(g["class"].values[0]), float(g["source_depth_m"].values[0])
     sc = folder / "sc.toml"
     sc.write_text((BAD / "scenario" / "unknown_key.toml").read_text()
                   .replace('colour = "red"', "").replace('"TV"', f'"{cls}"')
+                  .replace("depth_m = 8.0", f"depth_m = {cls_depth}")
                   .replace("130.0", "150.0").replace("10000.0", "3000.0"))
     assert main(["simulate", str(sc), "--grid", str(tiny_grid_file), "--out", str(folder / "sim"),
                  "--seed", "2"]) == 0

@@ -112,8 +112,9 @@ def run(out_path, seed: int = 12345, trials: int = 1000,
     }
     out = Path(out_path)
     out.parent.mkdir(parents=True, exist_ok=True)
+    result = {"tmakit_format": RESULT_FORMAT, **result}
     with atomic_path(out) as tmp:
-        tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **result}, indent=1) + "\n")
+        tmp.write_text(json.dumps(result, indent=1) + "\n")
     return result
 
 
