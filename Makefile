@@ -55,8 +55,15 @@ $(STONESOUP):
 	.venv-stonesoup/bin/python -m pip install -q stonesoup
 	@touch $@
 
+# icechunk, which bench/ab_icechunk.py measures against plain Zarr (not a tmakit dependency)
+ICECHUNK := .venv-icechunk/.installed
+$(ICECHUNK):
+	$(PYTHON) -m venv .venv-icechunk
+	.venv-icechunk/bin/python -m pip install -q "icechunk==1.1.21" "zarr>=3.1,<3.2" numpy
+	@touch $@
+
 bench: setup $(STONESOUP)
 	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref out
+	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk out
