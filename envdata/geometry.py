@@ -102,3 +102,14 @@ def local_plane_to_lat_lon(origin_lat_deg: float, origin_lon_deg: float, x_m, y_
     proj = Proj(proj="aeqd", lat_0=origin_lat_deg, lon_0=origin_lon_deg, ellps="WGS84")
     lon, lat = proj(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float), inverse=True)
     return np.asarray(lat), np.asarray(lon)
+
+
+def lat_lon_to_local_plane(origin_lat_deg: float, origin_lon_deg: float, lat_deg, lon_deg):
+    """x east and y north of an origin, m, of points at latitudes and longitudes, deg: the inverse
+    of `local_plane_to_lat_lon` (azimuthal equidistant projection centred on the origin, WGS84)."""
+    import numpy as np
+    from pyproj import Proj
+
+    proj = Proj(proj="aeqd", lat_0=origin_lat_deg, lon_0=origin_lon_deg, ellps="WGS84")
+    x, y = proj(np.asarray(lon_deg, dtype=float), np.asarray(lat_deg, dtype=float))
+    return np.asarray(x), np.asarray(y)

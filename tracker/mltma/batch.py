@@ -158,8 +158,9 @@ class MLBatch:
         new_tack = self._detect_maneuver(n, sd_p, sd_w)
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
-        # K at the row's bearing from the observer on a bearing-dependent grid: (C, M, B, R)
-        k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg)
+        # K at the row's bearing from the observer on a bearing-dependent grid, from the tables
+        # where the observer is (an atlas's follow it): (C, M, B, R)
+        k_db = self.tables.at_observer(obs_x_m, obs_y_m).k_db(obs_depth_m, bearing_deg=brg)
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)
