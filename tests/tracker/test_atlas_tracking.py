@@ -186,3 +186,19 @@ def test_bellhop_truth_is_the_grid_built_from_the_target_toward_the_observer(atl
     again = BellhopTruth.beside(area, atlas_dir / "a.zarr", cache_dir=tmp_path / "runs", workers=2)
     np.testing.assert_array_equal(again(paths), k)
     assert again.stats.cached == again.stats.runs == 2
+
+
+def test_the_ml_analysis_declares_no_manoeuvre_of_a_target_that_makes_none(atlas_dir, tmp_path):
+    """On BELLHOP's levels along the true paths (not the tables'), a straight target passing
+    within 2 km of a moving observer: the paper's tests declare manoeuvres, the present ones none."""
+    from tracker.mltma import MLParams
+    from tracker.mltma.tracker import track_measurements
+    from tracker.simulate import simulate
+
+    tables = open_tables(atlas_dir / "a.zarr")
+    truth = BellhopTruth.beside(tables.area, atlas_dir / "a.zarr", cache_dir=tmp_path / "runs", workers=2)
+    m, _ = simulate(load_scenario(atlas_dir / "sc.toml"), tables, np.random.default_rng(4), k_provider=truth)
+    now = track_measurements(tables, m, cls_name="TV")
+    paper = track_measurements(tables, m, cls_name="TV", params=MLParams(maneuver_curved=False, level_vs_k=False))
+    assert now.tack.max() == 1
+    assert paper.tack.max() >= 3
