@@ -172,3 +172,38 @@ def _stamp(path: Path) -> tuple[int, int]:
 @functools.lru_cache(maxsize=64)
 def _cached_sha256(path: str, size: int, mtime_ns: int) -> str:
     return file_sha256(path)
+
+
+def with_files_found(area, folders) -> object:
+    """The area with each data file it names looked for in ``folders`` (in order) when it is not
+    where its own folder says (an area read back from a grid's or an atlas's ``area_json`` names
+    its files without a folder).
+
+    Raises
+    ------
+    AreaError
+        A file found nowhere, naming it and the folders looked in.
+    """
+    import dataclasses
+
+    def found(data_file: DataFile | None) -> DataFile | None:
+        if data_file is None or data_file.resolved().is_file():
+            return data_file
+        for folder in folders:
+            if folder is not None and (Path(folder) / data_file.path).is_file():
+                return dataclasses.replace(data_file, folder=Path(folder))
+        looked = ", ".join(str(f) for f in folders if f is not None) or "nowhere else"
+        raise AreaError(f"[water] {data_file.key}: {data_file.path!r} not found (looked as named and in {looked})")
+
+    water = area.water
+    changes = {}
+    if water.bathymetry is not None:
+        changes["bathymetry"] = dataclasses.replace(water.bathymetry, file=found(water.bathymetry.file))
+    clim = water.climatology
+    if clim is not None:
+        changes["climatology"] = dataclasses.replace(clim, file=found(clim.file),
+                                                     temperature_file=found(clim.temperature_file),
+                                                     salinity_file=found(clim.salinity_file))
+    if water.cast is not None:
+        changes["cast"] = found(water.cast)
+    return dataclasses.replace(area, water=dataclasses.replace(water, **changes))

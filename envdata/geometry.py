@@ -7,6 +7,7 @@ radials from it, one per bearing, clockwise from true north.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -97,8 +98,26 @@ def local_plane_to_lat_lon(origin_lat_deg: float, origin_lon_deg: float, x_m, y_
     azimuthal equidistant projection centred on it (WGS84): the local plane of scenario,
     measurement, truth and track files of an area with an ``[origin]``."""
     import numpy as np
-    from pyproj import Proj
 
-    proj = Proj(proj="aeqd", lat_0=origin_lat_deg, lon_0=origin_lon_deg, ellps="WGS84")
+    proj = _plane(float(origin_lat_deg), float(origin_lon_deg))
     lon, lat = proj(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float), inverse=True)
     return np.asarray(lat), np.asarray(lon)
+
+
+def lat_lon_to_local_plane(origin_lat_deg: float, origin_lon_deg: float, lat_deg, lon_deg):
+    """x east and y north of an origin, m, of points at latitudes and longitudes, deg: the inverse
+    of `local_plane_to_lat_lon` (azimuthal equidistant projection centred on the origin, WGS84)."""
+    import numpy as np
+
+    proj = _plane(float(origin_lat_deg), float(origin_lon_deg))
+    x, y = proj(np.asarray(lon_deg, dtype=float), np.asarray(lat_deg, dtype=float))
+    return np.asarray(x), np.asarray(y)
+
+
+@functools.lru_cache(maxsize=16)
+def _plane(origin_lat_deg: float, origin_lon_deg: float):
+    """The azimuthal equidistant projection about an origin (WGS84), made once per origin (a
+    tracker converts a position every cycle)."""
+    from pyproj import Proj
+
+    return Proj(proj="aeqd", lat_0=origin_lat_deg, lon_0=origin_lon_deg, ellps="WGS84")

@@ -21,7 +21,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
                     "area with its bearing-dependent grid and with the origin's column over a "
                     "flat bottom (docs/shelf.md); depth: a submarine off its class's table depth, "
                     "tracked with the class's depth, the true depth and the depth unknown (docs/depth.md).")
-    p.add_argument("study", choices=("gm", "idm", "shelf", "depth"))
+    p.add_argument("study", choices=("gm", "idm", "shelf", "depth", "follow"))
     p.add_argument("scenario", help="scenario name or TOML file")
     p.add_argument("--runs", type=int, default=None,
                    help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs (1000); "
@@ -66,6 +66,21 @@ def run_experiment(args) -> Report:
         res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args))
         return Report(res["summary"], res)
+    if args.study == "follow":
+        from tracker.scenario import load_scenario
+        from tracker.studies import follow
+
+        if args.level_sigma_db is not None or args.grid is not None:
+            raise InputError("--level-sigma-db, --grid: the follow study builds its own grid and atlases")
+        if args.scenario != follow.SCENARIO:
+            raise InputError(f"follow: the study is written for scenario {follow.SCENARIO!r}, got "
+                             f"{args.scenario!r}")
+        runs = 10 if args.runs is None else args.runs
+        _check_runs(runs, load_scenario(follow.SCENARIO).times_s().size, 8.0 * 80, "follow")
+        res = follow.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers)
+        text = (f"follow study: {runs} runs of {res['scenario']}; mean position RMSE after 10 min, m:\n" +
+                "\n".join(f"  {k:>28}: {v:8.0f}" for k, v in res["mean_rmse_after_10min_m"].items()))
+        return Report(text, res)
     if args.study == "shelf":
         from tracker.scenario import load_scenario
         from tracker.studies import shelf

@@ -16,7 +16,14 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
         description="Simulate a scenario (built-in name or TOML file) on a propagation grid: "
                     "writes DIR/measurements.csv and DIR/truth.csv.")
     p.add_argument("scenario", help="built-in scenario (gm-nps, gm-tv-110km, gm-tv-30km) or TOML")
-    p.add_argument("--grid", required=True, metavar="FILE", help="propagation grid (netCDF)")
+    p.add_argument("--grid", required=True, metavar="FILE",
+                   help="propagation grid (netCDF) or atlas (Zarr store: the tables follow the observer)")
+    p.add_argument("--month", type=int, metavar="M", help="the atlas's month (needed when it has several)")
+    p.add_argument("--truth", choices=("tables", "bellhop"), default="tables",
+                   help="where the true levels come from: the tables (default), or BELLHOP along each "
+                        "cycle's target-to-observer geodesic in the area's own water and bottom")
+    p.add_argument("--workers", type=int, default=2, metavar="N", help="BELLHOP workers for --truth bellhop")
+    p.add_argument("--scheduler", metavar="ADDR", help="a trusted Dask scheduler for --truth bellhop")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--force", action="store_true",
@@ -25,7 +32,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 
 def run_simulate(args) -> Report:
-    from acoustics import open_grid
+    from acoustics.grid.opentables import open_tables
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate, write_simulation
 
@@ -33,15 +40,24 @@ def run_simulate(args) -> Report:
     check_output_file(out / "measurements.csv", Kind.MEASUREMENT_CSV, force=args.force)
     check_output_file(out / "truth.csv", Kind.TRUTH_CSV, force=args.force)
     sc = load_scenario(args.scenario)
-    tables = open_grid(args.grid)
-    m, truth = simulate(sc, tables, np.random.default_rng(args.seed))
+    tables = open_tables(args.grid, month=args.month)
+    provider = None
+    if args.truth == "bellhop":
+        from acoustics.builder.truthk import BellhopTruth
+
+        provider = BellhopTruth.beside(tables.area, args.grid, cache_dir=out / ".truth-runs", workers=args.workers,
+                                scheduler=args.scheduler)
+    m, truth = simulate(sc, tables, np.random.default_rng(args.seed), k_provider=provider)
     files = write_simulation(args.out, m, truth)
     det = np.isfinite(m.level_db).mean(axis=0)
     summary = (f"simulated {sc.name}: {len(m)} cycles of {sc.cycle_s:g} s, class "
                f"{sc.target_class}; detected fraction per band "
                + ", ".join(f"{b} {f:.2f}" for b, f in zip(m.band_names, det))
                + f"\n  wrote {files['measurements']}, {files['truth']}")
-    data = {"scenario": sc.name, "cycles": len(m), **files,
+    if provider is not None:
+        summary += (f"\n  levels from {provider.stats.runs} BELLHOP runs along the true geodesics "
+                    f"({provider.stats.cached} from the cache in {out / '.truth-runs'}), not from the tables")
+    data = {"scenario": sc.name, "cycles": len(m), **files, "truth": args.truth,
             "detected_fraction": dict(zip(m.band_names, det.tolist()))}
     offset = tables.observer_offset(m.obs_x_m, m.obs_y_m)
     if offset is not None:

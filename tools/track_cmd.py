@@ -17,7 +17,9 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
         "track", parents=[common], help="track a target from a measurement CSV",
         description="Estimate course, speed and range every cycle for every class hypothesis: "
                     "ml (Grinenkov & Mashoshin), rpf / rpf-bot (particle filters).")
-    p.add_argument("--grid", required=True, metavar="FILE", help="propagation grid (netCDF)")
+    p.add_argument("--grid", required=True, metavar="FILE",
+                   help="propagation grid (netCDF) or atlas (Zarr store: the tables follow the observer)")
+    p.add_argument("--month", type=int, metavar="M", help="the atlas's month (needed when it has several)")
     p.add_argument("--measurements", required=True, metavar="CSV", help="measurement CSV")
     p.add_argument("--out", required=True, metavar="CSV", help="track CSV to write")
     p.add_argument("--method", choices=("ml", "rpf", "rpf-bot", "rpf-vp"), default="ml",
@@ -38,7 +40,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 
 def run_track(args) -> Report:
-    from acoustics import open_grid
+    from acoustics.grid.opentables import open_tables
     from tracker.measurements import read_measurements
     from tracker.track import track
     from tracker.trackfile import write_track
@@ -49,8 +51,8 @@ def run_track(args) -> Report:
         check_output_file(args.plot, Kind.PNG, force=args.force)
     elif args.truth is not None:
         raise InputError("--truth is drawn on the picture: give --plot PNG too")
-    tables = open_grid(args.grid)
-    m = read_measurements(args.measurements, list(tables.band_names))
+    tables = open_tables(args.grid, month=args.month)
+    m = read_measurements(args.measurements, list(tables.band_names), origin=tables.area.origin)
     truth = read_truth(args.truth) if args.truth is not None else None
     df = track(tables, m, method=args.method, rng=np.random.default_rng(args.seed),
                cls_name=args.cls_name, band=args.band, target_depth=args.target_depth)
@@ -68,6 +70,9 @@ def run_track(args) -> Report:
     lines = [f"tracked {len(m)} cycles ({args.method}); wrote {args.out}"
              + (f" and {args.plot}" if args.plot else "")]
     data = {"out": args.out, "plot": args.plot, "method": args.method, "cycles": len(m), "final": {}}
+    if tables.follows_observer:
+        lines.append(f"  the tables followed the observer through the atlas {args.grid}")
+        data["follows_observer"] = True
     offset = tables.observer_offset(m.obs_x_m, m.obs_y_m)
     if offset is not None:
         lines.append(f"  observer up to {offset.distance_m / 1000:.2f} km from the grid's origin "

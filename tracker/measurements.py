@@ -3,8 +3,10 @@
 Columns: ``t_s, obs_x_m, obs_y_m, obs_depth_m, bearing_deg`` (required), ``bearing_sigma_deg``
 (optional) and, per band NAME of the grid, ``level_db_NAME`` (blank when the band is not
 detected) and optional ``snr_db_NAME`` (10 lg q, the power SNR of eq. 11 after the array).
-Extra columns are ignored. A blank bearing is allowed (the trackers skip that cycle and say so
-once); every other required value must be a finite number.
+An observer given by ``obs_lat_deg, obs_lon_deg`` (WGS84) instead of ``obs_x_m, obs_y_m`` is put in
+the local plane of the grid's area (azimuthal equidistant about its ``[origin]``); with both,
+``obs_x_m, obs_y_m`` are used. Extra columns are ignored. A blank bearing is allowed (the trackers
+skip that cycle and say so once); every other required value must be a finite number.
 """
 
 from __future__ import annotations
@@ -26,7 +28,10 @@ REQUIRED_COLUMNS = ("t_s", "obs_x_m", "obs_y_m", "obs_depth_m", "bearing_deg")
 LEVEL_PREFIX = "level_db_"
 SNR_PREFIX = "snr_db_"
 _UNITS = {"t_s": "s", "obs_x_m": "m", "obs_y_m": "m", "obs_depth_m": "m", "bearing_deg": "deg",
-          "bearing_sigma_deg": "deg"}
+          "bearing_sigma_deg": "deg", "obs_lat_deg": "deg", "obs_lon_deg": "deg"}
+#: The observer's position as latitude and longitude, instead of obs_x_m, obs_y_m.
+LAT_LON_COLUMNS = ("obs_lat_deg", "obs_lon_deg")
+_LAT_LON_BOUNDS = {"obs_lat_deg": (-90.0, 90.0), "obs_lon_deg": (-180.0, 360.0)}
 #: Plausible bounds of a band level and a band SNR, dB (a value outside is a unit mistake).
 LEVEL_RANGE_DB = (-50.0, 300.0)
 SNR_RANGE_DB = (-100.0, 200.0)
@@ -196,8 +201,8 @@ def parse_number(cell: str, where: str, unit: str, *, blank_ok: bool = False) ->
     return value
 
 
-def read_measurements(path: str | os.PathLike,
-                      grid_band_names: Sequence[str] | None = None) -> Measurements:
+def read_measurements(path: str | os.PathLike, grid_band_names: Sequence[str] | None = None,
+                      origin=None) -> Measurements:
     """Read and validate a measurement CSV.
 
     Parameters
@@ -208,6 +213,9 @@ def read_measurements(path: str | os.PathLike,
         Band names of the grid the measurements will be used with. A ``level_db_NAME`` or
         ``snr_db_NAME`` column whose NAME is not among them is an error; the level columns are
         returned in this order. Without it, the bands are taken in file order.
+    origin : envdata.geometry.Origin, optional
+        The grid area's ``[origin]``: where ``obs_lat_deg, obs_lon_deg`` are put in the plane.
+        Without it, a file with latitudes and longitudes and no ``obs_x_m, obs_y_m`` is refused.
 
     Returns
     -------
@@ -236,7 +244,14 @@ def read_measurements(path: str | os.PathLike,
     dupes = sorted({h for h in header if h and header.count(h) > 1})
     if dupes:
         raise MeasurementFileError(f"{src}: column {dupes[0]!r} appears more than once")
-    missing = [name for name in REQUIRED_COLUMNS if name not in header]
+    lat_lon = all(c in header for c in LAT_LON_COLUMNS) and not ("obs_x_m" in header and "obs_y_m" in header)
+    if lat_lon and origin is None:
+        raise MeasurementFileError(f"{src}: columns obs_lat_deg, obs_lon_deg: the grid has no [origin] to put "
+                                   f"them in its plane; give obs_x_m, obs_y_m (m east and north)")
+    needed = [c for c in REQUIRED_COLUMNS if not (lat_lon and c in ("obs_x_m", "obs_y_m"))]
+    if lat_lon:
+        needed[1:1] = list(LAT_LON_COLUMNS)
+    missing = [name for name in needed if name not in header]
     if missing:
         raise MeasurementFileError(f"{src}: missing required column {missing[0]!r} (required: "
                                    f"{', '.join(REQUIRED_COLUMNS)})")
@@ -257,13 +272,13 @@ def read_measurements(path: str | os.PathLike,
         if band not in band_names:
             raise MeasurementFileError(f"{src}: column {SNR_PREFIX + band!r} has no matching "
                                        f"{LEVEL_PREFIX + band!r} column")
-    index = {name: header.index(name) for name in REQUIRED_COLUMNS}
+    index = {name: header.index(name) for name in needed}
     sigma_col = header.index("bearing_sigma_deg") if "bearing_sigma_deg" in header else None
     level_cols = [header.index(LEVEL_PREFIX + b) for b in band_names]
     snr_cols = [header.index(SNR_PREFIX + b) if SNR_PREFIX + b in header else None
                 for b in band_names]
 
-    values: dict[str, list[float]] = {name: [] for name in REQUIRED_COLUMNS}
+    values: dict[str, list[float]] = {name: [] for name in needed}
     sigma: list[float] = []
     levels: list[list[float]] = []
     snrs: list[list[float]] = []
@@ -285,6 +300,10 @@ def read_measurements(path: str | os.PathLike,
             if name == "bearing_deg" and not math.isnan(value) and not 0.0 <= value < 360.0:
                 raise MeasurementFileError(f"{src}: {where}, column bearing_deg: {value:g} deg "
                                            f"is outside [0, 360) deg")
+            if name in _LAT_LON_BOUNDS and not _LAT_LON_BOUNDS[name][0] <= value <= _LAT_LON_BOUNDS[name][1]:
+                lo, hi = _LAT_LON_BOUNDS[name]
+                raise MeasurementFileError(f"{src}: {where}, column {name}: {value:g} deg is outside "
+                                           f"[{lo:g}, {hi:g}] deg")
             if name == "obs_depth_m" and not 0.0 <= value <= MAX_DEPTH_M:
                 raise MeasurementFileError(f"{src}: {where}, column obs_depth_m: {value:g} m is "
                                            f"outside [0, {MAX_DEPTH_M:g}] m")
@@ -321,6 +340,12 @@ def read_measurements(path: str | os.PathLike,
         raise MeasurementFileError(f"{src}: no data rows after the header; expected one row "
                                    f"per cycle")
     nb = len(band_names)
+    if lat_lon:
+        from envdata.geometry import lat_lon_to_local_plane
+
+        x, y = lat_lon_to_local_plane(origin.lat_deg, origin.lon_deg, values.pop("obs_lat_deg"),
+                                      values.pop("obs_lon_deg"))
+        values["obs_x_m"], values["obs_y_m"] = list(np.atleast_1d(x)), list(np.atleast_1d(y))
     return Measurements(source=src, **{k: np.array(v) for k, v in values.items()},
                         bearing_sigma_deg=np.array(sigma), band_names=band_names,
                         level_db=np.array(levels, dtype=float).reshape(n_row, nb),

@@ -21,6 +21,7 @@ import pandas as pd
 
 from acoustics.detection import indicator_snr
 from acoustics.grid.tables import GridTables
+from envdata.errors import InputError
 from envdata.files import atomic_paths
 from envdata.limits import check_memory
 from tracker.errors import MeasurementFileError
@@ -58,8 +59,49 @@ class SimBatch:
     band_names: tuple[str, ...]
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class TruePaths:
+    """Where the target is from the observer every cycle: what a K provider is asked.
+
+    Arrays (T,) for the observer, (E, T) for the runs' targets; plane coordinates of the
+    area's origin, m; bearings deg clockwise from north at the observer.
+    """
+
+    ic: int
+    obs_x_m: np.ndarray
+    obs_y_m: np.ndarray
+    obs_depth_m: float
+    x_m: np.ndarray
+    y_m: np.ndarray
+    range_m: np.ndarray
+    bearing_deg: np.ndarray
+    target_depth_m: float
+
+
+def tables_k(tables: GridTables):
+    """The K provider of the tables: K of the class at the target's bearing and range, from the
+    tables where the observer is each cycle (``GridTables.at_observer``), with the target at
+    its own depth (``GridTables.at_target_depth``) when it is off its class's; (E, T, M), dB."""
+
+    def k_of(p: TruePaths) -> np.ndarray:
+        cls = tables.classes[p.ic]
+        other_depth = abs(p.target_depth_m - cls.depth_m) > TARGET_DEPTH_TOLERANCE_M
+        views = [tables.at_observer(x, y) for x, y in zip(p.obs_x_m, p.obs_y_m)]
+        if all(v is views[0] for v in views):  # one set of tables for the whole path
+            views = views[:1]
+        k = np.empty(p.range_m.shape + (len(tables.bands),))
+        for j, view in enumerate(views):
+            heard = view.at_target_depth(p.target_depth_m) if other_depth else view
+            cycles = slice(None) if len(views) == 1 else slice(j, j + 1)
+            k[:, cycles] = heard.k_at(p.ic, p.range_m[:, cycles], p.obs_depth_m,
+                                      bearing_deg=p.bearing_deg[:, cycles])
+        return k
+
+    return k_of
+
+
 def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *,
-                   dv_mps=0.0, dp0_db=0.0, dk_db=None) -> SimBatch:
+                   dv_mps=0.0, dp0_db=0.0, dk_db=None, k_provider=None) -> SimBatch:
     """Simulate E runs of a scenario.
 
     Parameters
@@ -79,6 +121,10 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
     dk_db : array_like, shape (E,), optional
         Transfer-characteristic error dK of eq. 31, dB; drawn once per run from the class's
         k_error_sd_db when None.
+    k_provider : callable, optional
+        K of the true paths, ``k_provider(TruePaths) -> (E, T, M)``, dB: default the tables'
+        (`tables_k`); ``acoustics.builder.truthk`` computes it with BELLHOP along each cycle's
+        target-to-observer geodesic (``tmakit simulate --truth bellhop``).
     """
     if sc.target_class not in tables.class_names:
         raise MeasurementFileError(f"{sc.source}: [scenario] target_class: {sc.target_class!r} "
@@ -99,6 +145,12 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
                  f"{sc.source}: simulating {e} run(s) of {n_cycles} cycles")
     t = sc.times_s()
     ox, oy, _, _ = observer_track(sc, t)
+    try:
+        tables.check_observers(ox, oy)
+    except InputError as exc:
+        head, _, rest = str(exc).partition(":")  # "observer 12: ..." -> the cycle at t[12]
+        when = f" at t = {t[int(head.split()[1])]:g} s" if head.startswith("observer ") else ""
+        raise ScenarioError(f"{sc.source}: the observer's path{when}:{rest}") from None
     # target path per run: offsets change every tack's speed
     xs, ys, cs, vs, ps = [], [], [], [], []
     for j in range(e):
@@ -116,17 +168,18 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
         raise ScenarioError(f"{sc.source}: [observer] depth_m: "
                             f"{tables.depth_problem(sc.obs_depth_m)}")
     # K at the target's bearing and range from the observer (between radials for a grid with
-    # bearings); NaN where the grid has none (beyond land): no level reaches the observer
-    heard = tables
-    if abs(sc.target_depth_m - cls.depth_m) > TARGET_DEPTH_TOLERANCE_M:
-        if not tables.serves_target_depth:
-            raise ScenarioError(
-                f"{sc.source}: [target] depth_m: {sc.target_depth_m:g} m is not the depth of class "
-                f"{cls.name}'s tables ({cls.depth_m:g} m), and {tables.source} holds no TL from the "
-                f"observer for other depths: set depth_m = {cls.depth_m:g}, or give the class a "
-                f"depth_range_m in the area file and rebuild the grid")
-        heard = tables.at_target_depth(sc.target_depth_m)  # K with the target at its own depth
-    k = heard.k_at(ic, r, sc.obs_depth_m, bearing_deg=b_true)  # (E, T, M)
+    if (k_provider is None and abs(sc.target_depth_m - cls.depth_m) > TARGET_DEPTH_TOLERANCE_M
+            and not tables.serves_target_depth):
+        raise ScenarioError(
+            f"{sc.source}: [target] depth_m: {sc.target_depth_m:g} m is not the depth of class "
+            f"{cls.name}'s tables ({cls.depth_m:g} m), and {tables.source} holds no TL from the "
+            f"observer for other depths: set depth_m = {cls.depth_m:g}, or give the class a "
+            f"depth_range_m in the area file and rebuild the grid")
+    # bearings; from the tables where the observer is, for an atlas); NaN where the grid has
+    # none (beyond land): no level reaches the observer
+    provider = k_provider or tables_k(tables)
+    k = provider(TruePaths(ic=ic, obs_x_m=ox, obs_y_m=oy, obs_depth_m=sc.obs_depth_m, x_m=x, y_m=y,
+                           range_m=r, bearing_deg=b_true, target_depth_m=sc.target_depth_m))  # (E, T, M)
     w_true = p0[..., None] + k + dk[:, None, None] + sonar.receiver_gain_db
     noise = tables.noise_band_db - sonar.directivity_index_db
     snr_db = w_true - sonar.receiver_gain_db - noise
@@ -170,9 +223,10 @@ def truth_of(sim: SimBatch, sc: Scenario, run: int = 0) -> pd.DataFrame:
                          "tack": sim.tack})
 
 
-def simulate(sc: Scenario, tables: GridTables, rng: np.random.Generator):
-    """One run: (Measurements, truth DataFrame); dK drawn from the class's k_error_sd_db."""
-    sim = simulate_batch(sc, tables, rng)
+def simulate(sc: Scenario, tables: GridTables, rng: np.random.Generator, *, k_provider=None):
+    """One run: (Measurements, truth DataFrame); dK drawn from the class's k_error_sd_db.
+    ``k_provider``: as `simulate_batch`'s."""
+    sim = simulate_batch(sc, tables, rng, k_provider=k_provider)
     return measurements_of(sim, 0, source=sc.name), truth_of(sim, sc, 0)
 
 

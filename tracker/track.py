@@ -92,9 +92,13 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
         i = int(bad[0])
         raise MeasurementFileError(f"{m.source}: row {i + 1}, column obs_depth_m: "
                                    f"{tables.depth_problem(float(m.obs_depth_m[i]))}")
+    _check_observers(tables, m)
     if not np.isfinite(m.bearing_deg).any():
         raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row")
     depth = _target_depth(target_depth)
+    if depth is TargetDepth.UNKNOWN and tables.follows_observer:
+        raise InputError(f"{tables.source}: target depth unknown: not estimated yet with tables that "
+                         f"follow the observer (an atlas); give the class's depth or a depth in metres")
     if depth is not TargetDepth.CLASS:
         _check_target_depth(tables, m, method, depth)
         if depth is not TargetDepth.UNKNOWN:
@@ -118,6 +122,17 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
     df = rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
                                 band=band, config=rpf_config, depth_unknown=unknown)
     return df if unknown else _assumed_depth(df, tables, depth)
+
+
+def _check_observers(tables: GridTables, m: Measurements) -> None:
+    """Every observer position served by the tables (an atlas's: inside its positions)."""
+    try:
+        tables.check_observers(m.obs_x_m, m.obs_y_m)
+    except InputError as exc:
+        head, _, rest = str(exc).partition(":")  # "observer 12: ..." -> the file's row 13
+        row = int(head.split()[1]) + 1 if head.startswith("observer ") else None
+        raise MeasurementFileError(f"{m.source}: row {row}, observer position:{rest}" if row
+                                   else f"{m.source}: {exc}") from None
 
 
 def _target_depth(value) -> TargetDepth | float:

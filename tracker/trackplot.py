@@ -48,11 +48,11 @@ def track_figure(track: pd.DataFrame, measurements: Measurements, tables: GridTa
     reach = float(np.nanmax(np.hypot(np.concatenate([track.x_m, m.obs_x_m]),
                                      np.concatenate([track.y_m, m.obs_y_m]))))
     setting = draw_setting(tables, ax, radius_m=reach * 1.1, grid_path=grid_path)
-    origin = tables.observer_offset(np.zeros(1), np.zeros(1))
+    origin = tables.area.origin  # the reference of the local plane
 
     def to_axes(x, y):
         if setting.geographic:
-            lat, lon = local_plane_to_lat_lon(origin.origin_lat_deg, origin.origin_lon_deg, x, y)
+            lat, lon = local_plane_to_lat_lon(origin.lat_deg, origin.lon_deg, x, y)
             return lon, lat
         return np.asarray(x) / 1000.0, np.asarray(y) / 1000.0
 

@@ -64,6 +64,7 @@ class AtlasTables:
     done: np.ndarray
     left_out: list
     _group: object = field(repr=False)
+    _slabs: dict = field(default_factory=dict, repr=False)
 
     @property
     def class_names(self) -> tuple[str, ...]:
@@ -96,9 +97,34 @@ class AtlasTables:
                                  f"build {self.area.name} rebuilds it") from None
 
     def slab(self, m: int, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The table of (month index, origin index): TL (C, B, N, Z, R), K (C, B, N, R), bottom (N, R)."""
-        self._check_table(m, o)
-        return (self._read("tl_db", (m, o)), self._read("k_db", (m, o)), self._read("bottom_depth_m", o))
+        """The table of (month index, origin index): TL (C, B, N, Z, R), K (C, B, N, R), bottom (N, R).
+
+        Read from the store once (the arrays are kept, read-only, for the next call).
+        """
+        key = (int(m), int(o))
+        if key not in self._slabs:
+            self._check_table(m, o)
+            arrays = (self._read("tl_db", (m, o)), self._read("k_db", (m, o)), self._read("bottom_depth_m", o))
+            for a in arrays:
+                a.setflags(write=False)
+            self._slabs[key] = arrays
+        return self._slabs[key]
+
+    def at(self, lat_deg: float, lon_deg: float, month: int) -> RadialTables:
+        """The bearing-dependent tables at an observer position between the positions: every value
+        of the surrounding positions' tables weighted in dB (``acoustics.grid.atlasfollow.blend``)."""
+        from acoustics.grid.atlasfollow import blend
+
+        idx, w = self.weights(np.array([float(lat_deg)]), np.array([float(lon_deg)]))
+        return blend(self, int(month), [(int(i), float(v)) for i, v in zip(idx[0], w[0]) if v > 0],
+                     float(lat_deg), float(lon_deg))
+
+    def follow(self, month: int | None = None):
+        """The grid face the trackers take: the tables of ``month`` around the observer at every
+        cycle (``acoustics.grid.atlasfollow.FollowingTables``)."""
+        from acoustics.grid.atlasfollow import follow
+
+        return follow(self, month)
 
     def sel(self, *, month: int, origin: int) -> RadialTables:
         """The bearing-dependent grid of ``month`` with ``[origin]`` at position ``origin``."""

@@ -357,6 +357,25 @@ class GridTables(ABC):
         """How far observer positions (x east, y north of the origin, m) go from the origin the
         tables are computed from (the largest distance); None where the tables hold everywhere."""
 
+    def at_observer(self, x_m: float, y_m: float) -> GridTables:
+        """The tables for an observer at (x east, y north of the area's origin, m): the trackers
+        and the simulator ask this every cycle, then ask the result for K and TL.
+
+        A grid's tables are the same wherever the observer is (these tables); an atlas's are
+        mixed from the positions around the observer (``acoustics.grid.atlasfollow``).
+        """
+        return self
+
+    @property
+    def follows_observer(self) -> bool:
+        """Whether `at_observer` gives other tables at other observer positions (an atlas)."""
+        return False
+
+    def check_observers(self, x_m, y_m) -> None:
+        """Raise InputError naming the first observer position (from 0) the tables cannot serve
+        (outside an atlas's positions); a grid serves every position."""
+        return None
+
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class FlatTables(GridTables):
@@ -504,7 +523,7 @@ class RadialTables(GridTables):
         d, r = np.broadcast_arrays(np.asarray(depth_m, dtype=float), np.asarray(range_m, dtype=float))
         self._check_point_depth(d)
         j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, d.shape))
-        t = self.tl_db[ic, ib]                                          # (N, D, R)
+        t = self._observer_tl_db()[ic, ib]                              # (N, D, R)
         out = np.zeros(d.shape)
         for j in np.unique(np.concatenate([j0.ravel(), j1.ravel()])):
             a = _bilinear(t[j], self.depth_m, self.range_m, d, r)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from acoustics.grid.atlasfollow import FollowingTables
 from acoustics.grid.tables import FlatTables, GridTables, RadialTables
 from acoustics.plots.style import LAND_COLOR, ORIGIN_STYLE, contour_levels, label_depth
 from envdata.radials import geodesic_points
@@ -56,6 +57,15 @@ def _(tables: RadialTables, ax, *, radius_m: float, grid_path=None) -> Setting:
     ax.plot([lon0], [lat0], ms=11, label="grid origin", **ORIGIN_STYLE)
     ax.set_aspect(1.0 / np.cos(np.radians(lat0)))
     return Setting(geographic=True, note=f"area {tables.area.name}, {note}")
+
+
+@draw_setting.register
+def _(tables: FollowingTables, ax, *, radius_m: float, grid_path=None) -> Setting:
+    setting = draw_setting.dispatch(RadialTables)(tables, ax, radius_m=radius_m, grid_path=grid_path)
+    atlas = tables.atlas
+    ax.plot(atlas.lon_deg, atlas.lat_deg, "s", ms=5, mfc="none", mec="0.25", zorder=4,
+            label=f"atlas positions (month {tables.month})")
+    return Setting(geographic=True, note=f"{setting.note}; the tables follow the observer through the atlas")
 
 
 def _draw_grid_bottom(ax, tables: RadialTables) -> None:

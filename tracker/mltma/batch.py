@@ -99,6 +99,9 @@ class MLBatch:
         # per row and cycle: highest detected band (-1: none) and its level (eq. 29), dB
         self.top_band = np.full((b, self.capacity), -1)
         self.top_level_db = np.full((b, self.capacity), np.nan)
+        # the same level less K(r) at the range tracked until then (eq. 29 with level_vs_k), dB
+        self.top_residual_db = np.full((b, self.capacity), np.nan)
+        self.k_error_sd_db = np.array([c.k_error_sd_db for c in classes])  # sd of K's error, dB
         # the current tack of each row: first cycle, number (1, 2, ...), and the number of
         # consecutive cycles on which a maneuver test (eqs. 26-29) has fired
         self.tack_start = np.zeros(b, dtype=int)
@@ -154,12 +157,15 @@ class MLBatch:
             self.bandwidth_hz, self.sonar.integration_time_s, self.sonar.beamwidth_deg)
         self._record(n, t_s, obs_x_m, obs_y_m, brg, sd_p, level, top)
 
+        # K at the row's bearing from the observer on a bearing-dependent grid, from the tables
+        # where the observer is (an atlas's follow it): (C, M, B, R)
+        k_db = self.tables.at_observer(obs_x_m, obs_y_m).k_db(obs_depth_m, bearing_deg=brg)
+        self._record_level_residual(n, k_db)
+
         # step 1: maneuver detection; a confirmed one starts a new tack
         new_tack = self._detect_maneuver(n, sd_p, sd_w)
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
-        # K at the row's bearing from the observer on a bearing-dependent grid: (C, M, B, R)
-        k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg)
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)
@@ -240,12 +246,20 @@ class MLBatch:
         """Step 1: eqs. 26-27 and 29; rows whose test fired on enough consecutive cycles start
         a new tack at the first of those cycles. Returns the rows that did, (B,) bool."""
         p = self.params
-        fired = maneuver.bearing_maneuver(self.t_s, self.bearing_deg, self.tack_start, n, sd_p,
-                                          s_cycles=p.maneuver_s, l_cycles=p.maneuver_l,
-                                          factor=p.maneuver_factor)
-        fired |= maneuver.level_maneuver(self.top_band, self.top_level_db, sd_w, self.tack_start,
-                                         n, f_cycles=p.level_f, factor=p.maneuver_factor,
-                                         sd_floor_db=p.level_sd_floor_db)
+        bearing_test = maneuver.bearing_maneuver_curved if p.maneuver_curved else maneuver.bearing_maneuver
+        fired = bearing_test(self.t_s, self.bearing_deg, self.tack_start, n, sd_p, s_cycles=p.maneuver_s,
+                             l_cycles=p.maneuver_l, factor=p.maneuver_factor)
+        if p.level_vs_k:
+            # the level less K at the tracked range: what eq. 29 means to see (the target's own
+            # noise) without K's change along the track; K's error sd joins sigma_dW
+            sd_k = np.hypot(np.maximum(sd_w, p.level_sd_floor_db), self.k_error_sd_db[:, None])
+            fired |= maneuver.level_maneuver(self.top_band, self.top_residual_db, sd_k, self.tack_start,
+                                             n, f_cycles=p.level_f, factor=p.maneuver_factor,
+                                             sd_floor_db=p.level_sd_floor_db)
+        else:
+            fired |= maneuver.level_maneuver(self.top_band, self.top_level_db, sd_w, self.tack_start,
+                                             n, f_cycles=p.level_f, factor=p.maneuver_factor,
+                                             sd_floor_db=p.level_sd_floor_db)
         self.maneuver_pending = np.where(fired, self.maneuver_pending + 1, 0)
         new = self.maneuver_pending >= p.maneuver_confirm
         if new.any():
@@ -254,6 +268,23 @@ class MLBatch:
             self.maneuver_pending[new] = 0
             self.bearing_form[new] = 0.0
         return new
+
+    def _record_level_residual(self, n, k_db) -> None:
+        """Cycle n's highest-band level less K at the range tracked until now (NaN before a range)."""
+        top = self.top_band[:, n]
+        r = self.last_range_m
+        ok = (top >= 0) & np.isfinite(r)
+        if not ok.any():
+            return
+        axis = self.range_axis_m
+        rc = np.clip(np.where(ok, r, axis[0]), axis[0], axis[-1])
+        i = np.clip(np.searchsorted(axis, rc, side="right") - 1, 0, axis.size - 2)
+        w = (rc - axis[i]) / (axis[i + 1] - axis[i])
+        ci, tb = self.class_index, np.maximum(top, 0)
+        rows = np.arange(self.n_rows)
+        k_rows = k_db[ci, tb, rows] if k_db.ndim == 4 else k_db[ci, tb]   # (B, R)
+        k = (1.0 - w) * k_rows[rows, i] + w * k_rows[rows, i + 1]
+        self.top_residual_db[:, n] = np.where(ok, self.top_level_db[:, n] - k, np.nan)
 
     def _accumulate_form(self, n, new_tack, sd_p, rho) -> None:
         """Add cycle n's bearing to the bearing form; a new tack's form is first rebuilt from

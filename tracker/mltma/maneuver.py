@@ -50,6 +50,50 @@ def bearing_maneuver(t_s, bearing_deg, tack_start, n, bearing_sd_deg, *, s_cycle
     return ok & (np.abs(wrap180(ps + rate * (tn - ts) - pn)) > factor * bearing_sd_deg)
 
 
+def bearing_maneuver_curved(t_s, bearing_deg, tack_start, n, bearing_sd_deg, *, s_cycles: int,
+                            l_cycles: int, factor: float):
+    """Eqs. 26-27 with the bearing trace of a straight relative track: the bearing at cycle n
+    departs from the bearing extrapolated from the track that fits cycles n - L to n - S, by
+    more than ``factor`` sd of the difference.
+
+    A target that does not manoeuvre, seen from an observer that does not, has a bearing trace
+    that curves: its rate changes with the range and the aspect, most near the closest approach.
+    Eq. 27 extrapolates a straight line through two bearings, and over the test's L cycles the
+    curvature alone departs from that line by more than eq. 26's 4.5 sigma_P at a few km with
+    sigma_P of a tenth of a degree (docs/atlas-tracking.md). Here the relative track is straight,
+    x(t) = x0 + vx t, y(t) = y0 + vy t, each bearing P_i giving (x0 + vx t_i) cos P_i - (y0 + vy
+    t_i) sin P_i = 0; (x0, vx, y0, vy) up to scale is the least singular vector of those rows
+    (the range scale is not observable, the bearing trace is). A manoeuvre breaks the straight
+    track. The sd of the difference is taken as sigma_P sqrt(1 + h), h the leverage of t_N in a
+    three-parameter (quadratic) fit over the same cycles: the fitted bearing's own error, which
+    eq. 26 leaves out. Arguments and return as `bearing_maneuver`.
+    """
+    ok = (n - tack_start) >= l_cycles
+    if not ok.any():
+        return np.zeros(len(tack_start), dtype=bool)
+    idx = np.arange(n - l_cycles, n - s_cycles + 1)
+    dt = t_s[idx] - t_s[n]                                          # <= 0, s
+    scale = max(float(-dt[0]), 1.0)
+    tau = dt / scale
+    rows = np.flatnonzero(ok)
+    # rows with the same bearings (class hypotheses of one track) are fitted once
+    window, back = np.unique(bearing_deg[rows][:, idx], axis=0, return_inverse=True)
+    p = np.radians(window)                                          # (u, k)
+    c, s_ = np.cos(p), np.sin(p)
+    a = np.stack([c, tau * c, -s_, -tau * s_], axis=-1)             # (u, k, 4)
+    # the least singular vector of a: the eigenvector of a^T a with the least eigenvalue
+    z = np.linalg.eigh(np.einsum("uki,ukj->uij", a, a))[1][:, :, 0][np.ravel(back)]  # x0, vx, y0, vy at t_N
+    pred = np.degrees(np.arctan2(z[:, 0], z[:, 2]))
+    ref = bearing_deg[rows, n - s_cycles]
+    pred = np.where(np.abs(wrap180(pred - ref)) > 90.0, pred + 180.0, pred)  # the direction, not its opposite
+    x = np.stack([np.ones(idx.size), tau, tau ** 2], axis=1)
+    leverage = np.linalg.inv(x.T @ x)[0, 0]
+    fired = np.zeros(len(tack_start), dtype=bool)
+    miss = wrap180(bearing_deg[rows, n] - pred)
+    fired[rows] = np.abs(miss) > factor * bearing_sd_deg[rows] * np.sqrt(1.0 + leverage)
+    return fired
+
+
 def level_maneuver(top_band, top_level_db, level_sd_db, tack_start, n, *, f_cycles: int,
                    factor: float, sd_floor_db: float):
     """Eq. 29: the level in the highest detected band departs from its mean over the F cycles

@@ -25,6 +25,12 @@ class MLParams:
     maneuver_l: int = 20               # L of eq. 27
     maneuver_factor: float = 4.5       # eqs. 26, 29
     maneuver_confirm: int = 2          # consecutive cycles a maneuver test must fire
+    maneuver_curved: bool = True       # eqs. 26-27 about a quadratic fit of the bearing trace, not
+                                       # eq. 27's line (a non-manoeuvring target's trace curves;
+                                       # docs/atlas-tracking.md); False: the paper's line
+    level_vs_k: bool = True            # eq. 29 on the level less K(r) at the tracked range, its sd
+                                       # widened by the class's K error sd; False: the paper's raw
+                                       # level against sigma_dW
     level_f: int = 10                  # F of eq. 29
     level_sd_floor_db: float = 0.5     # floor on sigma_dW in eq. 29 (K(r) ripple along range)
     n_course: int = 24                 # global search: values per axis (>= 20, paper step 8)

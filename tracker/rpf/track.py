@@ -133,7 +133,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                     raise GridFileError(f"{tables.source}: class {name!r} has source level "
                                         f"model {model!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
-            profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]))
+            profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         if depth_unknown:
             res = _run_depth(tables, ic, ib, t, obs, bearings[rows], levels[rows], cfg, rng,
                              model, p0, p0_sd)
@@ -172,16 +172,21 @@ def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0
                            source_level_model=model, p0_db=p0, p0_sd_db=p0_sd, summaries=True)
 
 
-def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg) -> list:
-    """The level model's K(r) of each cycle: at the cycle's observer depth, and for a grid with
-    bearings at the cycle's measured bearing (between radials; a cycle without one takes the
-    last bearing measured). The particles of a cycle lie within a few bearing sd of the measured
-    bearing, where K changes little between radials tens of degrees apart."""
+def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg, obs_x_m=None, obs_y_m=None) -> list:
+    """The level model's K(r) of each cycle: from the tables where the observer is that cycle
+    (an atlas's follow it; ``GridTables.at_observer``), at the cycle's observer depth, and for
+    a grid with bearings at the cycle's measured bearing (between radials; a cycle without one
+    takes the last bearing measured). The particles of a cycle lie within a few bearing sd of
+    the measured bearing, where K changes little between radials tens of degrees apart.
+    Observer positions default to the origin."""
+    depth = np.asarray(depth_m, dtype=float)
+    xs = np.zeros(depth.shape) if obs_x_m is None else np.asarray(obs_x_m, dtype=float)
+    ys = np.zeros(depth.shape) if obs_y_m is None else np.asarray(obs_y_m, dtype=float)
     profiles = []
     last = None
-    for d, b in zip(np.asarray(depth_m, dtype=float), np.asarray(bearing_deg, dtype=float)):
+    for d, b, x, y in zip(depth, np.asarray(bearing_deg, dtype=float), xs, ys):
         if np.isfinite(b):
             last = float(b)
         # the tables keep each profile: the same depth and bearing give the same one
-        profiles.append(tables.level_profile(ic, ib, float(d), bearing_deg=last))
+        profiles.append(tables.at_observer(x, y).level_profile(ic, ib, float(d), bearing_deg=last))
     return profiles

@@ -108,7 +108,7 @@ def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.rand
     for run in range(e):  # each run its own measured bearings, so its own K profiles
         bearing = np.radians(sim.bearing_deg[run])
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m),
-                                  sim.bearing_deg[run])
+                                  sim.bearing_deg[run], sim.obs_x_m, sim.obs_y_m)
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
                         level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles,
                         cfg=cfg, rng=rng, source_level_model="p0", p0_db=target.noise_mean_db,

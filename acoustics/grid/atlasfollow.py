@@ -1,0 +1,190 @@
+"""An atlas's tables following the observer: at each cycle, the tables around where it is.
+
+README "Atlases" (docs/formats.md): between an atlas's positions the tables are interpolated in
+dB, each surrounding position's table read at the same bearing and range from the observer and
+the values weighted bilinearly on the lattice (barycentrically over three listed positions;
+``acoustics.grid.atlasweights``). Weighting every value of the tables by the same weights gives
+one table, `BlendedTables`: a bearing-dependent grid face (`RadialTables`) at the observer's
+position, so the trackers and the simulator ask it what they ask any grid.
+
+`FollowingTables` is the face the trackers take for an atlas of one month: its own tables are
+those at the area's ``[origin]`` (the reference point of the local plane), and
+``at_observer(x_m, y_m)`` gives the blended tables at an observer x east and y north of it
+(azimuthal equidistant plane, WGS84). K is blended at once (class x band x bearing x range, a
+few thousand values); TL (with the depth axis, a thousand times more) only when asked, for K
+with the target at another depth. The slabs of the positions are read from the store once
+(`AtlasTables.slab` is cached) and the blended tables of the last few observer positions kept,
+keyed by the positions and weights: consecutive cycles share cells, and a tracker and the
+simulator given the same path get the same tables.
+
+Bearings at the observer are taken in the local plane (atan2 of the plane's east and north
+differences); against true north at the observer they differ by the meridian convergence,
+about 0.01 deg per km east or west of the origin at 43 N, far below the radials' spacing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from acoustics.grid.tables import GridTables, RadialTables
+from envdata.atlasarea import area_for_month
+from envdata.errors import InputError
+from envdata.geometry import local_plane_to_lat_lon
+
+#: Blended tables kept per following face (the latest observer positions).
+VIEW_CACHE = 32
+#: Weights are rounded to this in the cache key (a position 1e-6 of a cell apart: the same table).
+WEIGHT_KEY_DECIMALS = 6
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class BlendedTables(RadialTables):
+    """Bearing-dependent tables mixed in dB from an atlas's positions around one observer position.
+
+    Attributes (beyond `RadialTables`)
+    ----------------------------------
+    tl_parts : tuple of (float, ndarray)
+        Weights and TL slabs (C, M, N, D, R), float32, of the positions mixed; ``tl_db`` is None
+        and the weighted TL is formed the first time it is asked for.
+    """
+
+    tl_parts: tuple = ()
+
+    def _observer_tl_db(self) -> np.ndarray:
+        key = ("blended-tl",)
+        if key not in self._cache:
+            self._cache[key] = _weighted([(w, tl) for w, tl in self.tl_parts])
+        return self._cache[key]
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class FollowingTables(BlendedTables):
+    """An atlas of one month as the trackers' grid face: the tables around the observer.
+
+    Its own tables (what it answers when asked directly) are those at the area's ``[origin]``;
+    `at_observer` gives those at another position of the local plane.
+
+    Attributes (beyond `BlendedTables`)
+    -----------------------------------
+    atlas : acoustics.grid.atlas.AtlasTables
+    month : int
+    """
+
+    atlas: object = field(repr=False)
+    month: int
+    _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
+
+    @property
+    def follows_observer(self) -> bool:
+        return True
+
+    def observer_offset(self, x_m, y_m):
+        return None  # the tables follow the observer
+
+    def _plane_to_lat_lon(self, x_m, y_m):
+        origin = self.area.origin
+        return local_plane_to_lat_lon(origin.lat_deg, origin.lon_deg, x_m, y_m)
+
+    def check_observers(self, x_m, y_m) -> None:
+        lat, lon = self._plane_to_lat_lon(np.atleast_1d(x_m), np.atleast_1d(y_m))
+        self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
+
+    def at_observer(self, x_m: float, y_m: float) -> GridTables:
+        lat, lon = self._plane_to_lat_lon(float(x_m), float(y_m))
+        idx, w = self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
+        key = (tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(idx[0], w[0]) if v > 0),
+               self.target_depth_m)
+        view = self._views.get(key)
+        if view is None:
+            view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat), float(lon),
+                         dataset=self.dataset)
+            if self.target_depth_m is not None:
+                view = view.at_target_depth(self.target_depth_m)
+            self._views[key] = view
+            while len(self._views) > VIEW_CACHE:
+                self._views.popitem(last=False)
+        else:
+            self._views.move_to_end(key)
+        return view
+
+    def at_target_depth(self, depth_m: float) -> GridTables:
+        out = super().at_target_depth(depth_m)
+        return dataclasses.replace(out, _views=OrderedDict())
+
+
+def _weighted(parts) -> np.ndarray:
+    """The weighted sum of arrays, float64 (NaN where any array of weight > 0 is NaN)."""
+    out = None
+    for w, a in parts:
+        term = w * np.asarray(a, dtype=float)
+        out = term if out is None else out + term
+    return out
+
+
+def blend(atlas, month: int, weights, lat_deg: float, lon_deg: float, *, dataset=None) -> BlendedTables:
+    """The tables at an observer position from its surrounding positions' tables and weights.
+
+    Parameters
+    ----------
+    atlas : acoustics.grid.atlas.AtlasTables
+    month : int
+    weights : sequence of (int, float)
+        Positions (origin indices) and their weights, summing to 1.
+    lat_deg, lon_deg : float
+        The observer's position (the blended tables' origin), deg.
+    dataset : xarray.Dataset, optional
+        The dataset the figures draw (default: that of the heaviest position's table).
+    """
+    m = atlas.month_index(month)
+    slabs = [(w, atlas.slab(m, o)) for o, w in weights]
+    heaviest = max(weights, key=lambda ow: ow[1])[0]
+    if dataset is None:
+        dataset = atlas.sel(month=month, origin=heaviest).dataset
+    area = area_for_month(atlas.area, month)
+    bottom = _weighted([(w, s[2]) for w, s in slabs])
+    return BlendedTables(
+        source=f"{atlas.path}[month={month}, {lat_deg:.5f} N {lon_deg:.5f} E]", area=area, dataset=dataset,
+        classes=tuple(area.classes), bands=tuple(area.bands), range_m=np.asarray(atlas.range_m, dtype=float),
+        depth_m=np.asarray(atlas.depth_m, dtype=float), k_grid_db=_weighted([(w, s[1]) for w, s in slabs]),
+        tl_db=None, observer_depth_m=float(area.observer.depth_m),
+        bearing_deg=np.asarray(atlas.bearing_deg, dtype=float), bottom_depth_m=bottom,
+        origin_lat_deg=float(lat_deg), origin_lon_deg=float(lon_deg),
+        tl_parts=tuple((w, s[0]) for w, s in slabs))
+
+
+def follow(atlas, month: int | None = None) -> FollowingTables:
+    """The atlas's tables of ``month`` following the observer (`FollowingTables`).
+
+    ``month`` may be left out when the atlas has one month.
+
+    Raises
+    ------
+    InputError
+        No month given for an atlas of several, a month the atlas lacks, an atlas whose area
+        ``[origin]`` is outside its positions.
+    """
+    if month is None:
+        if atlas.months.size != 1:
+            raise InputError(f"{atlas.path}: the atlas has months {', '.join(str(v) for v in atlas.months)}: "
+                             f"choose one")
+        month = int(atlas.months[0])
+    atlas.month_index(int(month))
+    origin = atlas.area.origin
+    try:
+        idx, w = atlas.weights(np.array([origin.lat_deg]), np.array([origin.lon_deg]))
+    except InputError as exc:
+        raise InputError(f"{atlas.path}: the area's [origin] ({origin.lat_deg:g} N, {origin.lon_deg:g} E), "
+                         f"the reference of the local plane, is outside the atlas's positions "
+                         f"({str(exc).partition(': ')[2]})") from None
+    weights = [(int(i), float(v)) for i, v in zip(idx[0], w[0]) if v > 0]
+    base = blend(atlas, int(month), weights, origin.lat_deg, origin.lon_deg)
+    values = {f.name: getattr(base, f.name) for f in dataclasses.fields(base) if f.name != "_cache"}
+    values["source"] = f"{atlas.path}[month={int(month)}]"
+    return FollowingTables(**values, atlas=atlas, month=int(month))
+
+
+__all__ = ["BlendedTables", "FollowingTables", "blend", "follow"]

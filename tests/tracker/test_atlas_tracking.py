@@ -1,0 +1,204 @@
+"""Trackers and the simulator on an atlas (the tables follow the observer), and BELLHOP along the
+true paths: real BELLHOP, a real Zarr atlas, the real command line."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from acoustics.builder.atlas import build_atlas_file
+from acoustics.builder.truthk import BellhopTruth
+from acoustics.grid.atlas import open_atlas
+from acoustics.grid.opentables import open_tables
+from envdata.geometry import lat_lon_to_local_plane, local_plane_to_lat_lon
+from tests.acoustics.atlas.atlasarea import load_atlas_area
+from tools.cli import main
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate_batch
+
+pytestmark = pytest.mark.bellhop
+
+SCENARIO = """
+[scenario]
+name = "atlas-follow"
+description = "observer crossing the slope of the test atlas"
+area = "atlas-test"
+cycle_s = 20.0
+target_class = "TV"
+bearing_sd_min_deg = 0.05
+
+[observer]
+x_m = 0.0
+y_m = 0.0
+depth_m = 100.0
+
+[[observer.tacks]]
+course_deg = 250.0
+speed_mps = 3.0
+duration_s = {duration}
+
+[target]
+depth_m = 8.0
+x_m = 2000.0
+y_m = -6000.0
+
+[[target.tacks]]
+course_deg = 300.0
+speed_mps = 6.5
+noise_db = 131.02
+duration_s = {duration}
+"""
+
+
+@pytest.fixture(scope="module")
+def atlas_dir(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("follow")
+    area = load_atlas_area(folder, months=(8,))
+    build_atlas_file(area, folder / "a.zarr", workers=2)
+    (folder / "sc.toml").write_text(SCENARIO.format(duration=1200.0))
+    (folder / "short.toml").write_text(SCENARIO.format(duration=160.0))
+    return folder
+
+
+def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
+    atlas = open_atlas(atlas_dir / "a.zarr")
+    tables = open_tables(atlas_dir / "a.zarr")  # one month: no month needed
+    assert tables.follows_observer
+    o = tables.area.origin
+    # at a position: exactly its table (float32 in the store)
+    x, y = lat_lon_to_local_plane(o.lat_deg, o.lon_deg, atlas.lat_deg[4], atlas.lon_deg[4])
+    view = tables.at_observer(x, y)
+    assert np.array_equal(view.k_grid_db, atlas.slab(0, 4)[1].astype(float), equal_nan=True)
+    # between positions: what values_at gives, reading each position's table separately
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        lat, lon = 42.98 + 0.06 * rng.random(), 4.91 + 0.18 * rng.random()
+        b, r = 360.0 * rng.random(), 500.0 + 9000.0 * rng.random()
+        k_ref, tl_ref = atlas.values_at(lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
+                                        bearing_deg=b, range_m=r, depth_m=[30.0])
+        k_own, _ = atlas.values_at(lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
+                                   bearing_deg=b, range_m=r)
+        view = tables.at_observer(*lat_lon_to_local_plane(o.lat_deg, o.lon_deg, lat, lon))
+        # the same weights and the same linear rules; float32 storage against float64 sums
+        assert view.k_at(0, np.array([r]), bearing_deg=b)[0, 0] == pytest.approx(k_own[0], abs=1e-4)
+        assert view.tl_at(0, 0, 30.0, r, b) == pytest.approx(tl_ref[0], abs=1e-4)
+        assert view.at_target_depth(30.0).k_at(0, np.array([r]), bearing_deg=b)[0, 0] == pytest.approx(
+            k_ref[0], abs=1e-4)
+
+
+def test_the_simulator_hears_the_tables_where_the_observer_is(atlas_dir):
+    atlas = open_atlas(atlas_dir / "a.zarr")
+    tables = open_tables(atlas_dir / "a.zarr", month=8)
+    sc = load_scenario(atlas_dir / "sc.toml")
+    sim = simulate_batch(sc, tables, np.random.default_rng(1), dk_db=[0.0])
+    o = tables.area.origin
+    lat, lon = local_plane_to_lat_lon(o.lat_deg, o.lon_deg, sim.obs_x_m, sim.obs_y_m)
+    assert np.hypot(sim.obs_x_m[-1], sim.obs_y_m[-1]) > 3000.0  # the observer moved 3.6 km
+    k, _ = atlas.values_at(lat_deg=lat, lon_deg=lon, month=8, cls_name="TV", band_name="FB2",
+                           bearing_deg=sim.bearing_true_deg[0], range_m=sim.range_m[0])
+    # W = P0 + K + dK + H (eq. 12) with dK = 0, H = 0: K from the tables around each cycle's observer
+    np.testing.assert_allclose(sim.level_true_db[0, :, 0], sim.noise_db[0] + k, rtol=0, atol=1e-4)
+    # and not the origin's tables alone: the slope changes K by more than a dB along the path
+    k0 = tables.k_at(0, sim.range_m[0], bearing_deg=sim.bearing_true_deg[0])[:, 0]
+    assert np.nanmax(np.abs(k0 - k)) > 1.0
+
+
+def test_track_and_simulate_on_an_atlas_through_the_command_line(atlas_dir, tmp_path, capsys):
+    zarr = str(atlas_dir / "a.zarr")
+    assert main(["simulate", str(atlas_dir / "sc.toml"), "--grid", zarr, "--month", "8",
+                 "--out", str(tmp_path / "sim")]) == 0
+    meas = tmp_path / "sim" / "measurements.csv"
+    assert main(["track", "--grid", zarr, "--measurements", str(meas), "--out", str(tmp_path / "t.csv"),
+                 "--plot", str(tmp_path / "t.png"), "--truth", str(tmp_path / "sim" / "truth.csv"),
+                 "--json"]) == 0
+    report = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert report["follows_observer"] and (tmp_path / "t.png").stat().st_size > 10_000
+    # the same measurements with the observer as latitude and longitude: the same track
+    df = pd.read_csv(meas)
+    o = open_tables(zarr).area.origin
+    lat, lon = local_plane_to_lat_lon(o.lat_deg, o.lon_deg, df.obs_x_m, df.obs_y_m)
+    geo = df.drop(columns=["obs_x_m", "obs_y_m"]).assign(obs_lat_deg=lat, obs_lon_deg=lon)
+    geo.to_csv(tmp_path / "geo.csv", index=False, float_format="%.10f")
+    assert main(["track", "--grid", zarr, "--measurements", str(tmp_path / "geo.csv"),
+                 "--out", str(tmp_path / "g.csv")]) == 0
+    a, b = pd.read_csv(tmp_path / "t.csv"), pd.read_csv(tmp_path / "g.csv")
+    # 1e-10 deg of the CSV is 1e-5 m: the same estimates to a centimetre
+    np.testing.assert_allclose(a.x_m, b.x_m, rtol=0, atol=0.01)
+    truth = pd.read_csv(tmp_path / "sim" / "truth.csv")
+    err = np.hypot(a.x_m.to_numpy()[-1] - truth.x_m.to_numpy()[-1], a.y_m.to_numpy()[-1] - truth.y_m.to_numpy()[-1])
+    assert err < 2500.0  # 20 min at 6-7 km: the ML analysis within 40 % of the range
+    assert main(["track", "--grid", zarr, "--measurements", str(meas), "--out", str(tmp_path / "r.csv"),
+                 "--method", "rpf", "--seed", "3"]) == 0
+    r = pd.read_csv(tmp_path / "r.csv")
+    assert np.isfinite(r.x_m).all() and len(r) == len(df)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--month", "3"], "month 3 is not in the atlas"),
+    (["--target-depth", "unknown"], "not estimated yet with tables that follow the observer"),
+    (["--far"], "row 1, observer position"),
+])
+def test_track_on_an_atlas_refuses_what_it_cannot_serve(atlas_dir, tmp_path, capsys, args, message):
+    zarr = str(atlas_dir / "a.zarr")
+    assert main(["simulate", str(atlas_dir / "short.toml"), "--grid", zarr, "--out", str(tmp_path / "s")]) == 0
+    meas = tmp_path / "s" / "measurements.csv"
+    if args == ["--far"]:  # an observer 40 km south: outside the atlas's positions
+        df = pd.read_csv(meas)
+        df["obs_y_m"] -= 40_000.0
+        df.to_csv(meas, index=False)
+        args = []
+    capsys.readouterr()
+    code = main(["track", "--grid", zarr, "--measurements", str(meas), "--out", str(tmp_path / "t.csv"), *args])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and err[-1].startswith("error:") and message in err[-1]
+    assert not (tmp_path / "t.csv").exists()
+
+
+def test_bellhop_truth_is_the_grid_built_from_the_target_toward_the_observer(atlas_dir, tmp_path):
+    import acoustics
+    from acoustics.builder.truthk import _geodesic, _path_area
+
+    area = open_tables(atlas_dir / "a.zarr").area
+    truth = BellhopTruth.beside(area, atlas_dir / "a.zarr", cache_dir=tmp_path / "runs", workers=2)
+    paths = type("P", (), dict(ic=0, obs_x_m=np.array([0.0, -500.0]), obs_y_m=np.array([0.0, -100.0]),
+                               obs_depth_m=100.0, x_m=np.array([[3000.0, 2500.0]]),
+                               y_m=np.array([[-4000.0, -3900.0]]), target_depth_m=8.0))
+    k = truth(paths)
+    assert k.shape == (1, 2, 1) and np.isfinite(k).all() and truth.stats.runs == 2
+    # independently: the bearing-dependent grid of a one-radial area at the target toward the
+    # observer (source at the target's depth), read at the observer's depth and range
+    o = truth.area.origin
+    lat, lon = local_plane_to_lat_lon(o.lat_deg, o.lon_deg, [3000.0, 0.0], [-4000.0, 0.0])
+    lat0, lon0, az, dist = _geodesic(float(lat[0]), float(lon[0]), float(lat[1]), float(lon[1]))
+    one = _path_area(truth.area, lat0, lon0, az, dist, 8.0)
+    one = dataclasses.replace(one, grid=dataclasses.replace(one.grid, depth_step_m=50.0))
+    grid = acoustics.build_grid(one, workers=1)
+    tl = float(grid["tl_db"].sel(depth=100.0).isel(bearing=0, range=0).values[0, 0])
+    s = acoustics.spectral_term_db(area.classes[0], area.bands[0])
+    # the same geodesic through the grid builder; 0.1 dB: the grid's radial starts 5 km behind
+    # the target, the truth's 2 km (measured 0.03 dB), so backward rays see another bottom there
+    assert k[0, 0, 0] == pytest.approx(s - tl, abs=0.1)
+    # a second simulation of the same paths runs nothing: the runs are cached by geometry
+    again = BellhopTruth.beside(area, atlas_dir / "a.zarr", cache_dir=tmp_path / "runs", workers=2)
+    np.testing.assert_array_equal(again(paths), k)
+    assert again.stats.cached == again.stats.runs == 2
+
+
+def test_the_ml_analysis_declares_no_manoeuvre_of_a_target_that_makes_none(atlas_dir, tmp_path):
+    """On BELLHOP's levels along the true paths (not the tables'), a straight target passing
+    within 2 km of a moving observer: the paper's tests declare manoeuvres, the present ones none."""
+    from tracker.mltma import MLParams
+    from tracker.mltma.tracker import track_measurements
+    from tracker.simulate import simulate
+
+    tables = open_tables(atlas_dir / "a.zarr")
+    truth = BellhopTruth.beside(tables.area, atlas_dir / "a.zarr", cache_dir=tmp_path / "runs", workers=2)
+    m, _ = simulate(load_scenario(atlas_dir / "sc.toml"), tables, np.random.default_rng(4), k_provider=truth)
+    now = track_measurements(tables, m, cls_name="TV")
+    paper = track_measurements(tables, m, cls_name="TV", params=MLParams(maneuver_curved=False, level_vs_k=False))
+    assert now.tack.max() == 1
+    assert paper.tack.max() >= 3

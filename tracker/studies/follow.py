@@ -1,0 +1,155 @@
+"""Following the observer through an atlas, on levels the tables did not make (docs/atlas-tracking.md).
+
+An observer crosses the shelf-break slope (scenario ``shelf-cross``); the measurements are
+simulated with K from BELLHOP along each cycle's true target-to-observer geodesic
+(``acoustics.builder.truthk``: no reciprocity, no grid, no interpolation), and, for reference,
+from the 5 km atlas's own tables. Each set is tracked by the ML analysis (true class; with the
+manoeuvre tests of ``tracker.mltma.maneuver`` as now, and as the paper writes them) and the
+particle filter (bearings and SPL) with three sets of tables:
+
+- ``origin``: the built-in shelf-break grid, centred where the observer starts;
+- ``atlas-10km``, ``atlas-5km``: the area's atlas (``shelf-break-atlas``) at two spacings,
+  the tables following the observer.
+
+Position RMSE against time over the runs, the manoeuvres the ML analysis declares (the target
+never manoeuvres), and the truth's levels against the tables' along the path.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from acoustics.builder.atlas import build_atlas_file
+from acoustics.builder.gridfile import build_grid_file
+from acoustics.builder.truthk import BellhopTruth
+from acoustics.grid.formats import RESULT_FORMAT
+from acoustics.grid.opentables import open_tables
+from envdata.areafile import load_area
+from envdata.files import atomic_paths
+from tracker.mltma import MLBatch, MLParams
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate_batch
+from tracker.studies.shelf import _rpf_errors
+
+AREA, ATLAS_AREA, SCENARIO = "shelf-break", "shelf-break-atlas", "shelf-cross"
+SPACINGS_KM = (10.0, 5.0)
+TABLES = ("origin", "atlas-10km", "atlas-5km")
+TRUTHS = ("bellhop", "tables")
+REPORT_MIN = (10, 20, 30, 40)
+
+
+def _ml(tables, sim, ic: int, params: MLParams) -> tuple[np.ndarray, np.ndarray]:
+    """Position error (E, T), m, and the tacks declared per run (E,) of the ML analysis."""
+    e, t = sim.bearing_deg.shape
+    batch = MLBatch(tables, np.full(e, ic), t, params)
+    vx, vy = np.gradient(sim.obs_x_m, sim.t_s), np.gradient(sim.obs_y_m, sim.t_s)
+    err = np.full((e, t), np.nan)
+    for i in range(t):
+        out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i], sim.bearing_deg[:, i],
+                           sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :], sim.snr_db[:, i, :],
+                           obs_depth_m=sim.obs_depth_m)
+        err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
+    return err, batch.tack.copy()
+
+
+def build_tables(out: Path, workers: int) -> dict[str, Path]:
+    """The origin grid and the two atlases in ``out`` (reused when up to date)."""
+    files = {"origin": build_grid_file(load_area(AREA), out / f"{AREA}-bellhop.nc", workers=workers).file}
+    atlas_area = load_area(ATLAS_AREA)
+    for spacing in SPACINGS_KM:
+        area = dataclasses.replace(atlas_area, atlas=dataclasses.replace(atlas_area.atlas, spacing_km=spacing))
+        path = out / f"atlas-{spacing:g}km.zarr"
+        build_atlas_file(area, path, workers=workers)
+        files[f"atlas-{spacing:g}km"] = path
+    return {k: Path(v) for k, v in files.items()}
+
+
+def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000) -> dict:
+    """The study: write ``follow_rmse.csv``, ``follow.json`` and ``follow_rmse.png`` (all or none)."""
+    start = time.perf_counter()
+    out = Path(out_dir)
+    paths = build_tables(out / "grids", workers)
+    tables = {name: open_tables(path) for name, path in paths.items()}
+    sc = load_scenario(SCENARIO)
+    ic = tables["origin"].class_index(sc.target_class)
+    band = 0  # FB1, the band heard farthest
+    truth = BellhopTruth(load_area(AREA), cache_dir=out / "grids" / "truth-runs", workers=workers)
+    t0 = time.perf_counter()
+    sims = {"bellhop": simulate_batch(sc, tables["origin"], np.random.default_rng([seed, 0]),
+                                      dk_db=np.zeros(runs), k_provider=truth)}
+    truth_seconds = time.perf_counter() - t0
+    sims["tables"] = simulate_batch(sc, tables["atlas-5km"], np.random.default_rng([seed, 0]), dk_db=np.zeros(runs))
+    minutes = (sims["bellhop"].t_s - sims["bellhop"].t_s[0]) / 60.0
+    frame = pd.DataFrame({"t_min": minutes})
+    rmse, tacks = {}, {}
+    for truth_name, sim in sims.items():
+        for name, tab in tables.items():
+            for label, params in (("ml", MLParams()), ("ml-paper", MLParams(maneuver_curved=False,
+                                                                              level_vs_k=False))):
+                err, tk = _ml(tab, sim, ic, params)
+                frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
+                tacks[f"{label}_{name}_{truth_name}"] = {"mean_manoeuvres": float(np.mean(tk - 1)),
+                                                         "runs_with_any": int(np.sum(tk > 1))}
+            err = _rpf_errors(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles)
+            frame[f"rpf_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
+    for col in frame.columns[1:]:
+        rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}
+    diff = sims["bellhop"].level_true_db[0, :, band] - sims["tables"].level_true_db[0, :, band]
+    obs_travel = float(np.hypot(np.ptp(sims["bellhop"].obs_x_m), np.ptp(sims["bellhop"].obs_y_m)))
+    summary = {"scenario": sc.name, "runs": runs, "seed": seed, "n_particles": n_particles, "class": sc.target_class,
+               "band": tables["origin"].band_names[band], "observer_travel_m": obs_travel,
+               "tables": {k: str(v) for k, v in paths.items()},
+               "truth_runs": truth.stats.runs, "truth_runs_cached": truth.stats.cached,
+               "truth_seconds": round(truth_seconds, 1),
+               "level_bellhop_minus_atlas5km_db": {"median": float(np.nanmedian(diff)),
+                                                   "sd": float(np.nanstd(diff)),
+                                                   "p95_abs": float(np.nanpercentile(np.abs(diff), 95))},
+               "rmse_m": rmse, "mean_rmse_after_10min_m": {
+                   col.removesuffix("_rmse_m"): float(np.sqrt(np.nanmean(frame[col][minutes >= 10.0] ** 2)))
+                   for col in frame.columns[1:]},
+               "ml_manoeuvres_declared": tacks, "seconds": round(time.perf_counter() - start, 1)}
+    files = [out / "follow_rmse.csv", out / "follow.json", out / "follow_rmse.png"]
+    fig = _figure(frame, summary)
+    from acoustics.plots.figures import save_figure
+
+    with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):
+        frame.to_csv(csv_tmp, index=False, float_format="%.6g")
+        json_tmp.write_text(json.dumps({"tmakit_format": RESULT_FORMAT, **summary}, indent=1) + "\n")
+        save_figure(fig, png_tmp, atomic=False)
+    summary["files"] = [str(f) for f in files]
+    return summary
+
+
+def _figure(frame: pd.DataFrame, summary: dict):
+    from acoustics.plots.figures import new_figure
+
+    fig = new_figure(figsize=(11, 7.5), layout="constrained")
+    axes = fig.subplots(2, 2, sharex=True)
+    styles = {"origin": ("tab:red", "-"), "atlas-10km": ("tab:blue", "--"), "atlas-5km": ("tab:green", "-")}
+    for row, truth in enumerate(TRUTHS):
+        for col, method in enumerate(("ml", "rpf")):
+            ax = axes[row, col]
+            for name in TABLES:
+                color, ls = styles[name]
+                ax.plot(frame.t_min, frame[f"{method}_{name}_{truth}_rmse_m"], color=color, ls=ls, label=name)
+            ax.set_yscale("log")
+            ax.grid(alpha=0.3, which="both")
+            source = "BELLHOP along the true paths" if truth == "bellhop" else "the 5 km atlas"
+            ax.set_title(f"{method}: levels from {source}", fontsize=9)
+            ax.set_ylabel("position RMSE, m")
+            ax.legend(fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("time, min")
+    fig.suptitle(f"{summary['scenario']}: {summary['runs']} runs, observer "
+                 f"{summary['observer_travel_m'] / 1000:.1f} km across the slope, class {summary['class']}",
+                 fontsize=10)
+    return fig
+
+
+__all__ = ["run"]
