@@ -98,7 +98,9 @@ def reciprocity() -> None:
 
     doc = envdata.load_area(REPO / "tests" / "data" / "tiny-munk.toml").to_dict()
     base = doc["classes"][0]
-    doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z} for z in RECIPROCITY_DEPTHS_M]
+    # a depth_range_m makes the build add tl_obs_db (the runs from the observer depth)
+    doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z, "depth_range_m": [5.0, 200.0]}
+                      for z in RECIPROCITY_DEPTHS_M]
     t = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
     for ic, cls in enumerate(t.classes):
         diff = t.at_target_depth(cls.depth_m).k_grid_db[ic] - t.k_grid_db[ic]   # (M, R)
