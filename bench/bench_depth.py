@@ -6,12 +6,14 @@ of a flat grid's observer-centred TL near the surface.
 Prints one line per figure, ``name: value unit``, all measured in this one run, and writes
 docs/results/depth.json:
 
-- particle-cycles per second of the compiled filter with the depth fixed (K(r) profiles,
+- particle-cycles per CPU second of the compiled filter with the depth fixed (K(r) profiles,
   ``tracker.rpf.run_batch``) and with the depth a state (K from (depth, range) slabs,
   ``tracker.rpf.depthbatch.run_batch_depth``), side by side on the same measurements (scenario
   ``shelf-nps`` on the built-in shelf-break grid: 12 radials x 251 depths x 300 ranges; 20 runs
-  x 2000 particles x 181 cycles, bearings and FB1 levels), 5 repeats interleaved, medians, and
-  their ratio (target >= 0.5);
+  x 2000 particles x 181 cycles, bearings and FB1 levels, one thread), 7 repeats interleaved
+  (fixed, depth, depth, fixed, ...), medians, and their ratio (target >= 0.5); timed in the
+  process's CPU time, which other users' load on the shared machine changes least, with the
+  wall-clock ratio beside it;
 - K of a class by reciprocity (``tl_obs_db``: source at the observer) less K from the direct runs
   (source at the class depth), median |dB| over range, for classes at 5 to 200 m in the tiny
   Munk test area (observer at 100 m).
@@ -30,7 +32,7 @@ sys.path.insert(0, str(REPO))
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
 from benchresults import median, say, write  # noqa: E402
 
-RUNS, PARTICLES, REPEATS = 20, 2000, 5
+RUNS, PARTICLES, REPEATS = 20, 2000, 7
 RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
 
 
@@ -73,16 +75,21 @@ def throughput() -> None:
 
     fixed(0), unknown(0)  # compile (or load the cache) outside the timing
     work = RUNS * PARTICLES * sim.t_s.size
-    rates = {"fixed": [], "unknown": []}
+    cpu = {"fixed": [], "unknown": []}
+    wall = {"fixed": [], "unknown": []}
+    pair = (("fixed", fixed), ("unknown", unknown))
     for rep in range(REPEATS):
-        for name, fn in (("fixed", fixed), ("unknown", unknown)):
-            start = time.perf_counter()
+        for name, fn in pair if rep % 2 == 0 else pair[::-1]:  # drift in the load falls on both
+            wall0, cpu0 = time.perf_counter(), time.process_time()
             fn(rep + 1)
-            rates[name].append(work / (time.perf_counter() - start))
-    say("rpf_fixed_depth_particle_cycles_per_s", median(rates["fixed"]), "1/s", runs=rates["fixed"])
-    say("rpf_depth_state_particle_cycles_per_s", median(rates["unknown"]), "1/s", runs=rates["unknown"])
-    ratios = [u / f for u, f in zip(rates["unknown"], rates["fixed"])]
+            cpu[name].append(work / (time.process_time() - cpu0))
+            wall[name].append(work / (time.perf_counter() - wall0))
+    say("rpf_fixed_depth_particle_cycles_per_s", median(cpu["fixed"]), "1/s", runs=cpu["fixed"])
+    say("rpf_depth_state_particle_cycles_per_s", median(cpu["unknown"]), "1/s", runs=cpu["unknown"])
+    ratios = [u / f for u, f in zip(cpu["unknown"], cpu["fixed"])]
     say("rpf_depth_state_throughput_ratio", median(ratios), "", runs=ratios)
+    wall_ratios = [u / f for u, f in zip(wall["unknown"], wall["fixed"])]
+    say("rpf_depth_state_throughput_ratio_wall", median(wall_ratios), "", runs=wall_ratios)
 
 
 def reciprocity() -> None:
@@ -91,7 +98,9 @@ def reciprocity() -> None:
 
     doc = envdata.load_area(REPO / "tests" / "data" / "tiny-munk.toml").to_dict()
     base = doc["classes"][0]
-    doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z} for z in RECIPROCITY_DEPTHS_M]
+    # a depth_range_m makes the build add tl_obs_db (the runs from the observer depth)
+    doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z, "depth_range_m": [5.0, 200.0]}
+                      for z in RECIPROCITY_DEPTHS_M]
     t = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
     for ic, cls in enumerate(t.classes):
         diff = t.at_target_depth(cls.depth_m).k_grid_db[ic] - t.k_grid_db[ic]   # (M, R)

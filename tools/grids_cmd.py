@@ -45,14 +45,18 @@ def register(sub, common) -> None:
     pl.add_argument("--class", dest="cls_name",
                     help="class whose TL field (or section) to draw, the only class on the map "
                          "(default: the first; every class on the map)")
-    pl.add_argument("--band", help="band of the K(r) map and the section (bearing-dependent grids; "
-                                   "default: the first)")
+    pl.add_argument("--band", help="band of the K(r) map, the section and the depth figure "
+                                   "(default: the first)")
     pl.add_argument("--what", choices=[w.value for w in What],
                     help="the map: K(r) in --band (k, the default) or the detection range per band, "
-                         "each class at its mean level (detection); bearing-dependent grids")
+                         "each class at its mean level (detection), bearing-dependent grids; or "
+                         "(depth) only PNG: K of --class in --band against target depth and range, "
+                         "on the radial nearest to --bearing (default: the first) or a flat grid "
+                         "built with a class's depth_range_m")
     pl.add_argument("--bearing", type=float, metavar="DEG",
                     help="also write STEM-section.png: TL over depth and range on the radial nearest "
-                         "to this bearing, deg in [0, 360) (bearing-dependent grids)")
+                         "to this bearing, deg in [0, 360) (bearing-dependent grids); with --what "
+                         "depth the radial drawn")
     pl.add_argument("--bathymetry", type=Path, metavar="FILE",
                     help="bathymetry file for the map's latitude-longitude panel (default: the file the "
                          "grid records, if found by its name and sha256)")
@@ -130,7 +134,7 @@ def run_plot(args) -> Report:
     plots = plot_grid(tables, args.out, request)
     lines = [f"wrote {path} ({key})" for key, path in plots.files.items()]
     data = {"files": {key: str(path) for key, path in plots.files.items()}}
-    if plots.what is not None:  # a map: say which bathymetry file it drew
+    if plots.what in (What.K, What.DETECTION):  # a map: say which bathymetry file it drew
         data["what"] = str(plots.what)
         choice = plots.bathymetry
         if choice is not None:
@@ -140,6 +144,9 @@ def run_plot(args) -> Report:
                          "(--bathymetry FILE adds it)")
         data["bathymetry"] = None if choice is None else {"file": str(choice.path), "found": choice.how,
                                                           "matches_grid": choice.matches}
+    elif plots.what == What.DEPTH:
+        lines = [f"wrote {args.out} (K against target depth and range)"]
+        data = {"file": str(args.out), "what": str(plots.what)}
     else:
         lines = [f"wrote {args.out}"]
         data = {"file": str(args.out)}

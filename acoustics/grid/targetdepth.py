@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.radialinterp import bearing_weights
+from acoustics.grid.radialinterp import bearing_weights, nearest_radial
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 
 
@@ -57,6 +57,15 @@ class TargetDepthK:
             return zero, zero, np.zeros(b.shape)
         j0, j1, w1 = bearing_weights(self.bearing_deg, b)
         return j0.astype(np.int64), j1.astype(np.int64), np.asarray(w1, dtype=float)
+
+    def nearest_slab(self, bearing_deg: float | None = None) -> tuple[int, float | None]:
+        """The slab of the radial nearest to a bearing (across 0/360), and that radial's bearing,
+        deg; without a bearing the first radial. A flat grid's one slab serves every bearing:
+        (0, None)."""
+        if self.bearing_deg.size == 0:
+            return 0, None
+        j = 0 if bearing_deg is None else nearest_radial(self.bearing_deg, float(bearing_deg))
+        return j, float(self.bearing_deg[j])
 
     def at(self, depth_m, range_m, bearing_deg=0.0) -> np.ndarray:
         """K at target depths, ranges and bearings (broadcast together), dB: bilinear in depth

@@ -3,7 +3,8 @@
 A grid without bearings gets one PNG (``acoustics.plots.flatplot``: TL fields and K(r) curves);
 a bearing-dependent grid the map around the origin, the bottom along the radials and, given a
 bearing, a TL section (``acoustics.plots.radialplots``), with the bathymetry file behind the grid
-on the map when it is at hand (``acoustics.plots.bathymetry``). The choice follows the grid's
+on the map when it is at hand (``acoustics.plots.bathymetry``). Asked for K against target
+depth (`What.DEPTH`), either gets that one PNG (``acoustics.plots.depthplot``). The choice follows the grid's
 type: callers pass the typed face and a `PlotRequest`, and never ask which geometry it is.
 """
 
@@ -31,9 +32,11 @@ class PlotRequest:
     band : str, optional
         The band of a K map and of a section (bearing-dependent grids; default: the first).
     what : What, optional
-        A map's K(r) in ``band`` or its detection ranges (bearing-dependent grids; default K).
+        A map's K(r) in ``band`` or its detection ranges (bearing-dependent grids; default K), or
+        K against target depth and range in ``band`` (any grid with TL from the observer).
     bearing_deg : float, optional
-        A section on the radial nearest to this bearing, deg (bearing-dependent grids).
+        A section, or K against target depth, on the radial nearest to this bearing, deg
+        (bearing-dependent grids).
     bathymetry : Path, optional
         A bathymetry file for the map's latitude-longitude panel (default: the file the grid
         records, when it is found by its name and sha256).
@@ -67,13 +70,15 @@ def plot_paths(tables: GridTables, out: str | Path, request: PlotRequest) -> dic
 
 @plot_paths.register
 def _(tables: FlatTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
-    return {"plot": Path(out)}
+    return {"depth" if request.what == What.DEPTH else "plot": Path(out)}
 
 
 @plot_paths.register
 def _(tables: RadialTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
     from acoustics.plots.radialplots import bearing_plot_paths
 
+    if request.what == What.DEPTH:
+        return {"depth": Path(out)}
     return bearing_plot_paths(out, section=request.bearing_deg is not None)
 
 
@@ -95,10 +100,28 @@ _BEARING_ONLY = {"band": "a map's band", "what": "a map (K or detection ranges)"
                  "bearing_deg": "a section's bearing", "bathymetry": "a bathymetry file"}
 
 
+def _depth_plot(tables: GridTables, out: str | Path, request: PlotRequest) -> GridPlots:
+    """K against target depth and range (`What.DEPTH`), on any grid's face."""
+    from acoustics.plots.depthplot import plot_target_depth
+
+    if request.bathymetry is not None:
+        raise InputError(f"{tables.source}: a bathymetry file is drawn on the map; the figure of K "
+                         f"against target depth has no map")
+    path = plot_target_depth(tables, out, cls_name=request.cls_name, band=request.band,
+                             bearing_deg=request.bearing_deg)
+    return GridPlots(files={"depth": path}, what=What.DEPTH)
+
+
 @plot_grid.register
 def _(tables: FlatTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
     from acoustics.plots.flatplot import plot_flat_grid
 
+    if request.what == What.DEPTH:
+        if request.bearing_deg is not None:
+            raise InputError(f"{tables.source}: a bearing is for a bearing-dependent grid; this grid "
+                             f"has no bearings (its area has no [origin]), its K against target "
+                             f"depth is the same along every bearing")
+        return _depth_plot(tables, out, request)
     for name, said in _BEARING_ONLY.items():
         if getattr(request, name) is not None:
             raise InputError(f"{tables.source}: {said} is for a bearing-dependent grid; this grid "
@@ -112,6 +135,8 @@ def _(tables: FlatTables, out: str | Path, request: PlotRequest = PlotRequest())
 def _(tables: RadialTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
     from acoustics.plots.radialplots import plot_bearing_grid
 
+    if request.what == What.DEPTH:
+        return _depth_plot(tables, out, request)
     check_plot_options(tables, cls_name=request.cls_name, band=request.band,
                        bearing_deg=request.bearing_deg)
     choice = find_bathymetry(tables, given=request.bathymetry, grid_path=request.grid_path)

@@ -27,10 +27,13 @@ DEG = "\N{DEGREE SIGN}"
 
 
 class What(StrEnum):
-    """What the map shows: K(r) in one band, or the detection range per band."""
+    """What to draw: a bearing-dependent grid's map of K(r) in one band or of the detection range
+    per band, or K against target depth and range on one bearing (any grid that holds TL from
+    the observer: ``acoustics.plots.depthplot``)."""
 
     K = "k"
     DETECTION = "detection"
+    DEPTH = "depth"
 
 
 def check_plot_options(tables: GridTables, *, cls_name: str | None = None, band: str | None = None,

@@ -79,3 +79,33 @@ def test_an_old_flat_grid_is_refused_for_an_unknown_depth(tiny_depth_grid_file, 
     assert "give the class a depth_range_m" in err[0] and not out.exists()
     # the same file still tracks at the class's depth
     assert main(["track", "--grid", str(old), "--measurements", str(measured), "--out", str(out)]) == 0
+
+
+def test_grids_plot_k_against_target_depth(tiny_depth_grid_file, tmp_path, capsys):
+    out = tmp_path / "depth.png"
+    assert main(["grids", "plot", str(tiny_depth_grid_file), "--out", str(out), "--what", "depth",
+                 "--class", "SUB", "--band", "FB1"]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert f"wrote {out} (K against target depth and range)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--bearing", "45"], "a bearing is for a bearing-dependent grid"),
+    (["--class", "TANKER"], "class 'TANKER' is not a class of the grid (SUB, SHIP)"),
+    (["--band", "FB9"], "band 'FB9' is not a band of the grid (FB1, F500)"),
+    (["--bathymetry", "relief.nc"], "the figure of K against target depth has no map"),
+])
+def test_hostile_depth_plots(tiny_depth_grid_file, tmp_path, capsys, args, message):
+    out = tmp_path / "depth.png"
+    assert main(["grids", "plot", str(tiny_depth_grid_file), "--out", str(out), "--what", "depth", *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:") and message in err[0], err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_depth_plot_of_a_grid_without_tl_obs_writes_nothing(tiny_grid_file, tmp_path, capsys):
+    out = tmp_path / "depth.png"
+    assert main(["grids", "plot", str(tiny_grid_file), "--out", str(out), "--what", "depth"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no TL from the observer depth" in err[0], err
+    assert list(tmp_path.iterdir()) == []

@@ -169,7 +169,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     start = time.perf_counter()
     out = Path(out_dir)
     grid = build_grid_file(load_area(AREA), out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
-                           progress=progress)["file"]
+                           progress=progress).file
     from acoustics.grid.io import open_grid
 
     tables = open_grid(grid)

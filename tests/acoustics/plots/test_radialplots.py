@@ -21,6 +21,7 @@ from acoustics.grid.detectionmap import detection_map
 from acoustics.grid.radialinterp import at_bearings, bearing_weights
 from acoustics.plots.bathymetry import find_bathymetry, load_around_origin
 from acoustics.plots.bottomplot import bottom_figure
+from acoustics.plots.depthplot import depth_k_figure
 from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 from acoustics.plots.mapplot import map_figure
 from acoustics.plots.radialplots import bearing_plot_paths, plot_bearing_grid
@@ -232,6 +233,40 @@ def test_an_existing_map_is_kept_when_the_set_fails(shelf, tmp_path):
         plot_bearing_grid(shelf, old, bearing_deg=10.0)
     assert old.read_bytes() == PNG_SIGNATURE + b"old"
     assert not (tmp_path / "m-bottom.png").exists()
+
+
+@pytest.mark.parametrize("bearing, radial", [(200.0, 180.0), (226.0, 270.0), (350.0, 0.0), (None, 0.0)])
+def test_the_depth_figure_is_k_at_every_target_depth_on_the_nearest_radial(shelf, tmp_path, bearing, radial):
+    request = PlotRequest(what=What.DEPTH, cls_name="SW", band="FB2", bearing_deg=bearing)
+    out = tmp_path / "depth.png"
+    assert plot_paths(shelf, out, request) == {"depth": out}
+    written = plot_grid(shelf, out, request)
+    assert written.files == {"depth": out} and png_size(out)[0] > 500
+    fig = depth_k_figure(shelf, cls_name="SW", band="FB2", bearing_deg=bearing)
+    # independently of the face: K = S - TL between the observer and a point at each depth
+    # (eq. 13; the bearing-dependent grid's tl_db is from the observer), the grid read with xarray
+    ic, ib = shelf.class_index("SW"), shelf.band_index("FB2")
+    tl = shelf.dataset["tl_db"].sel({"class": "SW", "band": "FB2", "bearing": radial})
+    expected = shelf.spectral_db(ic, ib) - tl.transpose("depth", "range").values
+    shown = np.ma.filled(np.asarray(by_gid(fig, "depth:k").get_array(), dtype=float), np.nan)
+    # TL is float32 in the grid: K rounded to float32 on the face (some 4e-6 dB at 60 dB)
+    assert_allclose(shown.reshape(expected.shape), expected, rtol=0, atol=1e-5, equal_nan=True)
+    assert np.isnan(shown).any()  # below the bottom: no K, drawn blank
+    assert by_gid(fig, "depth:table").get_ydata()[0] == 6.0  # SW's tables are at 6 m
+    lo, hi = shelf.target_depth_span_m(ic)                     # no depth_range_m: the water
+    assert (by_gid(fig, "depth:span:min").get_ydata()[0], by_gid(fig, "depth:span:max").get_ydata()[0]) == (lo, hi)
+    assert f"radial {radial:g}\N{DEGREE SIGN}" in fig.axes[0].get_title()
+
+
+@pytest.mark.parametrize("request_, match", [
+    (PlotRequest(what=What.DEPTH, bearing_deg=360.0), r"bearing 360 deg: must be in \[0, 360\)"),
+    (PlotRequest(what=What.DEPTH, band="FB9"), r"band 'FB9' is not a band of the grid"),
+    (PlotRequest(what=What.DEPTH, bathymetry=Path("relief.nc")), "the figure of K against target depth has no map"),
+])
+def test_bad_depth_figure_options_write_nothing(shelf, tmp_path, request_, match):
+    with pytest.raises(InputError, match=match):
+        plot_grid(shelf, tmp_path / "d.png", request_)
+    assert list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -1,18 +1,20 @@
 """The compiled cycle loop with the target's depth as a state (numba).
 
-The loop of `tracker.rpf.kernel.loop` with three changes, each a function of
-`tracker.rpf.kernel.depth`:
+The loop of `tracker.rpf.kernel.loop` with these changes, in `tracker.rpf.kernel.depth` and
+`tracker.rpf.kernel.depthmoments`:
 
 - the last state component is the target's depth, m: its prior uniform over the span of
   `DepthModel`, its motion a slow random walk (sd ``walk_m_per_sqrt_s`` sqrt(dt)) with reflecting
   walls at the span's ends, and it is regularized with the other components (the particles'
   covariance carries the range-depth trade-off) then folded back into the span;
-- the level likelihood (eq. 33) takes K at the particle's depth, range and the cycle's bearing
-  from the (depth, range) slabs of `DepthTable`, bilinear (`level_loglik_depth_particle`);
-- the generator draws 2 more normals per particle and cycle (the walk).
+- the walk and the level likelihood (eq. 33) run as one pass (`walk_level_pass`), K at the
+  particle's new depth, range and the cycle's bearing from the (depth, range) slabs of
+  `DepthTable`, bilinear, the cells by index arithmetic on regular axes;
+- the generator draws 1 more normal per particle and cycle (the walk; `fill_normals`);
+- the moments take one pass for D = 6 (`moments_depth_run`).
 
 Everything else (prediction, bearings, weights, resampling, regularization, estimates) is the
-same code as the fixed-depth loop's.
+same code as the fixed-depth loop's. Its cost, side by side with that loop: docs/depth.md.
 """
 
 from __future__ import annotations
@@ -22,14 +24,15 @@ import math
 import numpy as np
 from numba import njit
 
-from tracker.rpf.kernel.depth import level_loglik_depth_particle, reflect_pass, walk_pass
-from tracker.rpf.kernel.estimate import moments_run, particle_sds_run
+from tracker.rpf.kernel.depth import reflect_pass, walk_level_pass, walk_pass
+from tracker.rpf.kernel.depthmoments import moments_depth_run
+from tracker.rpf.kernel.estimate import particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
 from tracker.rpf.kernel.likelihood import bearing_pass
 from tracker.rpf.kernel.motion import predict_pass
 from tracker.rpf.kernel.params import Measured, Outputs
 from tracker.rpf.kernel.prior import init_particle
-from tracker.rpf.kernel.random import fill_normal_pairs, normal_pair, uniform
+from tracker.rpf.kernel.random import fill_normal_pairs, fill_normals, normal_pair, uniform
 from tracker.rpf.kernel.regularise import cholesky_loaded, fill_epanechnikov, regularise_run
 from tracker.rpf.kernel.resample import resample_indices
 from tracker.rpf.kernel.weights import normalise_run
@@ -48,6 +51,7 @@ def run_one_depth(s, observer, measured, table, depth, prior, model, settings, o
     sigma_a, use_level, ross, p0_db = model.sigma_a_mps2, model.use_level, model.ross, model.p0_db
     n, d, n_thr, h = settings.n, settings.d, settings.n_thr, settings.bandwidth
     iz = d - 1  # the depth's component
+    io = 4 if d > 5 else -1  # the source-level offset's, if any
     lo, hi = depth.lo_m, depth.hi_m
     n_cycles = t_s.size
     state = np.empty((d, n))
@@ -64,7 +68,6 @@ def run_one_depth(s, observer, measured, table, depth, prior, model, settings, o
     gx = np.zeros(n)
     gy = np.zeros(n)
     gz = np.zeros(n)
-    gz2 = np.zeros(n)
     half_b = 0.5 / (model.sigma_theta_rad * model.sigma_theta_rad)
     half_l = 0.5 / (model.sigma_l_db * model.sigma_l_db)
     log_n = -math.log(n)
@@ -105,20 +108,19 @@ def run_one_depth(s, observer, measured, table, depth, prior, model, settings, o
         if moving:
             predict_pass(state[0], state[2], gx, dt, dv_scale, cpx, cvx)
             predict_pass(state[1], state[3], gy, dt, dv_scale, cpy, cvy)
-            if depth.walk_m_per_sqrt_s > 0.0 and dt > 0.0:
-                fill_normal_pairs(s, gz, gz2)
-                walk_pass(state[iz], gz, depth.walk_m_per_sqrt_s * math.sqrt(dt), lo, hi)
+        step_sd = depth.walk_m_per_sqrt_s * math.sqrt(dt) if moving and dt > 0.0 else 0.0
+        if step_sd > 0.0:
+            fill_normals(s, gz)
         if has_b:
             bearing_pass(state[0], state[1], log_w, cz, sz, half_b)
-        if has_l:
-            for i in range(n):
-                off = state[4, i] if d > 5 else 0.0
-                log_w[i] += level_loglik_depth_particle(
-                    state[0, i], state[1, i], state[2, i], state[3, i], off, state[iz, i], lv,
-                    ovx, ovy, ross, p0_db, table, j0, j1, w1, half_l)
+        if has_l:  # the walk and the level likelihood at the new depth in one pass
+            walk_level_pass(state, iz, io, log_w, gz, step_sd, lo, hi, lv, ovx, ovy, ross, p0_db,
+                            table, j0, j1, w1, half_l)
+        elif step_sd > 0.0:
+            walk_pass(state[iz], gz, step_sd, lo, hi)
 
         neff = normalise_run(log_w, w)
-        moments_run(state, w, mean, cov)
+        moments_depth_run(state, w, mean, cov)
         if neff < n_thr:
             cholesky_loaded(cov, chol)
             resample_indices(w, s, cdf, idx, spac)
@@ -129,7 +131,7 @@ def run_one_depth(s, observer, measured, table, depth, prior, model, settings, o
             for i in range(n):
                 log_w[i] = log_n
                 w[i] = 1.0 / n
-            moments_run(state, w, mean, cov)
+            moments_depth_run(state, w, mean, cov)
             out.resampled[k] = 1
         for a in range(d):
             out.means[k, a] = mean[a]

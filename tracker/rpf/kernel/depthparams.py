@@ -23,6 +23,14 @@ class DepthTable(NamedTuple):
         The slabs around each cycle's bearing.
     w1 : ndarray, shape (K,)
         Weight of slab ``j1`` at each cycle.
+    regular : bool
+        Whether both axes have equal steps (the last may be shorter): the kernel then finds a
+        particle's cell by index arithmetic (`tracker.rpf.kernel.depth.regular_cell`), else
+        by a search.
+    depth_first_m, depth_inv_step : float
+        The depth axis's first value, m, and 1 / its step, 1/m (1.0 when not ``regular``).
+    range_first_m, range_inv_step : float
+        The same of the range axis.
     """
 
     depth_m: np.ndarray
@@ -31,6 +39,11 @@ class DepthTable(NamedTuple):
     j0: np.ndarray
     j1: np.ndarray
     w1: np.ndarray
+    regular: bool
+    depth_first_m: float
+    depth_inv_step: float
+    range_first_m: float
+    range_inv_step: float
 
 
 class DepthModel(NamedTuple):
@@ -49,6 +62,30 @@ class DepthModel(NamedTuple):
     walk_m_per_sqrt_s: float
 
 
+#: How far, as a share of the step, an axis value may be from first + j step for the axis to
+#: count as regular: the cell's weight is then off by as much, and K by that share of K's change
+#: across the cell (some 1e-8 dB).
+REGULAR_AXIS_TOLERANCE = 1e-9
+
+
+def regular_step(axis) -> float | None:
+    """The step of an axis of equal steps but a last one that may be shorter (a grid's depth axis
+    runs to the deepest bottom), m; None for any other axis (fewer than 2 values, an uneven
+    step, a last step longer than the others)."""
+    a = np.asarray(axis, dtype=float)
+    if a.size < 2:
+        return None
+    step = float(a[1] - a[0])
+    if not (np.isfinite(step) and step > 0.0):
+        return None
+    tol = REGULAR_AXIS_TOLERANCE * step
+    inner = a[:-1] - (a[0] + step * np.arange(a.size - 1))
+    last = a[-1] - a[-2]
+    if np.abs(inner).max() > tol or not (0.0 < last <= step + tol):
+        return None
+    return step
+
+
 def depth_table(target_k, bearing_deg, n_cycles: int) -> DepthTable:
     """The kernel's table from a `acoustics.grid.targetdepth.TargetDepthK` and the bearing of
     each cycle, deg (NaN: the last bearing measured before it; before any, the first one)."""
@@ -63,8 +100,12 @@ def depth_table(target_k, bearing_deg, n_cycles: int) -> DepthTable:
     else:
         fill = np.zeros(b.size)
     j0, j1, w1 = target_k.cells(fill[:n_cycles])
-    return DepthTable(depth_m=np.array(target_k.depth_m, dtype=float, order="C"),
-                      range_m=np.array(target_k.range_m, dtype=float, order="C"),
-                      k_db=target_k.level_table(),
+    depth_m = np.array(target_k.depth_m, dtype=float, order="C")
+    range_m = np.array(target_k.range_m, dtype=float, order="C")
+    dz, dr = regular_step(depth_m), regular_step(range_m)
+    regular = dz is not None and dr is not None
+    return DepthTable(depth_m=depth_m, range_m=range_m, k_db=target_k.level_table(),
                       j0=np.array(j0, dtype=np.int64), j1=np.array(j1, dtype=np.int64),
-                      w1=np.array(w1, dtype=float))
+                      w1=np.array(w1, dtype=float), regular=bool(regular),
+                      depth_first_m=float(depth_m[0]), depth_inv_step=1.0 / dz if regular else 1.0,
+                      range_first_m=float(range_m[0]), range_inv_step=1.0 / dr if regular else 1.0)

@@ -158,6 +158,36 @@ def fill_normal_pairs(s, gx, gy):
     s[0], s[1], s[2], s[3] = s0, s1, s2, s3
 
 
+@njit(inline="always")
+def fill_normals(s, g):
+    """g[i] = `normal` for each i (the same stream), with the generator state held in registers
+    on the fast path: `fill_normal_pairs` for one array."""
+    xt = ZIGGURAT_X
+    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+    for k in range(g.size):
+        while True:
+            raw = s0 + s3
+            t = s1 << np.uint64(17)
+            s2 ^= s0
+            s3 ^= s1
+            s1 ^= s2
+            s0 ^= s3
+            s2 ^= t
+            s3 = _rotl(s3, 45)
+            i = int((raw >> np.uint64(3)) & np.uint64(255))
+            u = 2.0 * (float(raw >> np.uint64(11)) * _TWO_POW_M53) - 1.0
+            z = u * xt[i]
+            if abs(z) < xt[i + 1]:
+                break
+            s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+            z = _normal_slow(s, i, u, z)
+            s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+            if not math.isnan(z):
+                break
+        g[k] = z
+    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+
+
 def _ziggurat_exp_table(layers: int = 256, r: float = 7.69711747013104972,
                         v: float = 0.0039496598225815571993) -> np.ndarray:
     """Layer edges of the 256-layer ziggurat of exp(-x) (Marsaglia & Tsang 2000), as
