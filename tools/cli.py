@@ -36,8 +36,16 @@ COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, atlas_cmd, sensitivity_cmd,
                    experiment_cmd, locate_cmd, demo_cmd)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the command line's one-line errors: ``error: tmakit track: ...`` and exit
+    status 2, without the usage block argparse prints first (``--help`` still shows it)."""
+
+    def error(self, message: str):
+        self.exit(2, f"error: {self.prog}: {message} (--help shows the usage)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="tmakit", parents=[_common_options(argparse.SUPPRESS)],
         description="Propagation tables and passive-sonar target motion analysis.")
     parser.set_defaults(json=False, progress=False, verbose=0, max_gib=None)

@@ -264,3 +264,21 @@ def test_malformed_scheduler_addresses(capsys, tmp_path, address):
     line = run_cli(capsys, "grids", "build", TINY, "--out", tmp_path / "g.nc", "--scheduler", address)
     assert f"scheduler {address}" in line or f"scheduler {address!r}" in line
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["grids", "plot", "x.nc", "--out", "y.png", "--what", "banana"],
+     "error: tmakit grids plot: argument --what: invalid choice: 'banana'"),
+    (["track", "--grid"], "error: tmakit track: argument --grid: expected one argument"),
+    (["nosuch"], "error: tmakit: argument COMMAND: invalid choice: 'nosuch'"),
+    (["grids", "build", "ocean-deep", "--workers", "two"], "error: tmakit grids build: argument --workers: "
+                                                            "invalid int value: 'two'"),
+])
+def test_a_malformed_command_line_is_one_error_line(capsys, argv, message):
+    from tools.cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(message), err
