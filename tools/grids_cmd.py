@@ -22,9 +22,11 @@ def register(sub, common) -> None:
     b = gsub.add_parser("build", parents=[common], help="build the grid file of an area")
     b.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
     b.add_argument("--out", type=Path, help="grid file to write (default: AREA-MODEL.nc)")
-    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop")
+    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop",
+                   help="bellhop (default), urick, ram (the parabolic equation; bands from coherent "
+                        "runs) or auto (RAM below the crossover frequency, BELLHOP above)")
     b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                   help="BELLHOP runs at once on this machine (default: the number of cores; "
+                   help="BELLHOP or RAM runs at once on this machine (default: the number of cores; "
                         "ignored with --scheduler)")
     b.add_argument("--scheduler", metavar="ADDR", help="run on this Dask distributed scheduler")
     b.add_argument("--force", action="store_true",
@@ -70,8 +72,9 @@ def run_build(args) -> Report:
     else:
         dims = ", ".join(f"{k} {v}" for k, v in info["dims"].items())
         summary = (f"wrote {info['file']}: area {info['area']}, model {info['model']} ({dims})\n"
-                   f"  BELLHOP runs: {info['runs']} ({info['runs_reused']} reused), "
-                   f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['wall_seconds']:.1f} s wall")
+                   f"  runs: {info['runs']} ({info['runs_reused']} reused), "
+                   f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['ram_seconds']:.1f} s of RAM, "
+                   f"{info['wall_seconds']:.1f} s wall")
     return Report(summary, info)
 
 

@@ -39,10 +39,10 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
         The area, a built-in area name or an area TOML file.
     out : path, optional
         Grid file to write; default ``AREA-MODEL.nc`` in the working directory.
-    model : {"bellhop", "urick"}
+    model : {"bellhop", "urick", "ram", "auto"}
         As in ``build_grid``.
     workers : int
-        BELLHOP runs at once on this machine (>= 1); ignored with ``scheduler``.
+        BELLHOP or RAM runs at once on this machine (>= 1); ignored with ``scheduler``.
     scheduler : str, optional
         Address of a Dask distributed scheduler to run the BELLHOP runs on.
     force : bool
@@ -54,7 +54,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
     -------
     dict
         What was done, as the ``grids build`` command reports it: ``file``, ``area``, ``model``,
-        ``up_to_date``, ``source_hash``, ``runs``, ``runs_reused``, ``bellhop_seconds``,
+        ``up_to_date``, ``source_hash``, ``runs``, ``runs_reused``, ``bellhop_seconds``, ``ram_seconds``,
         ``wall_seconds`` and, for a build, ``dims``.
     """
     if workers < 1:
@@ -71,16 +71,16 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
         if existing is not None and existing.dataset.attrs.get("source_hash") == digest:
             return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": True,
                     "source_hash": digest, "runs": 0, "runs_reused": 0, "bellhop_seconds": 0.0,
-                    "wall_seconds": 0.0}
+                    "ram_seconds": 0.0, "wall_seconds": 0.0}
     cache_dir = resume_dir(out, digest)
     stats = BuildStats()
     start = time.perf_counter()
     ds = build_grid(area, model=model, workers=workers, scheduler=scheduler,
-                    cache_dir=cache_dir if model is Model.BELLHOP else None, progress=progress, stats=stats)
+                    cache_dir=cache_dir if model is not Model.URICK else None, progress=progress, stats=stats)
     write_grid(ds, out)
     remove_cache(cache_dir)
     return {"file": str(out), "area": area.name, "model": str(model), "up_to_date": False,
             "source_hash": digest, "runs": stats.runs_total, "runs_reused": stats.runs_reused,
-            "bellhop_seconds": round(stats.bellhop_seconds, 3),
+            "bellhop_seconds": round(stats.bellhop_seconds, 3), "ram_seconds": round(stats.ram_seconds, 3),
             "wall_seconds": round(time.perf_counter() - start, 3),
             "dims": {k: int(v) for k, v in ds.sizes.items()}}
