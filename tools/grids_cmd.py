@@ -1,4 +1,4 @@
-"""``tmakit grids build|show|plot``: propagation tables for an area."""
+"""``tmakit grids build|show|plot|compare``: propagation tables for an area."""
 
 from __future__ import annotations
 
@@ -59,6 +59,14 @@ def register(sub, common) -> None:
                          "grid records, if found by its name and sha256)")
     pl.add_argument("--force", action="store_true", help="replace the outputs even if they are not PNGs")
     pl.set_defaults(func=run_plot)
+
+    c = gsub.add_parser("compare", parents=[common], help="how far two grids of one area are apart: "
+                        "median and 90th percentile of |dTL| and |dK| by class, band (and bearing)")
+    c.add_argument("file_a", type=Path, metavar="A", help="the first grid (differences are B - A)")
+    c.add_argument("file_b", type=Path, metavar="B", help="the second grid, of the same area and axes")
+    c.add_argument("--plot", type=Path, metavar="PNG", help="also draw the difference field B - A")
+    c.add_argument("--force", action="store_true", help="replace --plot even if it is not a PNG")
+    c.set_defaults(func=run_compare)
 
 
 def run_build(args) -> Report:
@@ -136,3 +144,36 @@ def run_plot(args) -> Report:
         lines = [f"wrote {args.out}"]
         data = {"file": str(args.out)}
     return Report("\n".join(lines), data)
+
+
+def run_compare(args) -> Report:
+    from acoustics.grid.compare import compare_grids
+
+    if args.plot is not None:
+        check_output_file(args.plot, Kind.PNG, force=args.force)
+    comparison = compare_grids(acoustics.open_grid(args.file_a), acoustics.open_grid(args.file_b))
+    data = comparison.to_dict()
+    lines = [f"{args.file_b} ({comparison.model_b}) against {args.file_a} ({comparison.model_a}), "
+             f"area {comparison.area}: |dTL| and |dK|, median / 90th percentile, dB",
+             f"  {'class':>6} {'band':>6} {'bearing':>8}  {'|dTL|':>13}  {'|dK|':>13}  {'dTL signed':>10}  "
+             f"{'cells':>9}  {'one-sided':>9}"]
+    for row in comparison.rows:
+        bearing = "all" if row.bearing_deg is None else f"{row.bearing_deg:g}"
+        lines.append(f"  {row.cls_name:>6} {row.band:>6} {bearing:>8}  {_pair(row.tl_median_db, row.tl_p90_db):>13}  "
+                     f"{_pair(row.k_median_db, row.k_p90_db):>13}  {_num(row.tl_signed_median_db):>10}  "
+                     f"{row.tl_cells:>9}  {row.tl_one_sided:>9}")
+    if args.plot is not None:
+        from acoustics.plots.compareplot import plot_comparison
+
+        plot_comparison(comparison, args.plot)
+        lines.append(f"wrote {args.plot}")
+        data["plot"] = str(args.plot)
+    return Report("\n".join(lines), data)
+
+
+def _num(x: float) -> str:
+    return "-" if not np.isfinite(x) else f"{x:+.2f}"
+
+
+def _pair(median: float, p90: float) -> str:
+    return "-" if not np.isfinite(median) else f"{median:.2f} / {p90:.2f}"
