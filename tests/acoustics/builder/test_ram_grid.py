@@ -152,3 +152,19 @@ def test_a_bearing_dependent_ram_grid_of_a_flat_area_is_the_flat_ram_grid(shelf,
         # the radial's sound speed comes through the climatology-free section builder and its
         # 500 m RAM columns; with one profile it is the flat problem to float32 rounding
         assert np.nanmax(np.abs(a - flat["tl_db"].values)) < 0.05, bearing
+
+
+@pytest.mark.slow
+def test_auto_on_a_two_worker_dask_cluster_equals_the_local_build():
+    from distributed import LocalCluster
+
+    area = envdata.parse_area(_shelf_doc(), "tiny-shelf")
+    local = acoustics.build_grid(area, model="auto", workers=2)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address="127.0.0.1:0") as cluster:
+        stats = BuildStats()
+        remote = acoustics.build_grid(area, model="auto", scheduler=cluster.scheduler_address, stats=stats)
+    # RAM's runs and BELLHOP's both went to the cluster: 21 RAM runs and one BELLHOP run
+    assert stats.runs_total == RAM_FREQS_PER_BAND + 1 and stats.ram_seconds > 0 and stats.bellhop_seconds > 0
+    assert_allclose(remote["tl_db"].values, local["tl_db"].values, rtol=0, atol=0)
+    assert_allclose(remote["k_db"].values, local["k_db"].values, rtol=0, atol=0)
