@@ -101,9 +101,9 @@ def run_show(args) -> Report:
                      f"bottom {g['bottom_min_m']:.0f}-{g['bottom_max_m']:.0f} m; "
                      f"{g['beyond_land_fraction']:.0%} of the range cells beyond land")
         lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km)
-                     + f" (BELLHOP {g['k_typical']} / Urick; - where no bearing has K):")
+                     + f" ({s.model} {g['k_typical']} / Urick; - where no bearing has K):")
     else:
-        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km) + " (BELLHOP / Urick):")
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km) + f" ({s.model} / Urick):")
     k_table = {}
     for row in s.k:
         k_table[f"{row.cls_name}/{row.band}"] = {
