@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from easypyram import PyRAM
 
 from acoustics.absorption import absorption_db_per_km
 from acoustics.ram.environment import RamEnvironment
@@ -119,6 +118,8 @@ def ram_tl_db(env: RamEnvironment, freq_hz: float, depth_m, range_m, settings: R
     if settings.stability_range_m is not None:
         kwargs["rs"] = settings.stability_range_m
     rbzb = np.column_stack([env.bathymetry_range_m, env.bathymetry_depth_m])
+    from easypyram import PyRAM  # here, not at import: numba's start-up (~1.7 s) only for a RAM run
+
     try:
         model = PyRAM(freq_hz, env.source_depth_m, env.source_depth_m, ssp_z, ssp_r, cw,
                       np.array([0.0]), np.array([0.0]), np.array([[bottom.speed_mps]]),
