@@ -2,7 +2,7 @@
 # Each creates .venv/ when it is missing or stale, installs tmakit with its dependencies and the
 # BELLHOP executable into it, then runs. `make test` also makes .venv-arlpy/ (arlpy, for the
 # BELLHOP cross-check test) and .venv-ref/ (pyram's copy of the Fortran RAM test case's TL, for
-# the RAM test).
+# the RAM test) and .venv-kraken/ (pelagic's KRAKEN, for the normal-mode cross-check).
 
 PYTHON ?= python3
 VENV   := .venv
@@ -11,8 +11,9 @@ STAMP  := $(VENV)/.tmakit-installed
 BELLHOP := $(VENV)/share/tmakit/bellhop/aubellhop/bin/bellhop.exe
 ARLPY  := .venv-arlpy/.installed
 RAMREF := .venv-ref/.installed
+KRAKEN := .venv-kraken/.installed
 
-.PHONY: demo test bench setup arlpy ramref clean
+.PHONY: demo test bench setup arlpy ramref kraken clean
 
 setup: $(STAMP) $(BELLHOP)
 
@@ -28,8 +29,9 @@ $(BELLHOP): $(STAMP) tools/install_bellhop.py
 demo: setup
 	$(BIN)/tmakit demo --out out/demo
 
-test: setup $(ARLPY) $(RAMREF)
-	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
+test: setup $(ARLPY) $(RAMREF) $(KRAKEN)
+	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" \
+	KRAKEN_PYTHON="$(CURDIR)/.venv-kraken/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
 # arlpy, which the BELLHOP cross-check test runs (tests/crosscheck/), lives in its own venv:
 # its pins (numpy<2, scipy<1.14) are not tmakit's
@@ -46,6 +48,14 @@ ramref: $(RAMREF)
 $(RAMREF): tests/crosscheck/requirements-ref.txt
 	@test -x .venv-ref/bin/python || $(PYTHON) -m venv .venv-ref
 	.venv-ref/bin/python -m pip install -q --no-deps -r tests/crosscheck/requirements-ref.txt
+	@touch $@
+
+# pelagic (GPL-3.0), whose KRAKEN the normal-mode cross-check test runs (tests/crosscheck/
+# kraken_tl.py, as its own process: tmakit, MIT, never imports it), lives in its own venv
+kraken: $(KRAKEN)
+$(KRAKEN): tests/crosscheck/requirements-kraken.txt
+	@test -x .venv-kraken/bin/python || $(PYTHON) -m venv .venv-kraken
+	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
 	@touch $@
 
 # Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
@@ -66,4 +76,4 @@ bench: setup $(STONESOUP)
 	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk out
+	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out

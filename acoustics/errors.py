@@ -22,3 +22,7 @@ class BellhopError(RuntimeError):
         self.prt_text = prt_text
         self.command = command
         self.returncode = returncode
+
+
+class WorkerLostError(RuntimeError):
+    """A worker process of a local build died before finishing its task (killed, or out of memory)."""

@@ -16,7 +16,8 @@ import sys
 from collections.abc import Sequence
 
 from acoustics.bellhop.runner import kill_running
-from acoustics.errors import BellhopError
+from acoustics.errors import BellhopError, WorkerLostError
+from acoustics.ram.errors import RamRunError
 from envdata.errors import InputError
 from envdata.limits import TooLargeError, memory_limit
 from tools import (
@@ -101,9 +102,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; return its exit status.
 
     Every failure a user can cause by what they pass ends here as one ``error: ...`` line on
-    stderr and status 2: bad input (``InputError``: files, values, sizes), a BELLHOP failure
-    or time-out, and an operating-system error on an input or output. SIGINT and SIGTERM end
-    with 130 and 143, after killing the BELLHOP runs under way; finished work that a rerun
+    stderr and status 2: bad input (``InputError``: files, values, sizes), a BELLHOP or RAM
+    failure or time-out, a lost worker process, and an operating-system error on an input or
+    output. SIGINT and SIGTERM end with 130 and 143, after killing the runs under way; finished work that a rerun
     resumes is kept, and no half-written output is left.
     """
     for stream in (sys.stdout, sys.stderr):
@@ -135,7 +136,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except TooLargeError as exc:
         print(f"error: {_one_line(str(exc))}; --max-gib raises it on a bigger machine", file=sys.stderr)
         return 2
-    except (InputError, BellhopError) as exc:
+    except (InputError, BellhopError, RamRunError, WorkerLostError) as exc:
         print(f"error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
     except OSError as exc:

@@ -1,4 +1,4 @@
-"""``tmakit grids build|show|plot``: propagation tables for an area."""
+"""``tmakit grids build|show|plot|compare``: propagation tables for an area."""
 
 from __future__ import annotations
 
@@ -23,9 +23,11 @@ def register(sub, common) -> None:
     b = gsub.add_parser("build", parents=[common], help="build the grid file of an area")
     b.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
     b.add_argument("--out", type=Path, help="grid file to write (default: AREA-MODEL.nc)")
-    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop")
+    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop",
+                   help="bellhop (default), urick, ram (the parabolic equation; bands from coherent "
+                        "runs) or auto (RAM below the crossover frequency, BELLHOP above)")
     b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                   help="BELLHOP runs at once on this machine (default: the number of cores; "
+                   help="BELLHOP or RAM runs at once on this machine (default: the number of cores; "
                         "ignored with --scheduler)")
     b.add_argument("--scheduler", metavar="ADDR", help="run on this Dask distributed scheduler")
     b.add_argument("--force", action="store_true",
@@ -63,6 +65,14 @@ def register(sub, common) -> None:
     pl.add_argument("--force", action="store_true", help="replace the outputs even if they are not PNGs")
     pl.set_defaults(func=run_plot)
 
+    c = gsub.add_parser("compare", parents=[common], help="how far two grids of one area are apart: "
+                        "median and 90th percentile of |dTL| and |dK| by class, band (and bearing)")
+    c.add_argument("file_a", type=Path, metavar="A", help="the first grid (differences are B - A)")
+    c.add_argument("file_b", type=Path, metavar="B", help="the second grid, of the same area and axes")
+    c.add_argument("--plot", type=Path, metavar="PNG", help="also draw the difference field B - A")
+    c.add_argument("--force", action="store_true", help="replace --plot even if it is not a PNG")
+    c.set_defaults(func=run_compare)
+
 
 def run_build(args) -> Report:
     area = envdata.load_area(args.area)
@@ -75,8 +85,9 @@ def run_build(args) -> Report:
     else:
         dims = ", ".join(f"{k} {v}" for k, v in info.dims.items())
         summary = (f"wrote {info.file}: area {info.area}, model {info.model} ({dims})\n"
-                   f"  BELLHOP runs: {info.runs} ({info.runs_reused} reused), "
-                   f"{info.bellhop_seconds:.1f} s of BELLHOP, {info.wall_seconds:.1f} s wall")
+                   f"  runs: {info.runs} ({info.runs_reused} reused), "
+                   f"{info.bellhop_seconds:.1f} s of BELLHOP, {info.ram_seconds:.1f} s of RAM, "
+                   f"{info.wall_seconds:.1f} s wall")
     return Report(summary, grid_file_data(info))
 
 
@@ -84,7 +95,8 @@ def grid_file_data(info) -> dict:
     """A ``GridFileResult`` as the JSON report gives it."""
     data = dataclasses.asdict(info)
     data.update(file=str(info.file), model=str(info.model),
-                bellhop_seconds=round(info.bellhop_seconds, 3), wall_seconds=round(info.wall_seconds, 3))
+                bellhop_seconds=round(info.bellhop_seconds, 3), ram_seconds=round(info.ram_seconds, 3),
+                wall_seconds=round(info.wall_seconds, 3))
     if info.up_to_date:
         del data["dims"]
     return data
@@ -105,9 +117,9 @@ def run_show(args) -> Report:
                      f"bottom {g['bottom_min_m']:.0f}-{g['bottom_max_m']:.0f} m; "
                      f"{g['beyond_land_fraction']:.0%} of the range cells beyond land")
         lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km)
-                     + f" (BELLHOP {g['k_typical']} / Urick; - where no bearing has K):")
+                     + f" ({s.model} {g['k_typical']} / Urick; - where no bearing has K):")
     else:
-        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km) + " (BELLHOP / Urick):")
+        lines.append("  K(r) dB at " + ", ".join(f"{r} km" for r in s.ranges_km) + f" ({s.model} / Urick):")
     k_table = {}
     for row in s.k:
         k_table[f"{row.cls_name}/{row.band}"] = {
@@ -151,3 +163,36 @@ def run_plot(args) -> Report:
         lines = [f"wrote {args.out}"]
         data = {"file": str(args.out)}
     return Report("\n".join(lines), data)
+
+
+def run_compare(args) -> Report:
+    from acoustics.grid.compare import compare_grids
+
+    if args.plot is not None:
+        check_output_file(args.plot, Kind.PNG, force=args.force)
+    comparison = compare_grids(acoustics.open_grid(args.file_a), acoustics.open_grid(args.file_b))
+    data = comparison.to_dict()
+    lines = [f"{args.file_b} ({comparison.model_b}) against {args.file_a} ({comparison.model_a}), "
+             f"area {comparison.area}: |dTL| and |dK|, median / 90th percentile, dB",
+             f"  {'class':>6} {'band':>6} {'bearing':>8}  {'|dTL|':>13}  {'|dK|':>13}  {'dTL signed':>10}  "
+             f"{'cells':>9}  {'one-sided':>9}"]
+    for row in comparison.rows:
+        bearing = "all" if row.bearing_deg is None else f"{row.bearing_deg:g}"
+        lines.append(f"  {row.cls_name:>6} {row.band:>6} {bearing:>8}  {_pair(row.tl_median_db, row.tl_p90_db):>13}  "
+                     f"{_pair(row.k_median_db, row.k_p90_db):>13}  {_num(row.tl_signed_median_db):>10}  "
+                     f"{row.tl_cells:>9}  {row.tl_one_sided:>9}")
+    if args.plot is not None:
+        from acoustics.plots.compareplot import plot_comparison
+
+        plot_comparison(comparison, args.plot)
+        lines.append(f"wrote {args.plot}")
+        data["plot"] = str(args.plot)
+    return Report("\n".join(lines), data)
+
+
+def _num(x: float) -> str:
+    return "-" if not np.isfinite(x) else f"{x:+.2f}"
+
+
+def _pair(median: float, p90: float) -> str:
+    return "-" if not np.isfinite(median) else f"{median:.2f} / {p90:.2f}"

@@ -21,16 +21,33 @@ from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weigh
 from envdata.area import Area, TlMode
 
 GRID_FORMAT_VERSION = 1
+
+
 class Model(StrEnum):
+    """The propagation model of a grid: BELLHOP's beams, the Urick formula, the RAM parabolic
+    equation, or RAM below a crossover frequency and BELLHOP above (``auto``,
+    ``acoustics.builder.modelchoice``)."""
+
     BELLHOP = "bellhop"
     URICK = "urick"
+    RAM = "ram"
+    AUTO = "auto"
+
+    @property
+    def runs_bellhop(self) -> bool:
+        return self in (Model.BELLHOP, Model.AUTO)
+
+    @property
+    def runs_ram(self) -> bool:
+        return self in (Model.RAM, Model.AUTO)
 
 
 @dataclass
 class BuildStats(RunStats):
-    """What a build did: runs planned and reused, BELLHOP time, total wall time."""
+    """What a build did: runs planned and reused, BELLHOP and RAM time, total wall time."""
 
     runs: list[Run] = field(default_factory=list)
+    ram_seconds: float = 0.0  # sum of the RAM runs' times (in their worker processes)
 
 
 def run_frequencies_hz(area: Area, band) -> np.ndarray:
@@ -74,11 +91,14 @@ def freq_key(freq_hz: float) -> float:
 
 
 def source_hash(area: Area, model: Model, bellhop_sha256: str | None,
-                input_files: dict | None = None) -> str:
+                input_files: dict | None = None, ram_settings: dict | None = None) -> str:
     """Hash of everything that determines the grid's numbers: the area, the model, BELLHOP,
-    and the sha256 of the area's data files (``envdata.datafiles.input_file_digests``)."""
+    the sha256 of the area's data files (``envdata.datafiles.input_file_digests``) and, for a
+    grid with RAM runs, RAM's settings rule, frequencies per band and crossover."""
     payload = {"area": area.to_dict(), "model": str(model), "format": GRID_FORMAT_VERSION,
                "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256}
+    if ram_settings is not None:
+        payload["ram"] = ram_settings
     if input_files:
         payload["inputs"] = {role: info["sha256"] for role, info in input_files.items()}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()

@@ -1,7 +1,9 @@
 """Running independent tasks at once: on local threads or a Dask cluster, with a resume cache.
 
-A task is ``fn(item)``. Each task of this package runs BELLHOP as a subprocess, so threads run
-them in parallel: ``workers`` is how many tasks run at once on this machine. With ``scheduler``
+A task is ``fn(item)``. A BELLHOP task runs BELLHOP as a subprocess, so threads run them in
+parallel; a task that computes in Python itself (RAM: easypyram's numba kernels hold the GIL)
+runs in worker processes instead (``processes=True``). ``workers`` is how many tasks run at once
+on this machine. With ``scheduler``
 (the address of a Dask distributed scheduler) the tasks run on that cluster instead and
 ``workers`` is ignored; their results come back unpickled. A finished result is saved in a
 ``ResultCache`` at once, so an interrupted job resumes without redoing it.
@@ -14,6 +16,7 @@ import contextvars
 import functools
 import json
 import logging
+import multiprocessing
 import os
 import sys
 import tempfile
@@ -21,7 +24,8 @@ import time
 import uuid
 import zipfile
 from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Generic, NamedTuple, TypeVar
@@ -29,7 +33,7 @@ from typing import Any, Generic, NamedTuple, TypeVar
 import numpy as np
 from tqdm import tqdm
 
-from acoustics.errors import BellhopError
+from acoustics.errors import BellhopError, WorkerLostError
 from envdata.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -137,7 +141,7 @@ def _read(path: Path) -> Stored:
 
 def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], str], workers: int = 1,
               scheduler: str | None = None, cache: ResultCache[R] | None = None, progress: bool = False,
-              desc: str = "tasks", unit: str = "task",
+              desc: str = "tasks", unit: str = "task", processes: bool = False,
               stats: TaskStats | None = None, context: Any = None) -> Iterator[TaskDone[T, R]]:
     """Yield ``TaskDone(item, fn(item), reused)`` as tasks finish: reused results first.
 
@@ -164,6 +168,9 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
         Where finished results are kept and looked up.
     progress : bool
         Show a progress bar (tqdm) on stderr, labelled ``desc`` and counting ``unit``.
+    processes : bool
+        Run local tasks in ``workers`` worker processes (started fresh, ``spawn``) rather than
+        threads: for tasks that hold the GIL. ``fn`` and the items must then pickle.
     stats : TaskStats, optional
         Filled with counts and the wall time.
     context : object, optional
@@ -199,7 +206,7 @@ def run_tasks(fn: Callable[[T], R], items: Iterable[T], *, key: Callable[[T], st
         if scheduler is None:
             stats.workers = min(workers, len(todo))
             call = fn if context is None else functools.partial(fn, context=context)
-            finished = _on_threads(call, todo, workers)
+            finished = (_on_processes if processes else _on_threads)(call, todo, workers)
         else:
             finished = _on_dask(fn, todo, key, scheduler, desc, stats, context)
         with contextlib.closing(finished):  # cancels what has not run when the caller stops
@@ -223,6 +230,29 @@ def _on_threads(fn: Callable[[T], R], todo: list[T], workers: int) -> Iterator[t
         finally:
             for future in futures:
                 future.cancel()
+
+
+def _on_processes(fn: Callable[[T], R], todo: list[T], workers: int) -> Iterator[tuple[T, R]]:
+    """As `_on_threads`, in fresh worker processes (``spawn``: no copy of this process's threads)."""
+    context = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=context)
+    futures = {pool.submit(fn, item): item for item in todo}
+    finished = False
+    try:
+        for future in as_completed(futures):
+            try:
+                result = future.result()
+            except BrokenProcessPool:
+                raise WorkerLostError("a worker process died before finishing its task (killed, or "
+                                      "out of memory: see --max-gib)") from None
+            yield futures[future], result
+        finished = True
+    finally:
+        processes = list((getattr(pool, "_processes", None) or {}).values())  # gone after shutdown
+        pool.shutdown(wait=finished, cancel_futures=True)
+        if not finished:  # interrupted or failed: stop the tasks under way now, not when they end
+            for process in processes:
+                process.terminate()
 
 
 def check_scheduler_address(scheduler: str) -> None:

@@ -26,16 +26,25 @@ from acoustics.builder.bandruns import (
     band_tl_from_runs,
     freq_key,
     run_frequencies_hz,
-    source_hash,
 )
+from acoustics.builder.modelchoice import (
+    band_plans,
+    bellhop_run_hz,
+    grid_source_hash,
+    planned_band_tl_db,
+    ram_run_hz,
+    with_ram_attrs,
+)
+from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import plan_runs, receiver_depths_m
 from acoustics.builder.radial import build_radial_grid
+from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
 from acoustics.grid.dataset import flat_dataset
 from acoustics.kcurve import spectral_term_db
+from acoustics.ram import RamEnvironment
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
-from envdata.datafiles import input_file_digests
 from envdata.limits import check_memory
 
 
@@ -109,8 +118,7 @@ def grid_size_bytes(area: Area) -> float:
 def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
     """The ``source_hash`` a grid of ``area`` built now would have (reads the data files)."""
     model = Model(model)
-    return source_hash(area, model, find_bellhop().sha256 if model is Model.BELLHOP else None,
-                       input_file_digests(area.water))
+    return grid_source_hash(area, model, find_bellhop().sha256 if model.runs_bellhop else None)
 
 
 def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
@@ -122,10 +130,12 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     ----------
     area : Area
         The sea area.
-    model : {"bellhop", "urick"}
-        BELLHOP beam tracing, or the Urick formula alone (TL = spherical spreading + absorption).
+    model : {"bellhop", "urick", "ram", "auto"}
+        BELLHOP beam tracing, the Urick formula alone (TL = spherical spreading + absorption),
+        the RAM parabolic equation (each band the intensity average of coherent runs), or RAM
+        below a crossover frequency and BELLHOP above (``acoustics.builder.modelchoice``).
     workers : int
-        BELLHOP processes run at once (ignored with ``scheduler``).
+        BELLHOP or RAM runs at once (ignored with ``scheduler``).
     scheduler : str, optional
         Address of a Dask distributed scheduler to run the BELLHOP jobs on.
     cache_dir : path, optional
@@ -140,8 +150,11 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     if area.is_bearing_dependent:
         return build_radial_grid(area, model=model, workers=workers, scheduler=scheduler,
                                  cache_dir=cache_dir, progress=progress, stats=stats)
-    check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     stats = stats if stats is not None else BuildStats()
+    if model.runs_ram:
+        return _build_with_ram(area, model, workers=workers, scheduler=scheduler, cache_dir=cache_dir,
+                               progress=progress, stats=stats)
+    check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     depth = area.depth_m()
     rng = area.grid.range_m()
     prop = area.propagation
@@ -187,5 +200,54 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
         k[:] = k_urick
 
     return flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
-                    source_hash(area, model, exe.sha256 if exe else None, input_file_digests(area.water)),
-                    exe.describe() if exe else None, tl_obs=tl_obs)
+                        grid_source_hash(area, model, exe.sha256 if exe else None), exe.describe() if exe else None,
+                        tl_obs=tl_obs)
+
+
+def _build_with_ram(area: Area, model: Model, *, workers: int, scheduler: str | None,
+                    cache_dir: str | Path | None, progress: bool, stats: BuildStats) -> xr.Dataset:
+    """The flat grid with RAM runs (``ram``, ``auto``): one RAM run per (class source depth,
+    frequency), BELLHOP's share (``auto``) as usual, each band from ``modelchoice``."""
+    depth = area.depth_m()
+    rng = area.grid.range_m()
+    prop = area.propagation
+    plans = band_plans(area, model)
+    ram_hz = ram_run_hz(plans)
+    bh_hz = bellhop_run_hz(area, plans) if model.runs_bellhop else []
+    exe = find_bellhop() if model.runs_bellhop else None
+    rz = receiver_depths_m(area)
+    on_grid = np.searchsorted(rz, depth)
+    obs_row = int(np.searchsorted(rz, area.observer.depth_m))
+    source_depths = sorted({cls.depth_m for cls in area.classes})
+    ram_runs = {}
+    for sd in source_depths:
+        env = RamEnvironment.from_area(area, sd)
+        ram_runs[sd] = [RamRun(env=env, freq_hz=f, depth_m=rz, range_m=rng, tl_max_db=prop.tl_max_db)
+                        for f in ram_hz]
+    check_model_memory(grid_size_bytes(area), [r for runs in ram_runs.values() for r in runs],
+                       1 if scheduler else workers, f"the RAM grid of area {area.name}")
+    bh_runs = plan_runs(area, receiver_depths=rz, balance=False, freqs_hz=bh_hz) if bh_hz else []
+    stats.runs = bh_runs
+    n_cls, n_band = len(area.classes), len(area.bands)
+    tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
+    k = np.empty((n_cls, n_band, rng.size))
+    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
+    k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
+                                  for ib, band in enumerate(area.bands)]) for cls in area.classes])
+
+    def on_source(sd, ram_tl, bh_tl) -> None:
+        for ic, cls in enumerate(area.classes):
+            if cls.depth_m != sd:
+                continue
+            for ib, plan in enumerate(plans):
+                band_tl = planned_band_tl_db(area, cls, plan, ram_tl, bh_tl)
+                tl[ic, ib] = band_tl[on_grid]
+                k[ic, ib] = spectral_term_db(cls, plan.band) - band_tl[obs_row]
+
+    run_sources(area, source_depths, ram_runs, bh_runs, {run.key: (run.source_depth_m, run.freq_hz) for run in bh_runs},
+                on_source, workers=workers, scheduler=scheduler,
+                cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
+                exe=str(exe.path) if exe else None, stats=stats)
+    ds = flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
+                      grid_source_hash(area, model, exe.sha256 if exe else None), exe.describe() if exe else None)
+    return with_ram_attrs(ds, model)

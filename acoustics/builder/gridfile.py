@@ -32,8 +32,8 @@ class GridFileResult:
     source_hash : str
     runs, runs_reused : int
         BELLHOP runs of the build, and those taken from the resume folder.
-    bellhop_seconds, wall_seconds : float
-        BELLHOP's process time of the runs done now, and the build's wall time, s.
+    bellhop_seconds, ram_seconds, wall_seconds : float
+        BELLHOP's and RAM's time of the runs done now, and the build's wall time, s.
     dims : dict
         The grid's dimension sizes ({} when the file was reused).
     """
@@ -46,6 +46,7 @@ class GridFileResult:
     runs: int = 0
     runs_reused: int = 0
     bellhop_seconds: float = 0.0
+    ram_seconds: float = 0.0
     wall_seconds: float = 0.0
     dims: dict[str, int] = field(default_factory=dict)
 
@@ -72,10 +73,10 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
         The area, a built-in area name or an area TOML file.
     out : path, optional
         Grid file to write; default ``AREA-MODEL.nc`` in the working directory.
-    model : {"bellhop", "urick"}
+    model : {"bellhop", "urick", "ram", "auto"}
         As in ``build_grid``.
     workers : int
-        BELLHOP runs at once on this machine (>= 1); ignored with ``scheduler``.
+        BELLHOP or RAM runs at once on this machine (>= 1); ignored with ``scheduler``.
     scheduler : str, optional
         Address of a Dask distributed scheduler to run the BELLHOP runs on.
     force : bool
@@ -105,11 +106,11 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
     stats = BuildStats()
     start = time.perf_counter()
     ds = build_grid(area, model=model, workers=workers, scheduler=scheduler,
-                    cache_dir=cache_dir if model is Model.BELLHOP else None, progress=progress, stats=stats)
+                    cache_dir=cache_dir if model is not Model.URICK else None, progress=progress, stats=stats)
     write_grid(ds, out)
     remove_cache(cache_dir)
     return GridFileResult(file=out, area=area.name, model=model, up_to_date=False, source_hash=digest,
                           runs=stats.runs_total, runs_reused=stats.runs_reused,
-                          bellhop_seconds=stats.bellhop_seconds,
+                          bellhop_seconds=stats.bellhop_seconds, ram_seconds=stats.ram_seconds,
                           wall_seconds=time.perf_counter() - start,
                           dims={str(k): int(v) for k, v in ds.sizes.items()})

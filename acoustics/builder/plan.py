@@ -60,13 +60,14 @@ def fan_slices(n_beams: int, angle_min_deg: float, angle_max_deg: float,
 
 
 def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance: bool = True,
-              pieces: int | None = None) -> list[Run]:
+              pieces: int | None = None, freqs_hz=None) -> list[Run]:
     """The BELLHOP runs for ``area``: one per (source depth, run frequency).
 
     With ``balance``, an odd number of runs has its last run cut into two halves of the beam
     fan (see ``fan_slices``), so that two workers finish together; the choice depends only on
     the area, never on the number of workers, so the numbers do not either. ``pieces`` cuts
-    every run into that many slices instead.
+    every run into that many slices instead. ``freqs_hz`` runs these frequencies in place of the
+    bands' run frequencies (``--model auto``: BELLHOP's share, ``acoustics.builder.modelchoice``).
     """
     prop = area.propagation
     if source_depths_m is None:
@@ -75,8 +76,9 @@ def plan_runs(area: Area, source_depths_m=None, receiver_depths=None, *, balance
         receiver_depths = receiver_depths_m(area)
     ranges = tuple(float(r) for r in area.grid.range_m())
     # a frequency shared by two bands (an edge) is one run
-    groups = list(dict.fromkeys((float(sd), freq_key(f)) for sd in source_depths_m for band in area.bands
-                                for f in run_frequencies_hz(area, band)))
+    if freqs_hz is None:
+        freqs_hz = [f for band in area.bands for f in run_frequencies_hz(area, band)]
+    groups = list(dict.fromkeys((float(sd), freq_key(f)) for sd in source_depths_m for f in freqs_hz))
     n_pieces = [pieces or 1] * len(groups)
     if pieces is None and balance and len(groups) % 2 == 1:
         n_pieces[-1] = 2

@@ -42,10 +42,21 @@ from acoustics.builder.bandruns import (
     run_timeout_s,
     source_hash,
 )
+from acoustics.builder.modelchoice import (
+    band_plans,
+    bellhop_run_hz,
+    model_settings,
+    planned_band_tl_db,
+    ram_run_hz,
+    with_ram_attrs,
+)
+from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import run_spec
+from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
 from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.kcurve import spectral_term_db
+from acoustics.ram import RamEnvironment
 from acoustics.urick import k_urick_db
 from envdata.area import Area
 from envdata.datafiles import input_file_digests
@@ -78,14 +89,17 @@ def bottom_on_grid_m(area: Area, radial: Radial) -> np.ndarray:
     return bottom
 
 
-def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray
+def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray, freqs_hz=None
                      ) -> tuple[list[Run], dict[str, tuple[int, float]]]:
-    """The BELLHOP runs of every radial and run frequency, and each run's (radial, frequency)."""
+    """The BELLHOP runs of every radial and run frequency (the bands', or ``freqs_hz``), and each
+    run's (radial, frequency)."""
     prop = area.propagation
     rng = area.grid.range_m()
     box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
     step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
-    freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
+    if freqs_hz is None:
+        freqs_hz = [f for band in area.bands for f in run_frequencies_hz(area, band)]
+    freqs = list(dict.fromkeys(freq_key(f) for f in freqs_hz))
     runs, where = [], {}
     for j, radial in enumerate(radials):
         for f in freqs:
@@ -134,11 +148,12 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     model = Model(model)
     stats = stats if stats is not None else BuildStats()
     inputs = inputs if inputs is not None else input_file_digests(area.water)
-    exe = find_bellhop() if model is Model.BELLHOP else None
-    digest = source_hash(area, model, exe.sha256 if exe else None, inputs)
+    exe = find_bellhop() if model.runs_bellhop else None
+    digest = source_hash(area, model, exe.sha256 if exe else None, inputs, model_settings(model))
     radials = radials if radials is not None else area_radials(area, progress=progress)
     depth = np.asarray(depth_m, dtype=float) if depth_m is not None else depth_axis_m(area, radials)
-    check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
+    if not model.runs_ram:
+        check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
     rng = area.grid.range_m()
     class_depths = sorted({c.depth_m for c in area.classes})
     receivers = np.unique(np.concatenate([depth, class_depths]))
@@ -153,18 +168,36 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
                                   for ib, band in enumerate(area.bands)]) for cls in area.classes])
 
-    def fill(j: int, tl_by_freq: dict[float, np.ndarray]) -> None:
+    def fill(j: int, band_tl_db) -> None:
+        """Radial ``j``'s cells from ``band_tl_db(cls, ib)``, the band TL on the receivers."""
         # below the bottom, and beyond land (NaN bottom), the grid has no value
         below = (depth[:, None] > bottom[j][None, :] + 1e-6) | ~np.isfinite(bottom[j])[None, :]
         for ic, cls in enumerate(area.classes):
             for ib, band in enumerate(area.bands):
-                band_tl = band_tl_from_runs(area, cls, band, tl_by_freq)  # (receivers, R)
+                band_tl = band_tl_db(cls, ib)  # (receivers, R)
                 tl[ic, ib, j] = np.where(below, np.nan, band_tl[on_grid])
                 kk = spectral_term_db(cls, band) - band_tl[class_row[cls.depth_m]]
                 # a target deeper than the water there, or beyond land, has no K
                 k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
 
-    if model is Model.BELLHOP:
+    if model.runs_ram:
+        plans = band_plans(area, model)
+        bh_hz = bellhop_run_hz(area, plans) if model.runs_bellhop else []
+        ram_runs = {j: [RamRun(env=RamEnvironment.from_radial(area, rad, area.observer.depth_m), freq_hz=f,
+                               depth_m=receivers, range_m=rng, tl_max_db=prop.tl_max_db)
+                        for f in ram_run_hz(plans)] for j, rad in enumerate(radials)}
+        check_model_memory(radial_grid_bytes(area, depth.size), [r for runs in ram_runs.values() for r in runs],
+                           1 if scheduler else workers, f"the RAM grid of area {area.name}")
+        runs, where = plan_radial_runs(area, radials, receivers, freqs_hz=bh_hz) if bh_hz else ([], {})
+        stats.runs = runs
+
+        def on_source(j, ram_tl, bh_tl) -> None:
+            fill(j, lambda cls, ib: planned_band_tl_db(area, cls, plans[ib], ram_tl, bh_tl))
+
+        run_sources(area, range(n_n), ram_runs, runs, where, on_source, workers=workers, scheduler=scheduler,
+                    cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
+                    exe=str(exe.path) if exe else None, stats=stats)
+    elif model is Model.BELLHOP:
         runs, where = plan_radial_runs(area, radials, receivers)
         stats.runs = runs
         pending: dict[int, dict[float, np.ndarray]] = {}
@@ -175,7 +208,8 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
             j, f = where[run.key]
             pending.setdefault(j, {})[f] = tl_from_pressure(field, prop.tl_max_db)
             if len(pending[j]) == n_freq:
-                fill(j, pending.pop(j))
+                by_freq = pending.pop(j)
+                fill(j, lambda cls, ib, by_freq=by_freq: band_tl_from_runs(area, cls, area.bands[ib], by_freq))
     else:  # Urick: spherical spreading and absorption, the same along every radial
         from acoustics.urick import spherical_tl_db
 
@@ -185,8 +219,9 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
                 below = (depth[:, None] > bottom[j][None, :]) | ~np.isfinite(bottom[j])[None, :]
                 tl[:, ib, j] = np.where(below, np.nan, sph[None, :])[None]
                 k[:, ib, j] = np.where(np.isfinite(bottom[j]), k_urick[:, ib], np.nan)
-    return _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest,
-                    exe.describe() if exe else None, inputs)
+    ds = _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest,
+                  exe.describe() if exe else None, inputs)
+    return with_ram_attrs(ds, model) if model.runs_ram else ds
 
 
 def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest, exe_info,

@@ -20,7 +20,12 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Pa
     path = Path(path)
     encoding = {}
     for name, var in ds.variables.items():
-        if name in ds.coords:
+        if var.dtype.kind in "UO":
+            # text as fixed-width characters, not HDF5 variable-length strings: reading the fill
+            # value of a variable-length string variable crashed HDF5 (H5T__vlen_disk_isnull on a
+            # stale file address) once other files had been opened and closed in the process
+            encoding[name] = {"dtype": "S1", "_FillValue": None}
+        elif name in ds.coords:
             encoding[name] = {"_FillValue": None}
         elif np.issubdtype(var.dtype, np.floating):
             encoding[name] = {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}

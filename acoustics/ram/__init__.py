@@ -3,7 +3,7 @@
 
 from acoustics.ram.environment import RamEnvironment
 from acoustics.ram.errors import RamInputError, RamRunError
-from acoustics.ram.run import ram_tl_db
+from acoustics.ram.run import ram_run_bytes, ram_tl_db
 from acoustics.ram.settings import RamSettings
 
-__all__ = ["RamEnvironment", "RamInputError", "RamRunError", "RamSettings", "ram_tl_db"]
+__all__ = ["RamEnvironment", "RamInputError", "RamRunError", "RamSettings", "ram_run_bytes", "ram_tl_db"]

@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from easypyram import PyRAM
 
 from acoustics.absorption import absorption_db_per_km
 from acoustics.ram.environment import RamEnvironment
@@ -105,12 +104,8 @@ def ram_tl_db(env: RamEnvironment, freq_hz: float, depth_m, range_m, settings: R
     if not np.any(wet):
         return out
     reach_m = float(rng[wet].max())
-    dr_m, ndr = _range_step(rng, settings.range_step_m)
-    n_out = max(1, int(math.ceil(reach_m / (dr_m * ndr) - GRID_TOLERANCE)))
+    dr_m, ndr, n_out, n_z = _output_grid(env, depth, rng[wet], settings)
     dz_m = settings.depth_step_m
-    deepest_m = min(float(depth.max()), env.max_bottom_depth_m)
-    # RAM's output depths dz, 2 dz, ... past the deepest wanted one, inside the grid
-    n_z = min(int(math.floor(deepest_m / dz_m)) + 2, int(math.floor(settings.grid_depth_m / dz_m)) - 2)
     check_memory(float(BYTES_PER_OUTPUT_POINT) * n_z * n_out, f"a RAM run at {freq_hz:g} Hz to {reach_m:g} m")
 
     c0 = settings.reference_speed_mps or _mean_water_speed_mps(env)
@@ -123,6 +118,8 @@ def ram_tl_db(env: RamEnvironment, freq_hz: float, depth_m, range_m, settings: R
     if settings.stability_range_m is not None:
         kwargs["rs"] = settings.stability_range_m
     rbzb = np.column_stack([env.bathymetry_range_m, env.bathymetry_depth_m])
+    from easypyram import PyRAM  # here, not at import: numba's start-up (~1.7 s) only for a RAM run
+
     try:
         model = PyRAM(freq_hz, env.source_depth_m, env.source_depth_m, ssp_z, ssp_r, cw,
                       np.array([0.0]), np.array([0.0]), np.array([[bottom.speed_mps]]),
@@ -152,6 +149,35 @@ def ram_tl_db(env: RamEnvironment, freq_hz: float, depth_m, range_m, settings: R
     below = depth[:, None] > env.bottom_depth_m(rng[wet])[None, :] + 1e-6
     out[:, wet] = np.where(below, np.nan, tl)
     return out
+
+
+def ram_run_bytes(env: RamEnvironment, depth_m, range_m, settings: RamSettings) -> float:
+    """Memory one RAM run keeps at its peak, bytes: its whole output field (easypyram holds it all,
+    complex and real, before ``ram_tl_db`` interpolates it), `BYTES_PER_OUTPUT_POINT` per point.
+
+    Parameters as `ram_tl_db` (the frequency acts through ``settings``' steps).
+    """
+    depth = _axis(depth_m, "depth_m", allow_zero=True)
+    rng = _axis(range_m, "range_m", allow_zero=False)
+    end_m = env.end_range_m if env.end_range_m is not None else math.inf
+    wet = rng[rng <= end_m]
+    if wet.size == 0:
+        return 0.0
+    _, _, n_out, n_z = _output_grid(env, depth, wet, settings)
+    return float(BYTES_PER_OUTPUT_POINT) * n_z * n_out
+
+
+def _output_grid(env: RamEnvironment, depth: np.ndarray, wet_range_m: np.ndarray,
+                 settings: RamSettings) -> tuple[float, int, int, int]:
+    """RAM's range step, output decimation, number of output ranges and of output depths."""
+    reach_m = float(wet_range_m.max())
+    dr_m, ndr = _range_step(wet_range_m, settings.range_step_m)
+    n_out = max(1, int(math.ceil(reach_m / (dr_m * ndr) - GRID_TOLERANCE)))
+    dz_m = settings.depth_step_m
+    deepest_m = min(float(depth.max()), env.max_bottom_depth_m)
+    # RAM's output depths dz, 2 dz, ... past the deepest wanted one, inside the grid
+    n_z = min(int(math.floor(deepest_m / dz_m)) + 2, int(math.floor(settings.grid_depth_m / dz_m)) - 2)
+    return dr_m, ndr, n_out, n_z
 
 
 def _axis(values, name: str, *, allow_zero: bool) -> np.ndarray:

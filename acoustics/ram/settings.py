@@ -2,7 +2,7 @@
 
 The default rule (`RamSettings.for_frequency`, `RamSettings.for_environment`) comes from the
 convergence study ``python -m tests.crosscheck.ram_convergence``
-(docs/results/ram-convergence.json, docs/models-ram.md); `for_frequency` states the rule and
+(docs/results/ram-convergence.json, docs/models.md); `for_frequency` states the rule and
 what was measured.
 """
 

@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 
 import acoustics
-from tests.conftest import MALFORMED
+from tests.conftest import DATA, MALFORMED
 from tools.cli import main
 
 REPO = Path(__file__).resolve().parents[2]
@@ -156,3 +156,26 @@ def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path, 
 def test_json_option_works_at_any_position(capsys, argv):
     assert main(argv) == 0
     assert "areas" in json.loads(capsys.readouterr().out)
+
+
+def test_grids_compare_through_the_command_line(tiny_grid_file, tmp_path, capsys):
+    """`tmakit grids compare` reports by class and band, writes its picture, and refuses two
+    grids of different areas with one error line and no picture."""
+    urick = tmp_path / "tiny-urick.nc"
+    assert main(["grids", "build", str(DATA / "tiny-munk.toml"), "--model", "urick", "--out", str(urick)]) == 0
+    capsys.readouterr()
+    png = tmp_path / "diff.png"
+    assert main(["grids", "compare", str(urick), str(tiny_grid_file), "--plot", str(png), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert {(r["class"], r["band"]) for r in data["rows"]} == {(c, b) for c in ("SUB", "SHIP") for b in ("FB1", "F500")}
+    # BELLHOP against spherical spreading over 1000 m of Munk water: a few dB, not 0, not 50
+    assert all(0.5 < r["tl_median_db"] < 10.0 for r in data["rows"])
+    other = tmp_path / "munk-urick.nc"
+    assert main(["grids", "build", "munk-1000", "--model", "urick", "--out", str(other)]) == 0
+    capsys.readouterr()
+    bad_png = tmp_path / "bad.png"
+    assert main(["grids", "compare", str(urick), str(other), "--plot", str(bad_png)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "area 'tiny-munk' against 'munk-1000'" in err[0] and err[0].startswith("error:")
+    assert not bad_png.exists()
