@@ -78,7 +78,7 @@ def main(path: Path) -> dict:
             times[f"rpf_{which}"].append(_rpf_seconds(_tables(path, which), sim, ic, 1))
             times[f"rpf20_{which}"].append(_rpf_seconds(_tables(path, which), sim, ic, 20))
     med = {k: float(np.median(v)) for k, v in times.items()}
-    result = {"tmakit_format": RESULT_FORMAT, "atlas": str(path), "scenario": sc.name, "cycles": int(sim.t_s.size),
+    result = {"tmakit_format": RESULT_FORMAT, "atlas": _shown(path), "scenario": sc.name, "cycles": int(sim.t_s.size),
               "ml_rows": len(base.classes), "rpf_particles": N_PARTICLES, "repeats": REPEATS, "times_s": times,
               "median_s": med, "ml_cycle_ms": {"grid": 1e3 * med["ml_grid"], "atlas": 1e3 * med["ml_atlas"]},
               "ratio_ml_atlas_over_grid": med["ml_atlas"] / med["ml_grid"],
@@ -90,3 +90,11 @@ def main(path: Path) -> dict:
 
 if __name__ == "__main__":
     print(json.dumps(main(Path(sys.argv[1]) if len(sys.argv) > 1 else ATLAS), indent=1))
+
+
+def _shown(path: Path) -> str:
+    """A path as a result file records it: relative to the repository when inside it."""
+    try:
+        return str(Path(path).resolve().relative_to(ROOT))
+    except ValueError:
+        return str(path)

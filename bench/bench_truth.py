@@ -27,7 +27,8 @@ def main(grid: str) -> dict:
     text = text.replace("duration_s = 2400.0", "duration_s = 3600.0").replace('name = "shelf-cross"',
                                                                               'name = "shelf-cross-60min"')
     text = text.replace("speed_mps = 4.5", "speed_mps = 3.0")  # 10.8 km in 60 min: inside the area
-    result = {"tmakit_format": RESULT_FORMAT, "grid": grid, "workers": 2, "area": str(area_path("shelf-break"))}
+    result = {"tmakit_format": RESULT_FORMAT, "grid": grid, "workers": 2,
+              "area": str(area_path("shelf-break").relative_to(ROOT))}
     with tempfile.TemporaryDirectory() as tmp:
         sc = Path(tmp) / "sc.toml"
         sc.write_text(text)
