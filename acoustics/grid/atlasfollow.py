@@ -30,7 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from acoustics.grid.tables import GridTables, RadialTables
+from acoustics.grid.radialinterp import bearing_weights, mix
+from acoustics.grid.tables import GridTables, LevelProfile, RadialTables
 from envdata.atlasarea import area_for_month
 from envdata.errors import InputError
 from envdata.geometry import local_plane_to_lat_lon
@@ -93,11 +94,35 @@ class FollowingTables(BlendedTables):
         lat, lon = self._plane_to_lat_lon(np.atleast_1d(x_m), np.atleast_1d(y_m))
         self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
 
-    def at_observer(self, x_m: float, y_m: float) -> GridTables:
+    def _weights_at(self, x_m: float, y_m: float):
+        """The observer's latitude, longitude and its positions' (origin index, rounded weight)."""
         lat, lon = self._plane_to_lat_lon(float(x_m), float(y_m))
         idx, w = self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
-        key = (tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(idx[0], w[0]) if v > 0),
-               self.target_depth_m)
+        return lat, lon, tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(idx[0], w[0]) if v > 0)
+
+    def level_profile_at(self, ic: int, ib: int, x_m: float, y_m: float, depth_m: float | None = None,
+                         bearing_deg: float | None = None) -> LevelProfile:
+        """K(r) of one class and band at one bearing where the observer is, mixed from the K of
+        the positions around it on the two radials around the bearing only (3 or 4 positions x 2
+        radials x R values, against every class, band and bearing for `at_observer`). The same
+        sums in the same order as `blend` then `RadialTables.k_db`: the same numbers, bit for bit.
+        With K at another target depth (`at_target_depth`) it goes through `at_observer`."""
+        if self.target_depth_m is not None:
+            return super().level_profile_at(ic, ib, x_m, y_m, depth_m, bearing_deg)
+        _, _, weights = self._weights_at(x_m, y_m)
+        d = self.observer_depth_m if depth_m is None else float(depth_m)
+        key = ("observer-profile", weights, ic, ib, d, self._bearing_key(bearing_deg))
+        if key not in self._cache:
+            self.check_depth(d)
+            j0, j1, w1 = bearing_weights(self.bearing_deg, key[-1])
+            m = self.atlas.month_index(self.month)
+            k = _weighted([(w, self.atlas.slab(m, o)[1][ic, ib][[int(j0), int(j1)]]) for o, w in weights])
+            self._cache[key] = LevelProfile(range_m=self.range_m, k_db=mix(k[0], k[1], np.asarray(w1)[..., None]))
+        return self._cache[key]
+
+    def at_observer(self, x_m: float, y_m: float) -> GridTables:
+        lat, lon, weights = self._weights_at(x_m, y_m)
+        key = (weights, self.target_depth_m)
         view = self._views.get(key)
         if view is None:
             view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat), float(lon),
