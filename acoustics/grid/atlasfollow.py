@@ -94,38 +94,53 @@ class FollowingTables(BlendedTables):
         lat, lon = self._plane_to_lat_lon(np.atleast_1d(x_m), np.atleast_1d(y_m))
         self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
 
-    def _weights_at(self, x_m: float, y_m: float):
-        """The observer's latitude, longitude and its positions' (origin index, rounded weight)."""
-        lat, lon = self._plane_to_lat_lon(float(x_m), float(y_m))
+    def _weights_at(self, x_m, y_m):
+        """The observers' latitudes, longitudes and, per observer, its positions' (origin index,
+        rounded weight): the key of its tables."""
+        lat, lon = self._plane_to_lat_lon(np.atleast_1d(np.asarray(x_m, dtype=float)),
+                                          np.atleast_1d(np.asarray(y_m, dtype=float)))
         idx, w = self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
-        return lat, lon, tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(idx[0], w[0]) if v > 0)
+        keys = [tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(ip, wp) if v > 0)
+                for ip, wp in zip(idx, w)]
+        return np.atleast_1d(lat), np.atleast_1d(lon), keys
 
     def level_profile_at(self, ic: int, ib: int, x_m: float, y_m: float, depth_m: float | None = None,
                          bearing_deg: float | None = None) -> LevelProfile:
-        """K(r) of one class and band at one bearing where the observer is, mixed from the K of
-        the positions around it on the two radials around the bearing only (3 or 4 positions x 2
-        radials x R values, against every class, band and bearing for `at_observer`). The same
-        sums in the same order as `blend` then `RadialTables.k_db`: the same numbers, bit for bit.
-        With K at another target depth (`at_target_depth`) it goes through `at_observer`."""
         if self.target_depth_m is not None:
-            return super().level_profile_at(ic, ib, x_m, y_m, depth_m, bearing_deg)
-        _, _, weights = self._weights_at(x_m, y_m)
-        d = self.observer_depth_m if depth_m is None else float(depth_m)
-        key = ("observer-profile", weights, ic, ib, d, self._bearing_key(bearing_deg))
-        if key not in self._cache:
-            self.check_depth(d)
-            j0, j1, w1 = bearing_weights(self.bearing_deg, key[-1])
-            m = self.atlas.month_index(self.month)
-            k = _weighted([(w, self.atlas.slab(m, o)[1][ic, ib][[int(j0), int(j1)]]) for o, w in weights])
-            self._cache[key] = LevelProfile(range_m=self.range_m, k_db=mix(k[0], k[1], np.asarray(w1)[..., None]))
-        return self._cache[key]
+            return self.at_observer(x_m, y_m).level_profile(ic, ib, depth_m, bearing_deg)
+        return self.level_profiles_at(ic, ib, [x_m], [y_m], [self.observer_depth_m if depth_m is None else depth_m],
+                                      [bearing_deg])[0]
+
+    def level_profiles_at(self, ic: int, ib: int, x_m, y_m, depth_m, bearing_deg) -> list[LevelProfile]:
+        """K(r) of one class and band at one bearing where the observer is each cycle, mixed from
+        the K of the positions around it on the two radials around the bearing only (3 or 4
+        positions x 2 radials x R values, against every class, band and bearing for
+        `at_observer`); the weights of every cycle in one call. The same sums in the same order
+        as `blend` then `RadialTables.k_db`: the same numbers, bit for bit. With K at another
+        target depth (`at_target_depth`) it goes through `at_observer`."""
+        if self.target_depth_m is not None:
+            return super().level_profiles_at(ic, ib, x_m, y_m, depth_m, bearing_deg)
+        _, _, keys = self._weights_at(x_m, y_m)
+        m = self.atlas.month_index(self.month)
+        origins = sorted({o for weights in keys for o, _ in weights})
+        tables = dict(zip(origins, self.atlas.k_tables(m, origins)))  # K alone, new ones in one read
+        out = []
+        for weights, d, b in zip(keys, np.asarray(depth_m, dtype=float), bearing_deg):
+            key = ("observer-profile", weights, ic, ib, float(d), self._bearing_key(b))
+            if key not in self._cache:
+                self.check_depth(key[4])
+                j0, j1, w1 = bearing_weights(self.bearing_deg, key[-1])
+                k = _weighted([(w, tables[o][ic, ib][[int(j0), int(j1)]]) for o, w in weights])
+                self._cache[key] = LevelProfile(range_m=self.range_m, k_db=mix(k[0], k[1], np.asarray(w1)[..., None]))
+            out.append(self._cache[key])
+        return out
 
     def at_observer(self, x_m: float, y_m: float) -> GridTables:
-        lat, lon, weights = self._weights_at(x_m, y_m)
-        key = (weights, self.target_depth_m)
+        lat, lon, weights = self._weights_at(float(x_m), float(y_m))
+        key = (weights[0], self.target_depth_m)
         view = self._views.get(key)
         if view is None:
-            view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat), float(lon),
+            view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat[0]), float(lon[0]),
                          dataset=self.dataset)
             if self.target_depth_m is not None:
                 view = view.at_target_depth(self.target_depth_m)
