@@ -120,20 +120,36 @@ class FollowingTables(BlendedTables):
         target depth (`at_target_depth`) it goes through `at_observer`."""
         if self.target_depth_m is not None:
             return super().level_profiles_at(ic, ib, x_m, y_m, depth_m, bearing_deg)
-        _, _, keys = self._weights_at(x_m, y_m)
+        _, _, weights = self._weights_at(x_m, y_m)
+        keys = [("observer-profile", ws, ic, ib, float(d), self._bearing_key(b))
+                for ws, d, b in zip(weights, np.asarray(depth_m, dtype=float), bearing_deg)]
+        new = list(dict.fromkeys(k for k in keys if k not in self._cache))
+        if new:
+            self._cache.update(zip(new, self._mixed_profiles(new)))
+        return [self._cache[k] for k in keys]
+
+    def _mixed_profiles(self, keys) -> list[LevelProfile]:
+        """The profiles of `level_profiles_at`'s keys, all cycles at once: position by position
+        (up to 4, in the key's order), the weighted K of the two radials around each bearing,
+        then linear between the radials; a position absent from a key adds nothing."""
+        self.check_depth(np.array([k[4] for k in keys]))
+        ic, ib = keys[0][2:4]
         m = self.atlas.month_index(self.month)
-        origins = sorted({o for weights in keys for o, _ in weights})
-        tables = dict(zip(origins, self.atlas.k_tables(m, origins)))  # K alone, new ones in one read
-        out = []
-        for weights, d, b in zip(keys, np.asarray(depth_m, dtype=float), bearing_deg):
-            key = ("observer-profile", weights, ic, ib, float(d), self._bearing_key(b))
-            if key not in self._cache:
-                self.check_depth(key[4])
-                j0, j1, w1 = bearing_weights(self.bearing_deg, key[-1])
-                k = _weighted([(w, tables[o][ic, ib][[int(j0), int(j1)]]) for o, w in weights])
-                self._cache[key] = LevelProfile(range_m=self.range_m, k_db=mix(k[0], k[1], np.asarray(w1)[..., None]))
-            out.append(self._cache[key])
-        return out
+        origins = sorted({o for k in keys for o, _ in k[1]})
+        k_pos = np.stack([k[ic, ib] for k in self.atlas.k_tables(m, origins)])  # (O, N, R); new ones in one read
+        slot = {o: i for i, o in enumerate(origins)}
+        n = max(len(k[1]) for k in keys)
+        pos = np.array([[slot[o] for o, _ in k[1]] + [0] * (n - len(k[1])) for k in keys])
+        w = np.array([[v for _, v in k[1]] + [0.0] * (n - len(k[1])) for k in keys])
+        j0, j1, w1 = bearing_weights(self.bearing_deg, np.array([k[-1] for k in keys]))
+        radials = []
+        for j in (j0, j1):
+            out = w[:, :1] * k_pos[pos[:, 0], j].astype(float)
+            for p in range(1, n):
+                out = np.where(w[:, p:p + 1] > 0, out + w[:, p:p + 1] * k_pos[pos[:, p], j].astype(float), out)
+            radials.append(out)
+        k_db = mix(radials[0], radials[1], w1[:, None])
+        return [LevelProfile(range_m=self.range_m, k_db=row) for row in k_db]
 
     def at_observer(self, x_m: float, y_m: float) -> GridTables:
         lat, lon, weights = self._weights_at(float(x_m), float(y_m))

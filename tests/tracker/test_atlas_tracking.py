@@ -106,6 +106,12 @@ def test_one_level_profile_where_the_observer_is_is_the_blended_tables_one(atlas
         # the same sums in the same order: equal bit for bit, NaN (beyond land) filled alike
         np.testing.assert_array_equal(fast.k_db, full.k_db)
         assert tables.level_profile_at(0, 0, x, y, 100.0, bearing_deg=b) is fast  # kept
+    # a path at once (a cycle repeated: one profile for both): each cycle's blended-table profile
+    xs, ys, bs = (np.array([c[i] for c in cases] + [cases[0][i]]) for i in range(3))
+    path = tables.level_profiles_at(0, 0, xs, ys, np.full(xs.size, 100.0), list(bs))
+    assert path[-1] is path[0] and len(path) == xs.size
+    for p, x, y, b in zip(path, xs, ys, bs):
+        np.testing.assert_array_equal(p.k_db, tables.at_observer(x, y).level_profile(0, 0, bearing_deg=b).k_db)
     # with K at another target depth: through the blended tables, the same answer
     deep = tables.at_target_depth(30.0)
     np.testing.assert_array_equal(deep.level_profile_at(0, 0, -900.0, 3100.0, bearing_deg=200.0).k_db,
