@@ -15,7 +15,10 @@ few thousand values); TL (with the depth axis, a thousand times more) only when 
 with the target at another depth. The slabs of the positions are read from the store once
 (`AtlasTables.slab` is cached) and the blended tables of the last few observer positions kept,
 keyed by the positions and weights: consecutive cycles share cells, and a tracker and the
-simulator given the same path get the same tables.
+simulator given the same path get the same tables. A particle filter asks one class's, one
+band's K(r) at one bearing per cycle (``level_profiles_at``): that profile alone is mixed, from
+the K (not TL) of the 3-4 positions around the observer on the two radials around the bearing,
+the same sums in the same order as the blended tables give it.
 
 Bearings at the observer are taken in the local plane (atan2 of the plane's east and north
 differences); against true north at the observer they differ by the meridian convergence,
