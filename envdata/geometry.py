@@ -99,9 +99,9 @@ def local_plane_to_lat_lon(origin_lat_deg: float, origin_lon_deg: float, x_m, y_
     measurement, truth and track files of an area with an ``[origin]``."""
     import numpy as np
 
-    proj = _plane(float(origin_lat_deg), float(origin_lon_deg))
-    lon, lat = proj(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float), inverse=True)
-    return np.asarray(lat), np.asarray(lon)
+    x, y = np.broadcast_arrays(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
+    lon, lat = _plane(float(origin_lat_deg), float(origin_lon_deg))(*_one_as_scalar(x, y), inverse=True)
+    return np.asarray(lat).reshape(x.shape), np.asarray(lon).reshape(x.shape)
 
 
 def lat_lon_to_local_plane(origin_lat_deg: float, origin_lon_deg: float, lat_deg, lon_deg):
@@ -109,9 +109,15 @@ def lat_lon_to_local_plane(origin_lat_deg: float, origin_lon_deg: float, lat_deg
     of `local_plane_to_lat_lon` (azimuthal equidistant projection centred on the origin, WGS84)."""
     import numpy as np
 
-    proj = _plane(float(origin_lat_deg), float(origin_lon_deg))
-    x, y = proj(np.asarray(lon_deg, dtype=float), np.asarray(lat_deg, dtype=float))
-    return np.asarray(x), np.asarray(y)
+    lat, lon = np.broadcast_arrays(np.asarray(lat_deg, dtype=float), np.asarray(lon_deg, dtype=float))
+    x, y = _plane(float(origin_lat_deg), float(origin_lon_deg))(*_one_as_scalar(lon, lat))
+    return np.asarray(x).reshape(lat.shape), np.asarray(y).reshape(lat.shape)
+
+
+def _one_as_scalar(*arrays):
+    """The (broadcast) arrays, those of a single value as 0-d arrays (pyproj 3.7 takes a (1,) array for a
+    scalar and numpy 2 warns that the conversion will fail)."""
+    return tuple(a.reshape(()) if a.size == 1 else a for a in arrays)
 
 
 @functools.lru_cache(maxsize=16)

@@ -65,6 +65,7 @@ class AtlasTables:
     left_out: list
     _group: object = field(repr=False)
     _slabs: dict = field(default_factory=dict, repr=False)
+    _k_tables: dict = field(default_factory=dict, repr=False)
 
     @property
     def class_names(self) -> tuple[str, ...]:
@@ -109,6 +110,21 @@ class AtlasTables:
                 a.setflags(write=False)
             self._slabs[key] = arrays
         return self._slabs[key]
+
+    def k_tables(self, m: int, origins) -> list[np.ndarray]:
+        """K (C, B, N, R) of the tables of month index ``m`` at positions ``origins``, read alone
+        (a particle filter's level model needs no TL; those not kept yet in one read of the
+        store), kept read-only like `slab`."""
+        origins = [int(o) for o in origins]
+        missing = sorted({o for o in origins if (m, o) not in self._slabs and (m, o) not in self._k_tables})
+        for o in missing:
+            self._check_table(m, o)
+        if missing:
+            block = self._read("k_db", (int(m), missing))
+            for o, k in zip(missing, block):
+                k.setflags(write=False)
+                self._k_tables[(int(m), o)] = k
+        return [self._slabs[(m, o)][1] if (m, o) in self._slabs else self._k_tables[(m, o)] for o in origins]
 
     def at(self, lat_deg: float, lon_deg: float, month: int) -> RadialTables:
         """The bearing-dependent tables at an observer position between the positions: every value

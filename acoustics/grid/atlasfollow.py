@@ -15,7 +15,10 @@ few thousand values); TL (with the depth axis, a thousand times more) only when 
 with the target at another depth. The slabs of the positions are read from the store once
 (`AtlasTables.slab` is cached) and the blended tables of the last few observer positions kept,
 keyed by the positions and weights: consecutive cycles share cells, and a tracker and the
-simulator given the same path get the same tables.
+simulator given the same path get the same tables. A particle filter asks one class's, one
+band's K(r) at one bearing per cycle (``level_profiles_at``): that profile alone is mixed, from
+the K (not TL) of the 3-4 positions around the observer on the two radials around the bearing,
+the same sums in the same order as the blended tables give it.
 
 Bearings at the observer are taken in the local plane (atan2 of the plane's east and north
 differences); against true north at the observer they differ by the meridian convergence,
@@ -30,7 +33,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from acoustics.grid.tables import GridTables, RadialTables
+from acoustics.grid.radialinterp import bearing_weights, mix
+from acoustics.grid.tables import GridTables, LevelProfile, RadialTables
 from envdata.atlasarea import area_for_month
 from envdata.errors import InputError
 from envdata.geometry import local_plane_to_lat_lon
@@ -93,14 +97,69 @@ class FollowingTables(BlendedTables):
         lat, lon = self._plane_to_lat_lon(np.atleast_1d(x_m), np.atleast_1d(y_m))
         self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
 
-    def at_observer(self, x_m: float, y_m: float) -> GridTables:
-        lat, lon = self._plane_to_lat_lon(float(x_m), float(y_m))
+    def _weights_at(self, x_m, y_m):
+        """The observers' latitudes, longitudes and, per observer, its positions' (origin index,
+        rounded weight): the key of its tables."""
+        lat, lon = self._plane_to_lat_lon(np.atleast_1d(np.asarray(x_m, dtype=float)),
+                                          np.atleast_1d(np.asarray(y_m, dtype=float)))
         idx, w = self.atlas.weights(np.atleast_1d(lat), np.atleast_1d(lon))
-        key = (tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(idx[0], w[0]) if v > 0),
-               self.target_depth_m)
+        keys = [tuple((int(i), round(float(v), WEIGHT_KEY_DECIMALS)) for i, v in zip(ip, wp) if v > 0)
+                for ip, wp in zip(idx, w)]
+        return np.atleast_1d(lat), np.atleast_1d(lon), keys
+
+    def level_profile_at(self, ic: int, ib: int, x_m: float, y_m: float, depth_m: float | None = None,
+                         bearing_deg: float | None = None) -> LevelProfile:
+        if self.target_depth_m is not None:
+            return self.at_observer(x_m, y_m).level_profile(ic, ib, depth_m, bearing_deg)
+        return self.level_profiles_at(ic, ib, [x_m], [y_m], [self.observer_depth_m if depth_m is None else depth_m],
+                                      [bearing_deg])[0]
+
+    def level_profiles_at(self, ic: int, ib: int, x_m, y_m, depth_m, bearing_deg) -> list[LevelProfile]:
+        """K(r) of one class and band at one bearing where the observer is each cycle, mixed from
+        the K of the positions around it on the two radials around the bearing only (3 or 4
+        positions x 2 radials x R values, against every class, band and bearing for
+        `at_observer`); the weights of every cycle in one call. The same sums in the same order
+        as `blend` then `RadialTables.k_db`: the same numbers, bit for bit. With K at another
+        target depth (`at_target_depth`) it goes through `at_observer`."""
+        if self.target_depth_m is not None:
+            return super().level_profiles_at(ic, ib, x_m, y_m, depth_m, bearing_deg)
+        _, _, weights = self._weights_at(x_m, y_m)
+        keys = [("observer-profile", ws, ic, ib, float(d), self._bearing_key(b))
+                for ws, d, b in zip(weights, np.asarray(depth_m, dtype=float), bearing_deg)]
+        new = list(dict.fromkeys(k for k in keys if k not in self._cache))
+        if new:
+            self._cache.update(zip(new, self._mixed_profiles(new)))
+        return [self._cache[k] for k in keys]
+
+    def _mixed_profiles(self, keys) -> list[LevelProfile]:
+        """The profiles of `level_profiles_at`'s keys, all cycles at once: position by position
+        (up to 4, in the key's order), the weighted K of the two radials around each bearing,
+        then linear between the radials; a position absent from a key adds nothing."""
+        self.check_depth(np.array([k[4] for k in keys]))
+        ic, ib = keys[0][2:4]
+        m = self.atlas.month_index(self.month)
+        origins = sorted({o for k in keys for o, _ in k[1]})
+        k_pos = np.stack([k[ic, ib] for k in self.atlas.k_tables(m, origins)])  # (O, N, R); new ones in one read
+        slot = {o: i for i, o in enumerate(origins)}
+        n = max(len(k[1]) for k in keys)
+        pos = np.array([[slot[o] for o, _ in k[1]] + [0] * (n - len(k[1])) for k in keys])
+        w = np.array([[v for _, v in k[1]] + [0.0] * (n - len(k[1])) for k in keys])
+        j0, j1, w1 = bearing_weights(self.bearing_deg, np.array([k[-1] for k in keys]))
+        radials = []
+        for j in (j0, j1):
+            out = w[:, :1] * k_pos[pos[:, 0], j].astype(float)
+            for p in range(1, n):
+                out = np.where(w[:, p:p + 1] > 0, out + w[:, p:p + 1] * k_pos[pos[:, p], j].astype(float), out)
+            radials.append(out)
+        k_db = mix(radials[0], radials[1], w1[:, None])
+        return [LevelProfile(range_m=self.range_m, k_db=row) for row in k_db]
+
+    def at_observer(self, x_m: float, y_m: float) -> GridTables:
+        lat, lon, weights = self._weights_at(float(x_m), float(y_m))
+        key = (weights[0], self.target_depth_m)
         view = self._views.get(key)
         if view is None:
-            view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat), float(lon),
+            view = blend(self.atlas, self.month, [(o, v) for o, v in key[0]], float(lat[0]), float(lon[0]),
                          dataset=self.dataset)
             if self.target_depth_m is not None:
                 view = view.at_target_depth(self.target_depth_m)

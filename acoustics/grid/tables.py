@@ -264,6 +264,34 @@ class GridTables(ABC):
                                             k_db=self.k_db(d, key[-1])[ic, ib])
         return self._cache[key]
 
+    def level_profile_at(self, ic: int, ib: int, x_m: float, y_m: float, depth_m: float | None = None,
+                         bearing_deg: float | None = None) -> LevelProfile:
+        """`level_profile` of the tables where the observer is (x east, y north of the area's
+        origin, m): what `at_observer` then `level_profile` give, for the one class, band and
+        bearing a particle filter asks each cycle. A grid answers from its own tables; an atlas
+        mixes only that K(r) of the positions around the observer
+        (``acoustics.grid.atlasfollow.FollowingTables``), not every table.
+        """
+        return self.at_observer(x_m, y_m).level_profile(ic, ib, depth_m, bearing_deg)
+
+    def level_profiles_at(self, ic: int, ib: int, x_m, y_m, depth_m, bearing_deg) -> list[LevelProfile]:
+        """`level_profile_at` along an observer's path, one profile per cycle.
+
+        Parameters
+        ----------
+        ic, ib : int
+            Class and band.
+        x_m, y_m : array_like, shape (T,)
+            The observer east and north of the area's origin each cycle, m.
+        depth_m : array_like, shape (T,)
+            The observer's depth each cycle, m.
+        bearing_deg : sequence of float or None, length T
+            The bearing of each cycle's profile, deg (None for tables without bearings).
+        """
+        return [self.level_profile_at(ic, ib, x, y, d, b)
+                for x, y, d, b in zip(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float),
+                                      np.asarray(depth_m, dtype=float), bearing_deg)]
+
     def tl_profile_db(self, ic: int, ib: int, depth_m: float, bearing_deg: float | None = None
                       ) -> np.ndarray:
         """TL of one class and band along the range axis at one depth and bearing, dB."""

@@ -12,8 +12,10 @@ import pytest
 
 from acoustics.builder.atlas import build_atlas_file
 from acoustics.builder.truthk import BellhopTruth
+from acoustics.errors import GridFileError
 from acoustics.grid.atlas import open_atlas
 from acoustics.grid.opentables import open_tables
+from envdata.errors import InputError
 from envdata.geometry import lat_lon_to_local_plane, local_plane_to_lat_lon
 from tests.acoustics.atlas.atlasarea import load_atlas_area
 from tools.cli import main
@@ -88,6 +90,39 @@ def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
         assert view.tl_at(0, 0, 30.0, r, b) == pytest.approx(tl_ref[0], abs=1e-4)
         assert view.at_target_depth(30.0).k_at(0, np.array([r]), bearing_deg=b)[0, 0] == pytest.approx(
             k_ref[0], abs=1e-4)
+
+
+def test_one_level_profile_where_the_observer_is_is_the_blended_tables_one(atlas_dir):
+    tables = open_tables(atlas_dir / "a.zarr")
+    grid = open_atlas(atlas_dir / "a.zarr").sel(month=8, origin=4)
+    rng = np.random.default_rng(7)
+    # between positions, on a radial, across 0/360 deg and at a position
+    cases = [(-6000.0 + 12000.0 * rng.random(), -2000.0 + 8000.0 * rng.random(), 360.0 * rng.random())
+             for _ in range(4)]
+    cases += [(-1500.0, 2500.0, 0.0), (-1500.0, 2500.0, 359.5), (0.0, 0.0, 90.0)]
+    for x, y, b in cases:
+        fast = tables.level_profile_at(0, 0, x, y, 100.0, bearing_deg=b)
+        full = tables.at_observer(x, y).level_profile(0, 0, 100.0, bearing_deg=b)
+        # the same sums in the same order: equal bit for bit, NaN (beyond land) filled alike
+        np.testing.assert_array_equal(fast.k_db, full.k_db)
+        assert tables.level_profile_at(0, 0, x, y, 100.0, bearing_deg=b) is fast  # kept
+    # a path at once (a cycle repeated: one profile for both): each cycle's blended-table profile
+    xs, ys, bs = (np.array([c[i] for c in cases] + [cases[0][i]]) for i in range(3))
+    path = tables.level_profiles_at(0, 0, xs, ys, np.full(xs.size, 100.0), list(bs))
+    assert path[-1] is path[0] and len(path) == xs.size
+    for p, x, y, b in zip(path, xs, ys, bs):
+        np.testing.assert_array_equal(p.k_db, tables.at_observer(x, y).level_profile(0, 0, bearing_deg=b).k_db)
+    # with K at another target depth: through the blended tables, the same answer
+    deep = tables.at_target_depth(30.0)
+    np.testing.assert_array_equal(deep.level_profile_at(0, 0, -900.0, 3100.0, bearing_deg=200.0).k_db,
+                                  deep.at_observer(-900.0, 3100.0).level_profile(0, 0, bearing_deg=200.0).k_db)
+    # a grid: its own profile wherever the observer is
+    assert grid.level_profile_at(0, 0, 5000.0, -7000.0, bearing_deg=45.0) is grid.level_profile(0, 0, bearing_deg=45.0)
+    # an observer depth the tables cannot serve, an observer outside the positions: refused alike
+    with pytest.raises(GridFileError, match="not the observer depth"):
+        tables.level_profile_at(0, 0, -100.0, 100.0, 300.0, bearing_deg=10.0)
+    with pytest.raises(InputError, match="outside"):
+        tables.level_profile_at(0, 0, 0.0, -60000.0, bearing_deg=10.0)
 
 
 def test_the_simulator_hears_the_tables_where_the_observer_is(atlas_dir):

@@ -174,7 +174,7 @@ def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0
 
 def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg, obs_x_m=None, obs_y_m=None) -> list:
     """The level model's K(r) of each cycle: from the tables where the observer is that cycle
-    (an atlas's follow it; ``GridTables.at_observer``), at the cycle's observer depth, and for
+    (an atlas's follow it; ``GridTables.level_profiles_at``), at the cycle's observer depth, and for
     a grid with bearings at the cycle's measured bearing (between radials; a cycle without one
     takes the last bearing measured). The particles of a cycle lie within a few bearing sd of
     the measured bearing, where K changes little between radials tens of degrees apart.
@@ -182,11 +182,11 @@ def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg, obs_x_m=None,
     depth = np.asarray(depth_m, dtype=float)
     xs = np.zeros(depth.shape) if obs_x_m is None else np.asarray(obs_x_m, dtype=float)
     ys = np.zeros(depth.shape) if obs_y_m is None else np.asarray(obs_y_m, dtype=float)
-    profiles = []
+    bearings = []
     last = None
-    for d, b, x, y in zip(depth, np.asarray(bearing_deg, dtype=float), xs, ys):
+    for b in np.asarray(bearing_deg, dtype=float):
         if np.isfinite(b):
             last = float(b)
-        # the tables keep each profile: the same depth and bearing give the same one
-        profiles.append(tables.at_observer(x, y).level_profile(ic, ib, float(d), bearing_deg=last))
-    return profiles
+        bearings.append(last)
+    # the tables keep each profile: the same position, depth and bearing give the same one
+    return tables.level_profiles_at(ic, ib, xs, ys, depth, bearings)
