@@ -198,7 +198,8 @@ class ClimatologyFiles:
     @property
     def has_months(self) -> bool:
         """Whether the files hold several months, one of which ``[water] month`` picked."""
-        return self.temperature.time_index is not None and self.salinity.time_index is not None
+        return all(v.time_dim is not None and int(v.var.sizes[v.time_dim]) > 1
+                   for v in (self.temperature, self.salinity))
 
     @property
     def temperature_kind(self) -> TemperatureKind:

@@ -111,6 +111,16 @@ def _check_field_data(area: Area, perturbations: list[Perturbation]) -> None:
             raise PerturbationError(f"{p.source}: perturbation month: the climatology {clim.describe()} holds "
                                     f"one month; the month kind needs a file of 12 months ([water] month "
                                     f"picking one)")
+    source = area.water.climatology
+    for p in months:  # the months a member may mix in must be in the files
+        offset = p.option("offset_months")
+        steps = [-1, 1] if math.isnan(offset) else [int(math.copysign(1, offset)) if abs(offset) <= 1 else int(offset)]
+        for step in steps:
+            other = (source.month - 1 + step) % 12 + 1
+            try:
+                open_climatology(dataclasses.replace(source, month=other)).close()
+            except AreaError as exc:
+                raise PerturbationError(f"{p.source}: perturbation month: month {other} is needed: {exc}") from None
 
 
 def perturb_area(area: Area, perturbations: list[Perturbation],
