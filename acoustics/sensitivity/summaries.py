@@ -12,6 +12,7 @@ range. Cells with no K (beyond land, a class deeper than the water) are left out
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -121,8 +122,9 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
             if n > 2 and x.std() > 0 and y.std() > 0:
                 corr[ic, j] = float(np.corrcoef(x, y)[0, 1])
     err_dims = ("member", "class", "bearing", "eval_range") if radial else ("member", "class", "eval_range")
-    with np.errstate(invalid="ignore"):
-        range_bias = np.nanmean(err, axis=0) if n else err[0]
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a bearing with no K at a true range: NaN
+        range_bias = np.nanmean(err, axis=0)
         range_rms = np.sqrt(np.nanmean(err ** 2, axis=0))
     det_dims = ("class", "band", "bearing") if radial else ("class", "band")
     detection = {}
@@ -133,7 +135,7 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
                                   {"units": "m", "long_name": "largest range at which the band is detected at "
                                                               "the class's mean level, member's K"}),
             "detection_range_nominal_m": (det_dims, det_nominal, {"units": "m"}),
-            "detection_range_sd_m": (det_dims, np.nanstd(det, axis=0, ddof=1) if n > 1
+            "detection_range_sd_m": (det_dims, _nanstd_members(det) if n > 1
                                      else np.full(det_nominal.shape, np.nan),
                                      {"units": "m", "long_name": "sd over members of the detection range"})}
     out = xr.Dataset(
@@ -170,6 +172,13 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
                 **({"bearing": ds["bearing"].values} if radial else {})},
         attrs={"summary_range_min_m": float(lo), "summary_range_max_m": float(hi)})
     return out
+
+
+def _nanstd_members(x: np.ndarray) -> np.ndarray:
+    """sd over members (axis 0) of the finite values, NaN where fewer than two are finite."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.where(np.isfinite(x).sum(axis=0) > 1, np.nanstd(x, axis=0, ddof=1), np.nan)
 
 
 def _range_errors(ds: xr.Dataset, idx: np.ndarray, true_r: np.ndarray, rng: np.ndarray) -> np.ndarray:
