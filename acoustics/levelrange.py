@@ -36,7 +36,9 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     range_m : ndarray, shape (R,)
         Range axis of ``k_db``, m.
     offsets_db, weights : sequence
-        Offsets c = (p - mP0) + dK of eq. 21 and their weights (``offset_nodes``).
+        Offsets c = (p - mP0) + dK of eq. 21 and their weights (``offset_nodes``); offsets of
+        shape (n, B) give each row its own nodes (a K error sd that depends on the row's bearing
+        and range).
     gain_db : float
         Receiver gain H_k, dB.
 
@@ -70,10 +72,10 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     weights = np.full(len(offsets), 1.0 / len(offsets)) if weights is None else np.asarray(weights)
     var = np.zeros(len(level_db))
     for c, wc in zip(offsets, weights):
-        if c == 0.0:
+        if np.all(c == 0.0):
             rc = r_opt
         else:
-            rc = range_m[np.argmin(base + 2.0 * c * wk, axis=1)]
+            rc = range_m[np.argmin(base + 2.0 * np.reshape(c, (-1, 1)) * wk, axis=1)]
         var += wc * np.square(rc - r_opt)
     none = ~det.any(axis=1)
     r_opt = np.where(none, np.nan, r_opt)

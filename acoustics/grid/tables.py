@@ -65,6 +65,16 @@ class LevelProfile:
 
     range_m: np.ndarray
     k_db: np.ndarray
+    #: sd of the K error along the same ranges, dB, where the grid carries a measured one
+    #: (``k_error_sd_db``); None: the filters' sigma_l alone.
+    k_sd_db: np.ndarray | None = None
+
+    def sd_at(self, range_m) -> np.ndarray:
+        """The K error sd at ranges, dB (linear, end values held); 0 without one."""
+        r = np.asarray(range_m, dtype=float)
+        if self.k_sd_db is None:
+            return np.zeros(r.shape)
+        return np.interp(r, self.range_m, self.k_sd_db)
 
     def __post_init__(self) -> None:
         k = np.asarray(self.k_db, dtype=float)
@@ -252,8 +262,8 @@ class GridTables(ABC):
         d = self.observer_depth_m if depth_m is None else float(depth_m)
         key = ("profile", ic, ib, d, self._bearing_key(bearing_deg))
         if key not in self._cache:
-            self._cache[key] = LevelProfile(range_m=self.range_m,
-                                            k_db=self.k_db(d, key[-1])[ic, ib])
+            sd = self.k_error_sd_profile_db(ic, ib, key[-1]) if self.has_k_error_map else None
+            self._cache[key] = LevelProfile(range_m=self.range_m, k_db=self.k_db(d, key[-1])[ic, ib], k_sd_db=sd)
         return self._cache[key]
 
     def tl_profile_db(self, ic: int, ib: int, depth_m: float, bearing_deg: float | None = None

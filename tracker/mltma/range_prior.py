@@ -11,7 +11,7 @@ from acoustics.levelrange import level_range
 
 
 def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, range_axis_m,
-                   level_offsets, gain_db):
+                   level_offsets, gain_db, row_offsets=None):
     """Level-based range (eq. 20) and its sd (eq. 21) of every row, each with its class's K(r).
 
     Parameters
@@ -32,6 +32,9 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
         Eq. 21 quadrature of each class (`tracker.ranging.offset_nodes`).
     gain_db : float
         Receiver gain H of eq. 12, dB.
+    row_offsets : (offsets (n, B), weights (n,)), optional
+        Each row's own eq. 21 nodes (`tracker.ranging.offset_nodes_per_row`), in place of its
+        class's: where the grid carries a K error sd by bearing and range.
 
     Returns
     -------
@@ -43,7 +46,7 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
     r_sd = np.full(b, np.nan)
     for c in np.unique(class_index):
         rows = np.flatnonzero(class_index == c)
-        off, wts = level_offsets[c]
+        off, wts = level_offsets[c] if row_offsets is None else (row_offsets[0][:, rows], row_offsets[1])
         k_class = k_db[c] if k_db.ndim == 3 else np.moveaxis(k_db[c][:, rows], 1, 0)  # (M, R) or
         r_opt[rows], r_sd[rows] = level_range(                                    # (rows, M, R)
             level_db[rows], detected[rows], level_sd_db[rows], p0_db[rows], k_class, range_axis_m,
