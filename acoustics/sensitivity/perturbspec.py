@@ -299,10 +299,6 @@ def check_kind_fits(area: Area, p: Perturbation) -> None:
                                     f"climatology ([water] temperature/salinity or climatology) to perturb")
 
 
-def check_study_area(area: Area) -> None:
-    """Kept for callers of the flat-only studies: every area can be studied now."""
-
-
 def default_perturbations(area: Area) -> list[Perturbation]:
     """What the usual tables leave uncertain (see docs/sensitivity.md): on a flat area a profile
     measured well, an uncertain bottom and target depth; on an area with data, the relief between
