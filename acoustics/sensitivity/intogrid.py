@@ -16,10 +16,12 @@ import xarray as xr
 from acoustics.errors import GridFileError
 from acoustics.grid.io import open_grid, write_netcdf
 from acoustics.grid.tables import GridTables
+from envdata.area import Area
 
 
-def check_into_grid(path: str | Path, study: xr.Dataset) -> GridTables:
-    """Open the grid to write into and check it is the study's area, classes, bands and bearings.
+def check_into_grid(path: str | Path, area: Area) -> GridTables:
+    """Open the grid to write into and check it is the study area's, classes, bands and bearings
+    (before the members run).
 
     Raises
     ------
@@ -28,21 +30,23 @@ def check_into_grid(path: str | Path, study: xr.Dataset) -> GridTables:
     """
     tables = open_grid(path)
     where = f"{path}"
-    if tables.area.name != study.attrs["area"]:
-        raise GridFileError(f"{where}: the grid is of area {tables.area.name!r}, the study of "
-                            f"{study.attrs['area']!r}")
-    for what, grid_names, study_names in (("classes", tables.class_names, study["class"].values),
-                                          ("bands", tables.band_names, study["band"].values)):
+    if tables.area.name != area.name:
+        raise GridFileError(f"{where}: the grid is of area {tables.area.name!r}, the study of {area.name!r}")
+    for what, grid_names, study_names in (("classes", tables.class_names, [c.name for c in area.classes]),
+                                          ("bands", tables.band_names, [b.name for b in area.bands])):
         if tuple(grid_names) != tuple(str(n) for n in study_names):
             raise GridFileError(f"{where}: the grid's {what} ({', '.join(grid_names)}) are not the study's "
                                 f"({', '.join(str(n) for n in study_names)})")
     grid_bearings = tables.bearing_axis_deg
-    study_bearings = study["bearing"].values if "bearing" in study.dims else None
+    study_bearings = np.asarray(area.bearings.bearing_deg, dtype=float) if area.is_bearing_dependent else None
     if (grid_bearings is None) != (study_bearings is None) or (
-            grid_bearings is not None and not np.allclose(grid_bearings, study_bearings, atol=1e-6)):
-        raise GridFileError(f"{where}: the grid's bearings do not match the study's "
-                            f"({'none' if study_bearings is None else ', '.join(f'{b:g}' for b in study_bearings)} "
-                            f"deg)")
+            grid_bearings is not None and (grid_bearings.shape != study_bearings.shape
+                                           or not np.allclose(grid_bearings, study_bearings, atol=1e-6))):
+        def text(b):
+            return "none" if b is None else ", ".join(f"{v:g}" for v in b) + " deg"
+
+        raise GridFileError(f"{where}: the grid's bearings ({text(grid_bearings)}) are not the study's "
+                            f"({text(study_bearings)})")
     return tables
 
 

@@ -94,13 +94,11 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
     spec = StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
                           reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
     out = out if out is not None else Path(f"{area.name}-sensitivity.nc")
+    into_tables = None
     if into is not None:  # a grid that cannot take the result is refused before the members run
-        from acoustics.errors import GridFileError
-        from acoustics.grid.io import open_grid
+        from acoustics.sensitivity.intogrid import check_into_grid
 
-        grid_area = open_grid(into).area
-        if grid_area.name != area.name:
-            raise GridFileError(f"{into}: the grid is of area {grid_area.name!r}, the study of {area.name!r}")
+        into_tables = check_into_grid(into, area)
     digest = spec.digest(find_bellhop().sha256)
     cache_dir = resume_dir(out, digest)
     stats = StudyStats()
@@ -115,10 +113,10 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
     radial = area.is_bearing_dependent
     files = output_files(out, plot=plot, tl=tl, write_k_error=write_k_error, into=into, bearing_dependent=radial)
     into_grid = None
-    if into is not None:
-        from acoustics.sensitivity.intogrid import check_into_grid, k_error_grid
+    if into_tables is not None:
+        from acoustics.sensitivity.intogrid import k_error_grid
 
-        into_grid = k_error_grid(check_into_grid(into, ds), summary, ds, Path(out).name)
+        into_grid = k_error_grid(into_tables, summary, ds, Path(out).name)
     try:
         with atomic_paths([Path(p) for p in files.values()]) as temps:
             tmp = dict(zip(files, temps))
