@@ -119,7 +119,18 @@ class MLBatch:
         self.last_range_m = np.full(b, np.nan)                 # last smoothed range (NaN: none)
         self.last_estimates = None                             # the last cycle's output
 
-    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd):
+    def _k_sd_along_range(self, brg) -> np.ndarray:
+        """The grid's K error sd of each row's class along the range axis at its bearing, (B, M, R), dB."""
+        n_r = self.range_axis_m.size
+        out = np.empty((self.n_rows, self.n_bands, n_r))
+        for c in np.unique(self.class_index):
+            rows = np.flatnonzero(self.class_index == c)
+            r = np.broadcast_to(self.range_axis_m, (rows.size, n_r))
+            b = np.broadcast_to(brg[rows, None], (rows.size, n_r))
+            out[rows] = np.moveaxis(self.tables.k_error_sd_at(int(c), r, b), -1, 1)
+        return out
+
+    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd):
         """Eq. 21's sd again, each row's dK nodes from the grid's k_error_sd_db at its bearing and
         level range (mean over the detected bands)."""
         have = np.isfinite(r_level)
@@ -135,7 +146,7 @@ class MLBatch:
         noise_sd = np.array([self.tables.classes[i].noise_sd_db for i in self.class_index])
         nodes = offset_nodes_per_row(noise_sd, sd_k, self.params.offsets_n)
         _, r_sd = level_ranges_m(level, detected, sd_w, self.p0_db, self.class_index, k_db, self.range_axis_m,
-                                 self.level_offsets, self.sonar.receiver_gain_db, row_offsets=nodes)
+                                 self.level_offsets, self.sonar.receiver_gain_db, row_offsets=nodes, k_sd_db=k_sd)
         return np.where(have, r_sd, r_level_sd)
 
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
@@ -179,14 +190,15 @@ class MLBatch:
         # step 7: level range (eqs. 20-21); the range term of eq. 25
         # K at the row's bearing from the observer on a bearing-dependent grid: (C, M, B, R)
         k_db = self.tables.k_db(obs_depth_m, bearing_deg=brg)
+        k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
-            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)
-        if self.tables.has_k_error_map:
+            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd)
+        if k_sd is not None:
             # eq. 21 with the K error sd measured at this row's bearing and level range (a study's
             # k_error_sd_db in the grid) in place of the class's one number: it weights the range
             # term of eq. 25
-            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd)
+            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd)
         r_prior, r_prior_sd = range_prior_m(r_level, r_level_sd, self.last_range_m)
 
         # this cycle's bearing joins the bearing form, weighted with the latest range

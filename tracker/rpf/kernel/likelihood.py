@@ -79,8 +79,8 @@ def level_loglik_particle(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_
 def level_loglik_particle_sd(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_db, xp, fp, sp, m,
                              var_l):
     """`level_loglik_particle` with the K error sd of the grid at the particle's range added:
-    the variance is sigma_l^2 + sd(r)^2 (``sp`` the sd profile on ``xp``), and the log of the
-    normal density keeps its -1/2 ln(var / sigma_l^2), which now differs between particles."""
+    the variance is sigma_l^2 + sd(r)^2 (``sp`` the sd profile on ``xp``). The density's
+    -1/2 ln(var) is left out, as `tracker.rpf.likelihood.level_loglik` says why."""
     r = math.sqrt(x * x + y * y)
     if ross:
         tvx = vx + ovx
@@ -92,7 +92,7 @@ def level_loglik_particle_sd(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, 
     d = level_db - (sl + k_at(r, xp, fp, m) + offset_db)
     sd = sd_at(r, xp, sp, m)
     var = var_l + sd * sd
-    return -0.5 * (d * d) / var - 0.5 * math.log(var / var_l)
+    return -0.5 * (d * d) / var
 
 
 @njit(fastmath=FASTMATH, error_model="numpy")
