@@ -161,11 +161,13 @@ def test_a_bearing_dependent_study_end_to_end_feeds_the_grid(capsys, tmp_path, t
     capsys.readouterr()
     # hostile inputs first: nothing may be written, the grid left as it was
     before = grid.read_bytes()
+    other_area_grid = tmp_path / "tiny.nc"  # a copy: the session's file may be open in other tests
+    other_area_grid.write_bytes(tiny_grid_file.read_bytes())
     for extra, message in (
             (["--perturb", "displace:sd_m=10"], "changes one profile over a flat bottom"),
             (["--perturb", "water:sd_factor=1"], "has no standard deviations (t_sd, s_sd); give sd_c and sd_psu"),
             (["--into", str(TINY)], "exists and is not a tmakit netCDF file"),
-            (["--into", str(tiny_grid_file)], "the grid is of area 'tiny-munk', the study of 'shelf-break'")):
+            (["--into", str(other_area_grid)], "the grid is of area 'tiny-munk', the study of 'shelf-break'")):
         assert cli.main(["sensitivity", str(area), "--members", "2", "--out", str(tmp_path / "s.nc"),
                          *extra]) == 2
         err = capsys.readouterr().err.strip().splitlines()
