@@ -24,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,9 @@ from envdata.fieldchange import FieldChange, blend_months
 from envdata.geogrid import LatLonAxes
 from envdata.ssp import teos10_speed_mps
 
+#: netCDF-C and HDF5 are not thread-safe: threads of one process (a sensitivity study's members)
+#: read the data files one at a time.
+_READ_LOCK = threading.Lock()
 #: Most bathymetry samples along one radial (ahead and behind the origin together).
 MAX_SAMPLES = 5000
 #: Sound-speed columns are at most this far apart, m.
@@ -143,6 +147,7 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
     bearings = area.bearings.bearing_deg
     water = area.water
     with contextlib.ExitStack() as stack:
+        stack.enter_context(_READ_LOCK)
         bathy = stack.enter_context(open_bathymetry(water.bathymetry)) if water.bathymetry else None
         clim = stack.enter_context(open_climatology(water.climatology)) if water.climatology else None
         sections = _bottom_sections(area, bathy, behind_m, bearings, change)
