@@ -16,7 +16,7 @@ BEYOND_GRID_PENALTY_DB = 1000.0
 
 
 def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(0.0,),
-                weights=None, gain_db: float = 0.0):
+                weights=None, gain_db: float = 0.0, k_sd_db=None):
     """Level-based ML range (eq. 20) and its a-posteriori RMS error (eq. 21), batched.
 
     Parameters
@@ -36,9 +36,15 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
     range_m : ndarray, shape (R,)
         Range axis of ``k_db``, m.
     offsets_db, weights : sequence
-        Offsets c = (p - mP0) + dK of eq. 21 and their weights (``offset_nodes``).
+        Offsets c = (p - mP0) + dK of eq. 21 and their weights (``offset_nodes``); offsets of
+        shape (n, B) give each row its own nodes (a K error sd that depends on the row's bearing
+        and range).
     gain_db : float
         Receiver gain H_k, dB.
+    k_sd_db : ndarray, shape (B, M, R), optional
+        sd of the K error of each row, band and range, dB (a grid's measured ``k_error_sd_db``
+        at the row's bearing): the weights of eq. 20 become 1 / (sigma_k^2 + sd_K,k(r)^2),
+        so a band is trusted less at ranges where its K is poorly known.
 
     Returns
     -------
@@ -65,16 +71,37 @@ def level_range(level_db, detected, sd_db, p0_db, k_db, range_m, *, offsets_db=(
         wk = np.einsum("bm,bmr->br", w, k_db)
         base = (np.einsum("bm,bmr->br", w, np.square(k_db))
                 - 2.0 * np.einsum("bm,bmr->br", w * d0, k_db))
-    r_opt = range_m[np.argmin(base, axis=1)]
     offsets = np.asarray(offsets_db, dtype=float)
     weights = np.full(len(offsets), 1.0 / len(offsets)) if weights is None else np.asarray(weights)
+    if k_sd_db is not None:
+        return _level_range_weighted(det, d0, np.asarray(sd_db, dtype=float), k_db, np.asarray(k_sd_db, dtype=float),
+                                     range_m, offsets, weights)
+    r_opt = range_m[np.argmin(base, axis=1)]
     var = np.zeros(len(level_db))
     for c, wc in zip(offsets, weights):
-        if c == 0.0:
+        if np.all(c == 0.0):
             rc = r_opt
         else:
-            rc = range_m[np.argmin(base + 2.0 * c * wk, axis=1)]
+            rc = range_m[np.argmin(base + 2.0 * np.reshape(c, (-1, 1)) * wk, axis=1)]
         var += wc * np.square(rc - r_opt)
     none = ~det.any(axis=1)
     r_opt = np.where(none, np.nan, r_opt)
     return r_opt, np.where(none, np.nan, np.sqrt(var))
+
+
+def _level_range_weighted(det, d0, sd_db, k_db, k_sd_db, range_m, offsets, weights):
+    """`level_range` with weights that depend on range: the whole misfit at every range."""
+    kk = k_db if k_db.ndim == 3 else k_db[None]                        # (B or 1, M, R)
+    w = np.where(det[:, :, None], 1.0 / (np.square(sd_db)[:, :, None] + np.square(k_sd_db)), 0.0)
+    resid = d0[:, :, None] - kk                                         # (B, M, R)
+    r_opt = range_m[np.argmin(np.sum(w * np.square(resid), axis=1), axis=1)]
+    var = np.zeros(len(d0))
+    for c, wc in zip(offsets, weights):
+        if np.all(c == 0.0):
+            rc = r_opt
+        else:
+            shift = np.reshape(c, (-1, 1, 1))
+            rc = range_m[np.argmin(np.sum(w * np.square(resid - shift), axis=1), axis=1)]
+        var += wc * np.square(rc - r_opt)
+    none = ~det.any(axis=1)
+    return np.where(none, np.nan, r_opt), np.where(none, np.nan, np.sqrt(var))

@@ -191,6 +191,17 @@ class ClimatologyFiles:
         return f"{' and '.join(paths)} ({self.axes.describe()})"
 
     @property
+    def has_sd(self) -> bool:
+        """Whether both files carry standard deviations beside the means (WOA's t_sd, s_sd)."""
+        return self.temperature.sd_var is not None and self.salinity.sd_var is not None
+
+    @property
+    def has_months(self) -> bool:
+        """Whether the files hold several months, one of which ``[water] month`` picked."""
+        return all(v.time_dim is not None and int(v.var.sizes[v.time_dim]) > 1
+                   for v in (self.temperature, self.salinity))
+
+    @property
     def temperature_kind(self) -> TemperatureKind:
         """What the file's temperature is (converted to in-situ on loading)."""
         return self.temperature.kind

@@ -22,7 +22,9 @@ origin (rays reach there). Along it:
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,10 +33,14 @@ from envdata.area import Area
 from envdata.bathymetry import BathymetryFile, open_bathymetry
 from envdata.climatology import ClimatologyFiles, open_climatology
 from envdata.errors import AreaError
+from envdata.fieldchange import FieldChange, blend_months
 from envdata.geogrid import LatLonAxes
 from envdata.ssp import teos10_speed_mps
 from envdata.watersources import WaterSources
 
+#: netCDF-C and HDF5 are not thread-safe: threads of one process (a sensitivity study's members)
+#: read the data files one at a time.
+_READ_LOCK = threading.Lock()
 #: Most bathymetry samples along one radial (ahead and behind the origin together).
 MAX_SAMPLES = 5000
 #: Sound-speed columns are at most this far apart, m.
@@ -106,7 +112,7 @@ class Radial:
 
 
 def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False,
-                 sources: WaterSources | None = None) -> list[Radial]:
+                 sources: WaterSources | None = None, change: FieldChange | None = None) -> list[Radial]:
     """One Radial per bearing of the area, in the area's bearing order.
 
     Parameters
@@ -122,6 +128,9 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
     sources : WaterSources, optional
         The area's bathymetry and climatology already read into memory (an atlas reads the box
         of all its tables once, ``envdata.watersources``); None: the files are opened here.
+    change : FieldChange, optional
+        A change to the data read (``envdata.fieldchange``: relief, water, front, month), applied
+        to the bathymetry and T/S boxes before the radials are sampled (sensitivity members).
 
     Returns
     -------
@@ -142,6 +151,7 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
     bearings = area.bearings.bearing_deg
     water = area.water
     with contextlib.ExitStack() as stack:
+        stack.enter_context(_READ_LOCK)
         if sources is not None:
             bathy, clim = sources.bathymetry, sources.climatology
             if (bathy is None) != (water.bathymetry is None) or (clim is None) != (water.climatology is None):
@@ -149,22 +159,28 @@ def area_radials(area: Area, *, behind_m: float = 5000.0, progress: bool = False
         else:
             bathy = stack.enter_context(open_bathymetry(water.bathymetry)) if water.bathymetry else None
             clim = stack.enter_context(open_climatology(water.climatology)) if water.climatology else None
-        sections = _bottom_sections(area, bathy, behind_m, bearings)
+        sections = _bottom_sections(area, bathy, behind_m, bearings, change)
         columns = [_column_positions(area, s, clim) for s in sections]
+        # where the climatology is read for each column (a displaced front reads it elsewhere)
+        water_at = [(r, *(change.water_positions(la, lo) if change is not None else (la, lo)))
+                    for r, la, lo in columns]
         ts_field = None
         if clim is not None:
-            lat = np.concatenate([c[1] for c in columns])
-            lon = np.concatenate([c[2] for c in columns])
-            _check_inside(clim.axes, clim.describe(), area, columns, "climatology")
+            lat = np.concatenate([c[1] for c in water_at])
+            lon = np.concatenate([c[2] for c in water_at])
+            _check_inside(clim.axes, clim.describe(), area, water_at, "climatology")
             ts_field = clim.load_box(lat, lon)
-        iterator = zip(sections, columns)
+            if change is not None:
+                ts_field = _changed_water(area, change, ts_field, lat, lon)
+        iterator = zip(sections, columns, water_at)
         if progress:
             from tqdm import tqdm
 
             iterator = tqdm(iterator, total=len(sections), desc=f"radials {area.name}", unit="radial")
         radials = []
-        for section, (ranges, lat, lon) in iterator:
-            depth, speed = _speed_section(area, section, ranges, lat, lon, ts_field, clim)
+        for section, (ranges, lat, lon), (_, water_lat, water_lon) in iterator:
+            depth, speed = _speed_section(area, section, ranges, lat, lon, ts_field, clim,
+                                          water_lat, water_lon)
             radials.append(Radial(bearing_deg=section.bearing_deg, range_m=section.range_m,
                                   lat_deg=section.lat_deg, lon_deg=section.lon_deg,
                                   bottom_depth_m=section.bottom_depth_m, land_range_m=section.land_range_m,
@@ -209,8 +225,17 @@ def _sample_ranges(behind_m: float, end_m: float, step_m: float) -> np.ndarray:
     return np.concatenate([back, ahead])
 
 
+def _changed_water(area: Area, change: FieldChange, ts_field, lat, lon):
+    """The T/S box with a member's month mixed in and its water change applied."""
+    if change.other_month is not None and change.month_weight > 0.0:
+        other = dataclasses.replace(area.water.climatology, month=change.other_month)
+        with open_climatology(other) as clim_b:
+            ts_field = blend_months(ts_field, clim_b.load_box(lat, lon), change.month_weight)
+    return change.change_water(ts_field)
+
+
 def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
-                     bearings: tuple[float, ...]) -> list[_Section]:
+                     bearings: tuple[float, ...], change: FieldChange | None = None) -> list[_Section]:
     origin = area.origin
     end_m = area.grid.range_max_m
     if bathy is None:
@@ -245,6 +270,9 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
     all_lat = np.concatenate([p[0] for p in points])
     all_lon = np.concatenate([p[1] for p in points])
     grid = bathy.load_box(all_lat[wanted], all_lon[wanted])
+    if change is not None and change.relief is not None:
+        grid = dataclasses.replace(grid, elevation_m=change.change_relief(grid.lat_deg, grid.lon_deg,
+                                                                          grid.elevation_m))
     origin_elevation, origin_no_data = (float(v[0]) for v in grid.sea_elevation_at(origin.lat_deg, origin.lon_deg))
     if origin_no_data:
         raise AreaError(f"{bathy.path}: the origin {origin.lat_deg} N {origin.lon_deg} E is in a cell with no "
@@ -379,7 +407,7 @@ def section_depths(levels_m, max_depth_m: float, extend: bool) -> np.ndarray:
     return np.append(z, float(max_depth_m))
 
 
-def _speed_section(area: Area, section: _Section, ranges, lat, lon, ts_field, clim):
+def _speed_section(area: Area, section: _Section, ranges, lat, lon, ts_field, clim, water_lat, water_lon):
     water = area.water
     max_depth = float(np.max(section.bottom_depth_m))
     if water.ssp is not None:
@@ -397,7 +425,7 @@ def _speed_section(area: Area, section: _Section, ranges, lat, lon, ts_field, cl
         return z, np.repeat(column[:, None], ranges.size, axis=1)
     levels = ts_field.depth_m
     z = section_depths(levels, max_depth, extend=True)
-    t_levels, s_levels = ts_field.columns_at(lat, lon)  # (L, P)
+    t_levels, s_levels = ts_field.columns_at(water_lat, water_lon)  # (L, P)
     t = np.stack([np.interp(z, levels, t_levels[:, j]) for j in range(ranges.size)], axis=1)
     s = np.stack([np.interp(z, levels, s_levels[:, j]) for j in range(ranges.size)], axis=1)
     speed = teos10_speed_mps(z[:, None], t, s, latitude_deg=lat[None, :], longitude_deg=lon[None, :])

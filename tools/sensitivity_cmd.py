@@ -1,7 +1,7 @@
 """``tmakit sensitivity``: how much K(r) moves when the environment is not what the tables assumed.
 
     tmakit sensitivity AREA --members N [--perturb SPEC]... [--seed S] [--scheduler ADDR]
-                       [--workers N] [--out FILE] [--tl] [--plot PNG] [--write-k-error TOML]
+                       [--workers N] [--out FILE] [--tl] [--plot PNG] [--write-k-error TOML] [--into GRID]
 
 The science is in ``acoustics.sensitivity`` (perturbations in ``acoustics.sensitivity.perturb``);
 this module parses, calls and reports.
@@ -44,6 +44,9 @@ def register(sub, common) -> None:
                    help="spread of K(r) per class and band; with --tl also PNG-sd-map.png")
     p.add_argument("--write-k-error", type=Path, metavar="TOML",
                    help="write a copy of the area file with the measured k_error_sd_db per class")
+    p.add_argument("--into", type=Path, metavar="GRID",
+                   help="write the measured k_error_sd_db(class, band[, bearing], range) into this grid of "
+                        "the same area (the trackers then use it)")
     p.add_argument("--ranges-km", default="5,10,20,50,100",
                    help="true ranges for the level-ranging error, km (default %(default)s)")
     p.add_argument("--range-min-km", type=float, help="summary window start, km (default: first range)")
@@ -65,10 +68,11 @@ def _quiet_dask(verbose: int) -> None:
 
 def run_sensitivity(args) -> Report:
     out = args.out if args.out is not None else Path(f"{envdata.load_area(args.area).name}-sensitivity.nc")
-    kinds = {"study": Kind.NETCDF, "plot": Kind.PNG, "sd_map": Kind.PNG,
-             "area_with_k_error": Kind.AREA_TOML}
-    for name, path in sens.output_files(out, plot=args.plot, tl=args.tl,
-                                        write_k_error=args.write_k_error).items():
+    kinds = {"study": Kind.NETCDF, "plot": Kind.PNG, "sd_map": Kind.PNG, "spread": Kind.PNG,
+             "area_with_k_error": Kind.AREA_TOML, "grid_with_k_error": Kind.NETCDF}
+    radial = envdata.load_area(args.area).is_bearing_dependent
+    for name, path in sens.output_files(out, plot=args.plot, tl=args.tl, write_k_error=args.write_k_error,
+                                        into=args.into, bearing_dependent=radial).items():
         check_output_file(path, kinds[name], force=args.force)
     if args.scheduler is not None:
         _quiet_dask(getattr(args, "verbose", 0) or 0)
@@ -76,7 +80,8 @@ def run_sensitivity(args) -> Report:
                           scheduler=args.scheduler, workers=args.workers, out=out, tl=args.tl,
                           plot=args.plot, write_k_error=args.write_k_error, ranges_km=args.ranges_km,
                           range_min_km=args.range_min_km, range_max_km=args.range_max_km,
-                          reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args))
+                          reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args),
+                          into=args.into)
     lines = [f"wrote {info['files']['study']}: area {info['area']}, {info['members']} members "
              f"(seed {info['seed']}, {info['members_reused']} reused), {info['workers']} workers, "
              f"{info['bellhop_seconds']:.1f} s of BELLHOP, {info['wall_seconds']:.1f} s wall",
@@ -89,6 +94,9 @@ def run_sensitivity(args) -> Report:
                      f"{v['residual_rms_db']:5.2f} dB, constant {100 * v['constant_fraction']:3.0f} %")
     lines.append("  measured k_error_sd_db (area file): " + ", ".join(
         f"{c} {v:.2f} ({info['k_error_sd_db_area_file'][c]:g}) dB" for c, v in info["k_error_sd_db"].items()))
+    for c, by_bearing in info["k_sd_db_median_by_bearing"].items():
+        lines.append(f"    median sd of K by bearing, {c}: " + ", ".join(
+            f"{b} deg {v:.2f}" if v is not None else f"{b} deg -" for b, v in by_bearing.items()) + " dB")
     lines.append("  parameters most correlated with the constant offset:")
     for c, top in info["offset_drivers"].items():
         lines.append(f"    {c:>5}: " + ", ".join(f"{k} {v:+.2f}" for k, v in top.items()))

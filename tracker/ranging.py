@@ -47,3 +47,21 @@ def offset_nodes(noise_sd_db: float, k_error_sd_db: float, n: int = 5):
     c = (u[:, None] * noise_sd_db + u[None, :] * k_error_sd_db).ravel()
     ww = (w[:, None] * w[None, :]).ravel()
     return c, ww / ww.sum()
+
+
+def offset_nodes_per_row(noise_sd_db, k_error_sd_db, n: int = 5):
+    """`offset_nodes` with each row's own sds: offsets (n*n, B), dB, and the weights (n*n,).
+
+    Parameters
+    ----------
+    noise_sd_db, k_error_sd_db : array_like, shape (B,)
+        sP0 and sigma_dK of each row, dB (sigma_dK at the row's bearing and range where the grid
+        carries a measured ``k_error_sd_db``).
+    """
+    u = np.linspace(-2.0, 2.0, n)
+    w = np.exp(-0.5 * u ** 2)
+    sp = np.asarray(noise_sd_db, dtype=float)
+    sk = np.asarray(k_error_sd_db, dtype=float)
+    c = (u[:, None, None] * sp[None, None, :] + u[None, :, None] * sk[None, None, :]).reshape(n * n, -1)
+    ww = (w[:, None] * w[None, :]).ravel()
+    return c, ww / ww.sum()

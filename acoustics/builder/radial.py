@@ -60,6 +60,7 @@ from acoustics.ram import RamEnvironment
 from acoustics.urick import k_urick_db
 from envdata.area import Area
 from envdata.datafiles import input_file_digests
+from envdata.fieldchange import FieldChange
 from envdata.limits import check_memory
 from envdata.radials import Radial, area_radials
 
@@ -131,11 +132,14 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
                       scheduler: str | None = None, cache_dir: str | Path | None = None,
                       progress: bool = False, stats: BuildStats | None = None,
                       radials: list[Radial] | None = None, depth_m: np.ndarray | None = None,
-                      inputs: dict | None = None) -> xr.Dataset:
+                      inputs: dict | None = None, change: FieldChange | None = None,
+                      exe: str | None = None) -> xr.Dataset:
     """The bearing-dependent grid dataset (docs/formats.md) for an area with ``[origin]``.
 
-    Parameters as ``acoustics.build_grid``, which calls this for such an area, and, for a
-    caller that builds many such grids (an atlas, ``acoustics.builder.atlas``):
+    Parameters as ``acoustics.build_grid``, which calls this for such an area; ``change`` (a
+    sensitivity member's change to the data the area reads, ``envdata.fieldchange``) is applied
+    before the radials are cut; ``exe`` names the BELLHOP executable (default ``find_bellhop``);
+    and, for a caller that builds many such grids (an atlas, ``acoustics.builder.atlas``):
 
     radials : list of Radial, optional
         The area's radials, already sampled (default: ``area_radials(area)``).
@@ -146,11 +150,12 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
         The data files' digests (``input_file_digests(area.water)``), already computed.
     """
     model = Model(model)
+    exe_path = exe
     stats = stats if stats is not None else BuildStats()
     inputs = inputs if inputs is not None else input_file_digests(area.water)
     exe = find_bellhop() if model.runs_bellhop else None
     digest = source_hash(area, model, exe.sha256 if exe else None, inputs, model_settings(model))
-    radials = radials if radials is not None else area_radials(area, progress=progress)
+    radials = radials if radials is not None else area_radials(area, progress=progress, change=change)
     depth = np.asarray(depth_m, dtype=float) if depth_m is not None else depth_axis_m(area, radials)
     if not model.runs_ram:
         check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
@@ -204,7 +209,7 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
         n_freq = len({f for _, f in where.values()})
         for run, field in iter_runs(runs, workers=workers, scheduler=scheduler,
                                     cache_dir=Path(cache_dir) if cache_dir is not None else None,
-                                    progress=progress, exe=str(exe.path), stats=stats):
+                                    progress=progress, exe=exe_path or str(exe.path), stats=stats):
             j, f = where[run.key]
             pending.setdefault(j, {})[f] = tl_from_pressure(field, prop.tl_max_db)
             if len(pending[j]) == n_freq:
@@ -222,6 +227,40 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     ds = _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest,
                   exe.describe() if exe else None, inputs)
     return with_ram_attrs(ds, model) if model.runs_ram else ds
+
+
+def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int = 1,
+                exe: str | None = None, stats: BuildStats | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """K alone of a bearing-dependent area: ``k_db(class, band, bearing, range)`` and
+    ``bottom_depth_m(bearing, range)``, as `build_radial_grid` computes them.
+
+    The same runs (the source at the observer, reciprocity) with receivers at the class depths
+    only, so no TL table is kept: what a sensitivity member needs. NaN beyond land and where the
+    class is deeper than the water. ``change`` as for `build_radial_grid`.
+    """
+    stats = stats if stats is not None else BuildStats()
+    exe = exe if exe is not None else str(find_bellhop().path)
+    radials = area_radials(area, change=change)
+    rng = area.grid.range_m()
+    receivers = np.array(sorted({c.depth_m for c in area.classes}))
+    row = {z: i for i, z in enumerate(receivers)}
+    bottom = np.stack([bottom_on_grid_m(area, rad) for rad in radials])
+    k = np.full((len(area.classes), len(area.bands), len(radials), rng.size), np.nan)
+    runs, where = plan_radial_runs(area, radials, receivers)
+    stats.runs = runs
+    n_freq = len({f for _, f in where.values()})
+    pending: dict[int, dict[float, np.ndarray]] = {}
+    for run, field in iter_runs(runs, workers=workers, exe=exe, stats=stats):
+        j, f = where[run.key]
+        pending.setdefault(j, {})[f] = tl_from_pressure(field, area.propagation.tl_max_db)
+        if len(pending[j]) < n_freq:
+            continue
+        tl_by_freq = pending.pop(j)
+        for ic, cls in enumerate(area.classes):
+            for ib, band in enumerate(area.bands):
+                kk = spectral_term_db(cls, band) - band_tl_from_runs(area, cls, band, tl_by_freq)[row[cls.depth_m]]
+                k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
+    return k, bottom
 
 
 def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest, exe_info,

@@ -37,6 +37,9 @@ BEARING_VARS = {"tl_db": ("class", "band", "bearing", "depth", "range"),
 OPTIONAL_VARS = {"tl_obs_db": ("class", "band", "depth", "range")}
 BEARING_ATTRS = {"origin_lat_deg": numbers.Real, "origin_lon_deg": numbers.Real}
 FIXED_ENDS = {False: "source", True: "observer"}
+#: Optional variables and their dimensions without and with bearings: the K error sd a
+#: sensitivity study measured (``tmakit sensitivity --into GRID``), dB, >= 0, NaN where unknown.
+OPTIONAL_VARS = {"k_error_sd_db": {False: ("class", "band", "range"), True: ("class", "band", "bearing", "range")}}
 #: Global attributes and the type each must have.
 REQUIRED_ATTRS = {"Conventions": str, "area": str, "model": str, "observer_depth_m": numbers.Real,
                   "source_hash": str, "area_json": str}
@@ -78,10 +81,28 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
     except AreaError as exc:
         raise GridFileError(str(exc)) from None
     _check_consistent(ds, area, source)
+    _check_optional(ds, source, by_bearing)
     for name in ("tl_db", "k_db"):
         if not np.isfinite(ds[name].values).any():
             raise GridFileError(f"{source}: variable {name!r} holds no finite value")
     return area
+
+
+def _check_optional(ds: xr.Dataset, source: str, by_bearing: bool) -> None:
+    for name, dims_by in OPTIONAL_VARS.items():
+        if name not in ds.data_vars:
+            continue
+        dims = dims_by[by_bearing]
+        if ds[name].dims != dims:
+            raise GridFileError(f"{source}: variable {name!r} has dimensions {ds[name].dims}, expected {dims}")
+        values = np.asarray(ds[name].values)
+        if not np.issubdtype(values.dtype, np.floating):
+            raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers, got {values.dtype}")
+        bad = np.isfinite(values) & ~((values >= 0.0) & (values <= 100.0))
+        if bad.any() or np.isinf(values).any():
+            value = values[bad | np.isinf(values)].flat[0]
+            raise GridFileError(f"{source}: variable {name!r} holds {value:g} dB; an sd must be in [0, 100] dB "
+                                f"(NaN where unknown)")
 
 
 def _check_attrs(ds: xr.Dataset, source: str, required: dict) -> None:

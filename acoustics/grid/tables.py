@@ -73,6 +73,16 @@ class LevelProfile:
 
     range_m: np.ndarray
     k_db: np.ndarray
+    #: sd of the K error along the same ranges, dB, where the grid carries a measured one
+    #: (``k_error_sd_db``); None: the filters' sigma_l alone.
+    k_sd_db: np.ndarray | None = None
+
+    def sd_at(self, range_m) -> np.ndarray:
+        """The K error sd at ranges, dB (linear, end values held); 0 without one."""
+        r = np.asarray(range_m, dtype=float)
+        if self.k_sd_db is None:
+            return np.zeros(r.shape)
+        return np.interp(r, self.range_m, self.k_sd_db)
 
     def __post_init__(self) -> None:
         k = np.asarray(self.k_db, dtype=float)
@@ -127,6 +137,9 @@ class GridTables(ABC):
     target_depth_m : float or None
         None: ``k_grid_db`` is K with the target at its class's depth (as built); else the depth
         of the target these tables give K for (`at_target_depth`), m.
+    k_error_sd_grid_db : ndarray or None
+        The measured K error sd, shaped like ``k_grid_db``, dB, NaN where unknown; None: the grid
+        has none (the classes' ``k_error_sd_db`` serve).
     """
 
     source: str
@@ -140,6 +153,7 @@ class GridTables(ABC):
     tl_db: np.ndarray
     observer_depth_m: float
     target_depth_m: float | None = None
+    k_error_sd_grid_db: np.ndarray | None = None
     _cache: dict = field(default_factory=dict, repr=False)
 
     # -- names and the area's terms ------------------------------------------------------------
@@ -260,8 +274,8 @@ class GridTables(ABC):
         d = self.observer_depth_m if depth_m is None else float(depth_m)
         key = ("profile", ic, ib, d, self._bearing_key(bearing_deg))
         if key not in self._cache:
-            self._cache[key] = LevelProfile(range_m=self.range_m,
-                                            k_db=self.k_db(d, key[-1])[ic, ib])
+            sd = self.k_error_sd_profile_db(ic, ib, key[-1]) if self.has_k_error_map else None
+            self._cache[key] = LevelProfile(range_m=self.range_m, k_db=self.k_db(d, key[-1])[ic, ib], k_sd_db=sd)
         return self._cache[key]
 
     def level_profile_at(self, ic: int, ib: int, x_m: float, y_m: float, depth_m: float | None = None,
@@ -370,6 +384,63 @@ class GridTables(ABC):
         from dataclasses import replace
 
         return replace(self, k_grid_db=k, target_depth_m=z, _cache={})
+    # -- the K error the trackers allow for ------------------------------------------------------
+
+    @property
+    def has_k_error_map(self) -> bool:
+        """Whether the grid carries a measured ``k_error_sd_db`` by range (and bearing)."""
+        return self.k_error_sd_grid_db is not None
+
+    def k_error_sd_at(self, ic: int, range_m, bearing_deg=None) -> np.ndarray:
+        """sd of the K error of class ``ic`` in every band at given ranges and bearings, dB.
+
+        Shape ``range_m.shape + (M,)``. Where the grid carries ``k_error_sd_db`` (a sensitivity
+        study's, ``tmakit sensitivity --into``) it is read like K (linear in range and bearing,
+        ranges outside the axis take the end values); where that holds no value, and in a grid
+        without it, the class's one ``k_error_sd_db``.
+        """
+        r = np.asarray(range_m, dtype=float)
+        fallback = float(self.classes[ic].k_error_sd_db)
+        if self.k_error_sd_grid_db is None:
+            return np.full(r.shape + (len(self.bands),), fallback)
+        sd = self._k_error_lookup(ic, r, bearing_deg)
+        return np.where(np.isfinite(sd), sd, fallback)
+
+    def k_error_sd_profile_db(self, ic: int, ib: int, bearing_deg=None) -> np.ndarray:
+        """`k_error_sd_at` of one class and band along the range axis at one bearing, dB."""
+        b = None if bearing_deg is None else np.full(self.range_m.shape, float(bearing_deg))
+        return self.k_error_sd_at(ic, self.range_m, b)[:, ib]
+
+    @property
+    def bearing_axis_deg(self) -> np.ndarray | None:
+        """The radials' bearings, deg (None: K does not depend on bearing)."""
+        return getattr(self, "bearing_deg", None)
+
+    def dataset_with_k_error_sd(self, sd_db: np.ndarray, comment: str) -> xr.Dataset:
+        """The grid dataset with ``k_error_sd_db`` set (replaced if there), shaped like ``k_db``.
+
+        Parameters
+        ----------
+        sd_db : ndarray
+            (C, M, R), or (C, M, N, R) with bearings, in the grid's order; dB, >= 0, NaN unknown.
+        comment : str
+            Where the values come from (a study's file and source_hash), for the attribute.
+        """
+        sd = np.asarray(sd_db, dtype=float)
+        if sd.shape != self.k_grid_db.shape:
+            raise GridFileError(f"{self.source}: k_error_sd_db of shape {sd.shape} does not fit the grid's K "
+                                f"{self.k_grid_db.shape}")
+        dims = self.dataset["k_db"].dims
+        order = [("class", "band", "bearing", "range").index(d) if self.bearing_axis_deg is not None
+                 else ("class", "band", "range").index(d) for d in dims]
+        return self.dataset.assign(k_error_sd_db=(dims, np.transpose(sd, order), {
+            "units": "dB", "long_name": "sd of the transfer-characteristic error K - K_true",
+            "comment": f"{comment}; NaN where unknown: the class's k_error_sd_db serves there"}))
+
+    def _k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
+        """The stored ``k_error_sd_db`` of class ``ic`` at ranges (and bearings), (..., M); NaN
+        unknown. Tables without a stored map (an atlas's views) have none to look up."""
+        return np.full(np.shape(range_m) + (len(self.bands),), np.nan)
 
     # -- what a summary says of the geometry ----------------------------------------------------
 
@@ -478,6 +549,11 @@ class FlatTables(GridTables):
     def _bearing_key(self, bearing_deg):
         return None
 
+    def _k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
+        i, i1, fr = _range_cells(self.range_m, range_m)
+        sd = self.k_error_sd_grid_db[ic]                                # (M, R)
+        return np.moveaxis((1.0 - fr) * sd[:, i] + fr * sd[:, i1], 0, -1)
+
     def geometry(self) -> dict[str, float | int | str]:
         return {}
 
@@ -572,6 +648,15 @@ class RadialTables(GridTables):
         self._need_bearing(bearing_deg)
         return round(float(bearing_deg), 3)
 
+    def _k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
+        self._need_bearing(bearing_deg)
+        i, i1, fr = _range_cells(self.range_m, range_m)
+        sd = self.k_error_sd_grid_db[ic]                                # (M, N, R)
+        j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, range_m.shape))
+        along0 = (1.0 - fr) * sd[:, j0, i] + fr * sd[:, j0, i1]
+        along1 = (1.0 - fr) * sd[:, j1, i] + fr * sd[:, j1, i1]
+        return np.moveaxis(mix(along0, along1, w1), 0, -1)
+
     def geometry(self) -> dict[str, float | int | str]:
         bottom = self.bottom_depth_m
         return {"origin_lat_deg": self.origin_lat_deg, "origin_lon_deg": self.origin_lon_deg,
@@ -642,6 +727,9 @@ def as_tables(ds: xr.Dataset, source: str | None = None) -> GridTables:
                   range_m=np.asarray(ds["range"].values, dtype=float),
                   depth_m=np.asarray(ds["depth"].values, dtype=float),
                   observer_depth_m=float(np.asarray(ds.attrs["observer_depth_m"]).item()))
+    dims = ("class", "band", "bearing", "range") if "bearing" in ds.dims else ("class", "band", "range")
+    if "k_error_sd_db" in ds.data_vars:
+        common["k_error_sd_grid_db"] = _values(ds, "k_error_sd_db", *dims)
     if "bearing" not in ds.dims:
         return FlatTables(k_grid_db=_values(ds, "k_db", "class", "band", "range"),
                           tl_db=_values(ds, "tl_db", "class", "band", "depth", "range"),

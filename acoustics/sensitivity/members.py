@@ -7,6 +7,12 @@ class depths, direct, class depth -> observer, because incoherent beams near the
 pressure-release surface are not reciprocal, docs/sensitivity.md).
 With ``tl=True`` a member is a full grid build and keeps its TL (K then comes from the grid,
 direct for every class).
+
+On an area with ``[origin]`` a member is a bearing-dependent grid: the perturbed area, and the
+change to the data it reads (``envdata.fieldchange``), through the N x 2D runs of
+``acoustics.builder.radial`` (the source at the observer, reciprocity for every class, as the
+grids are built): K alone (``radial_k_db``, receivers at the class depths only), or with
+``tl=True`` the whole grid, its TL kept on the nominal grid's depth axis.
 """
 
 from __future__ import annotations
@@ -20,8 +26,9 @@ import numpy as np
 from acoustics.builder.bandruns import BuildStats
 from acoustics.builder.flat import build_grid
 from acoustics.builder.kobserver import k_at_observer_db
+from acoustics.builder.radial import build_radial_grid, radial_k_db
 from acoustics.grid.depthinterp import tl_at_depths
-from acoustics.sensitivity.perturb import member_area
+from acoustics.sensitivity.perturb import member_environment
 from acoustics.sensitivity.spec import StudySpec
 
 
@@ -30,10 +37,11 @@ class MemberResult:
     """One member (``member is None``: the nominal area): K(r), optional TL, drawn parameters."""
 
     member: int | None
-    k_db: np.ndarray  # (class, band, range)
+    k_db: np.ndarray  # (class, band, range), or (class, band, bearing, range) with [origin]
     params: dict[str, float]
     bellhop_seconds: float
-    tl_db: np.ndarray | None = None  # (class, band, depth, range) on the nominal depth axis
+    tl_db: np.ndarray | None = None  # (class, band[, bearing], depth, range) on the nominal depth axis
+    depth_m: np.ndarray | None = None  # the nominal's depth axis of a bearing-dependent --tl study
 
     def to_record(self) -> dict[str, Any]:
         """The arrays and small values a resume cache stores (``acoustics.executor.ResultCache``)."""
@@ -41,6 +49,8 @@ class MemberResult:
                   "bellhop_seconds": self.bellhop_seconds}
         if self.tl_db is not None:
             record["tl_db"] = self.tl_db
+        if self.depth_m is not None:
+            record["depth_m"] = self.depth_m
         return record
 
     @classmethod
@@ -50,7 +60,8 @@ class MemberResult:
         if not (member is None or isinstance(member, int)) or not isinstance(record["params"], dict):
             raise TypeError("not a sensitivity member record")
         return cls(member=member, k_db=np.asarray(record["k_db"]), params=record["params"],
-                   bellhop_seconds=float(record["bellhop_seconds"]), tl_db=record.get("tl_db"))
+                   bellhop_seconds=float(record["bellhop_seconds"]), tl_db=record.get("tl_db"),
+                   depth_m=record.get("depth_m"))
 
 
 def member_key(member: int | None) -> str:
@@ -58,12 +69,19 @@ def member_key(member: int | None) -> str:
     return "nominal" if member is None else f"member-{member:06d}"
 
 
-def compute_member(spec: StudySpec, member: int | None, exe: str | None = None) -> MemberResult:
-    """Member ``member`` of the study (``None``: the nominal area); runs BELLHOP in this process."""
+def compute_member(spec: StudySpec, member: int | None, exe: str | None = None,
+                   nominal_depth_m: np.ndarray | None = None) -> MemberResult:
+    """Member ``member`` of the study (``None``: the nominal area); runs BELLHOP in this process.
+
+    ``nominal_depth_m``: the depth axis a bearing-dependent member's TL is put on (``tl``; the
+    nominal's own, which its result carries in ``depth_m``).
+    """
     if member is None:
-        area, params = spec.area, {}
+        area, change, params = spec.area, None, {}
     else:
-        area, params = member_area(spec.area, list(spec.perturbations), spec.seed, member)
+        area, change, params = member_environment(spec.area, list(spec.perturbations), spec.seed, member)
+    if area.is_bearing_dependent:
+        return _radial_member(spec, member, area, change, params, exe, nominal_depth_m)
     if not spec.tl:
         stats = BuildStats()
         k = k_at_observer_db(area, reciprocity_min_depth_m=spec.reciprocity_min_depth_m, exe=exe, stats=stats)
@@ -74,3 +92,15 @@ def compute_member(spec: StudySpec, member: int | None, exe: str | None = None) 
     tl = tl_at_depths(grid["tl_db"].values, grid["depth"].values, spec.area.depth_m()).astype(np.float32)
     return MemberResult(member=member, k_db=grid["k_db"].values, params=params,
                         bellhop_seconds=stats.bellhop_seconds, tl_db=tl)
+
+
+def _radial_member(spec: StudySpec, member, area, change, params, exe, nominal_depth_m) -> MemberResult:
+    stats = BuildStats()
+    if not spec.tl:
+        k, _ = radial_k_db(area, change=change, exe=exe, stats=stats)
+        return MemberResult(member=member, k_db=k, params=params, bellhop_seconds=stats.bellhop_seconds)
+    grid = build_radial_grid(area, workers=1, stats=stats, change=change, exe=exe)
+    depth = grid["depth"].values if nominal_depth_m is None else np.asarray(nominal_depth_m)
+    tl = tl_at_depths(grid["tl_db"].values, grid["depth"].values, depth).astype(np.float32)
+    return MemberResult(member=member, k_db=grid["k_db"].values, params=params,
+                        bellhop_seconds=stats.bellhop_seconds, tl_db=tl, depth_m=depth)

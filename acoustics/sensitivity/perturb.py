@@ -18,9 +18,11 @@ import math
 
 import numpy as np
 
-from acoustics.sensitivity.perturbspec import Kind, Perturbation, PerturbationError, check_study_area
+from acoustics.sensitivity.perturbspec import FIELD_KINDS, Kind, Perturbation, PerturbationError, check_kind_fits
 from envdata.area import Area, Observer, Water
+from envdata.climatology import open_climatology
 from envdata.errors import AreaError
+from envdata.fieldchange import FieldChange, ReliefChange, SmoothField, WaterChange
 from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile
 
 TRUNCATE_SD = 4.0  # draws beyond +-4 sd are redrawn
@@ -37,16 +39,19 @@ def check_perturbations(area: Area, perturbations: list[Perturbation]) -> None:
     modes alike and alternating in sign); the normal's mass on the valid draws must be at
     least `MIN_VALID_FRACTION`. The error names the draw nearest to 0 that fails, and why.
     """
-    check_study_area(area)
     seen: dict[Kind, str] = {}
     for p in perturbations:
         if p.kind in seen:
             raise PerturbationError(f"{p.source}: perturbation {p.kind} given twice "
                                     f"(also in {seen[p.kind]})")
         seen[p.kind] = p.source
+        check_kind_fits(area, p)
+    _check_field_data(area, [p for p in perturbations if p.kind in FIELD_KINDS])
     grid = np.linspace(-TRUNCATE_SD, TRUNCATE_SD, 161)
     weights = np.exp(-0.5 * grid ** 2)
     for p in perturbations:
+        if p.kind in FIELD_KINDS:  # changes of the data files, valid by construction (clipped)
+            continue
         patterns = [np.ones(p.n_draws)]
         if p.n_draws > 1:
             patterns.append((-1.0) ** np.arange(p.n_draws))
@@ -89,15 +94,56 @@ def draw(perturbations: list[Perturbation], rng: np.random.Generator) -> list[np
     return out
 
 
+def _check_field_data(area: Area, perturbations: list[Perturbation]) -> None:
+    """The climatology has what the water and month kinds need: sds to scale by, other months."""
+    need_sd = [p for p in perturbations if p.kind is Kind.WATER
+               and (math.isnan(p.option("sd_c")) or math.isnan(p.option("sd_psu")))]
+    months = [p for p in perturbations if p.kind is Kind.MONTH]
+    if not (need_sd or months):
+        return
+    with open_climatology(area.water.climatology) as clim:
+        if need_sd and not clim.has_sd:
+            p = need_sd[0]
+            raise PerturbationError(f"{p.source}: perturbation water: the climatology {clim.describe()} has no "
+                                    f"standard deviations (t_sd, s_sd); give sd_c and sd_psu")
+        if months and not clim.has_months:
+            p = months[0]
+            raise PerturbationError(f"{p.source}: perturbation month: the climatology {clim.describe()} holds "
+                                    f"one month; the month kind needs a file of 12 months ([water] month "
+                                    f"picking one)")
+    source = area.water.climatology
+    for p in months:  # the months a member may mix in must be in the files
+        offset = p.option("offset_months")
+        steps = [-1, 1] if math.isnan(offset) else [int(math.copysign(1, offset)) if abs(offset) <= 1 else int(offset)]
+        for step in steps:
+            other = (source.month - 1 + step) % 12 + 1
+            try:
+                open_climatology(dataclasses.replace(source, month=other)).close()
+            except AreaError as exc:
+                raise PerturbationError(f"{p.source}: perturbation month: month {other} is needed: {exc}") from None
+
+
 def perturb_area(area: Area, perturbations: list[Perturbation],
                  rng: np.random.Generator) -> tuple[Area, dict[str, float]]:
-    """One ensemble member: the perturbed area and the drawn parameters (name -> value, units in name).
+    """One ensemble member of a flat area: the perturbed area and the drawn parameters (name ->
+    value, units in name); `perturb_environment` for every area."""
+    area, _, params = perturb_environment(area, perturbations, rng)
+    return area, params
 
-    A draw that makes the area invalid is redrawn (from the same generator, after the first
-    draws: a member whose first draws are all valid is what the plain normal draws give).
+
+def perturb_environment(area: Area, perturbations: list[Perturbation], rng: np.random.Generator
+                        ) -> tuple[Area, FieldChange | None, dict[str, float]]:
+    """One ensemble member: the perturbed area, the change to the data it reads (None: no data
+    kind) and the drawn parameters (name -> value, units in name).
+
+    The area kinds are drawn first, in `Kind` order; a draw that makes the area invalid is
+    redrawn (from the same generator, after the first draws: a member whose first draws are all
+    valid is what the plain normal draws give). The data kinds (relief, water, front, month)
+    draw after them, in the same order, into one ``envdata.fieldchange.FieldChange``.
     """
     params: dict[str, float] = {}
-    for p, xi in zip(_ordered(perturbations), draw(perturbations, rng)):
+    area_kinds = [p for p in perturbations if p.kind not in FIELD_KINDS]
+    for p, xi in zip(_ordered(area_kinds), draw(area_kinds, rng)):
         for _ in range(MAX_REDRAWS):
             try:
                 area_p, values = _apply_one(area, p, xi)
@@ -110,13 +156,78 @@ def perturb_area(area: Area, perturbations: list[Perturbation],
                                     f"{MAX_REDRAWS} tries on this member ({last})")
         area = area_p
         params.update(values)
-    return area, params
+    field_kinds = _ordered([p for p in perturbations if p.kind in FIELD_KINDS])
+    if not field_kinds:
+        return area, None, params
+    change = FieldChange(origin_lat_deg=area.origin.lat_deg, origin_lon_deg=area.origin.lon_deg)
+    for p in field_kinds:
+        change, values = _draw_field(area, p, change, rng)
+        params.update(values)
+    return area, change, params
 
 
 def member_area(area: Area, perturbations: list[Perturbation], seed: int,
                 member: int) -> tuple[Area, dict[str, float]]:
     """Member ``member`` of the ensemble with seed ``seed`` (independent of who computes it)."""
     return perturb_area(area, perturbations, np.random.default_rng([seed, member]))
+
+
+def member_environment(area: Area, perturbations: list[Perturbation], seed: int, member: int
+                       ) -> tuple[Area, FieldChange | None, dict[str, float]]:
+    """`perturb_environment` of member ``member`` (generator ``default_rng([seed, member])``)."""
+    return perturb_environment(area, perturbations, np.random.default_rng([seed, member]))
+
+
+def _truncated_normal(rng: np.random.Generator, n: int) -> np.ndarray:
+    return draw([Perturbation(kind=Kind.EOF, sd=0.0, options=(("modes", float(n)), ("depth_m", 1.0)))], rng)[0]
+
+
+def _draw_field(area: Area, p: Perturbation, change: FieldChange, rng: np.random.Generator
+                ) -> tuple[FieldChange, dict[str, float]]:
+    """One data kind drawn into ``change`` (see ``envdata.fieldchange``), and its parameters."""
+    names = p.param_names()
+    if p.kind is Kind.RELIEF:
+        corr_m = 1000.0 * p.option("corr_km")  # the spec is in km
+        field = SmoothField.draw(rng, (corr_m, corr_m))
+        relief = ReliefChange(field=field, sd_m=p.sd, sd_frac=p.option("sd_frac"))
+        new = dataclasses.replace(change, relief=relief)
+        # the change of the water depth at the origin, for the parameter coordinate
+        depth0 = 1000.0  # a reference depth, m: the fraction's part is reported at 1000 m
+        f0 = float(field(0.0, 0.0))
+        return new, {names[0]: depth0 * math.expm1(relief.sd_frac * f0) + relief.sd_m * f0}
+    if p.kind is Kind.WATER:
+        corr_m = 1000.0 * p.option("corr_km")  # the spec is in km
+        scales = (corr_m, corr_m, p.option("scale_m"))
+        t_field = SmoothField.draw(rng, scales)
+        s_field = SmoothField.draw(rng, scales)
+        sd_c, sd_psu = p.option("sd_c"), p.option("sd_psu")
+        water = WaterChange(temperature_field=t_field, salinity_field=s_field,
+                            sd_c=None if math.isnan(sd_c) else sd_c,
+                            sd_psu=None if math.isnan(sd_psu) else sd_psu, factor=p.sd)
+        return (dataclasses.replace(change, water=water),
+                {names[0]: float(t_field(0.0, 0.0, 0.0)), names[1]: float(s_field(0.0, 0.0, 0.0))})
+    if p.kind is Kind.FRONT:
+        east, north = p.option("east_km"), p.option("north_km")
+        if p.is_what_if:  # a fixed displacement: what if the front is there
+            east, north = (0.0 if math.isnan(v) else v for v in (east, north))
+        else:
+            east, north = (p.sd * x for x in _truncated_normal(rng, 2))
+        new = dataclasses.replace(change, front_east_m=1000.0 * east, front_north_m=1000.0 * north)
+        return new, {names[0]: float(east), names[1]: float(north)}
+    if p.kind is Kind.MONTH:
+        offset = p.option("offset_months")
+        if not p.is_what_if:
+            offset = p.sd * float(_truncated_normal(rng, 1)[0])
+        # within one month: a mix of the area's month and the neighbour on that side; beyond,
+        # a whole number of months away: that month alone
+        base = area.water.climatology.month
+        if offset == 0.0:
+            return change, {names[0]: 0.0}
+        step = int(math.copysign(1, offset)) if abs(offset) <= 1.0 else int(offset)
+        other = (base - 1 + step) % 12 + 1
+        weight = min(abs(offset), 1.0)
+        return dataclasses.replace(change, other_month=other, month_weight=weight), {names[0]: float(offset)}
+    raise AssertionError(p.kind)  # pragma: no cover - every data kind is handled above
 
 
 def _ordered(perturbations: list[Perturbation]) -> list[Perturbation]:

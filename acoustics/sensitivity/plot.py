@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -36,9 +37,11 @@ def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path
             sel = {"class": cls_name, "band": band}
             k = ds["k_db"].sel(sel).values
             nominal = ds["k_nominal_db"].sel(sel).values
-            lo, hi = np.percentile(k, [5, 95], axis=0)
-            sd = k.std(axis=0, ddof=1) if k.shape[0] > 1 else np.zeros_like(nominal)
-            mean = k.mean(axis=0)
+            with np.errstate(invalid="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # ranges with no K (beyond land)
+                lo, hi = np.nanpercentile(k, [5, 95], axis=0)
+                sd = np.nanstd(k, axis=0, ddof=1) if k.shape[0] > 1 else np.zeros_like(nominal)
+                mean = np.nanmean(k, axis=0)
             ax.fill_between(range_km, lo, hi, color="tab:blue", alpha=0.25, lw=0, label="members 5-95 %")
             ax.plot(range_km, mean + sd, color="tab:blue", lw=0.6, ls="--", label="member mean +- 1 sd")
             ax.plot(range_km, mean - sd, color="tab:blue", lw=0.6, ls="--")
@@ -93,3 +96,70 @@ def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None,
         fig.colorbar(mesh, ax=ax, label="dB")
     fig.tight_layout()
     return save_figure(fig, out, dpi=110, atomic=atomic)
+
+
+def plot_polar_sd(ds: xr.Dataset, summary: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:
+    """A polar map of the sd over members of K per class (rows) and band (columns), around the
+    origin of a bearing-dependent study (north up, bearings clockwise, range in km).
+
+    Parameters
+    ----------
+    ds : Dataset
+        A study with a ``bearing`` axis.
+    summary : Dataset
+        Its summaries (``k_sd_db(class, band, bearing, range)``).
+    out : path
+        PNG to write.
+
+    Returns
+    -------
+    Path
+        ``out``.
+    """
+    classes = [str(c) for c in ds["class"].values]
+    bands = [str(b) for b in ds["band"].values]
+    bearings = ds["bearing"].values
+    theta = np.radians(bearings)
+    r_km = ds["range"].values / 1000.0
+    sd = summary["k_sd_db"].transpose("class", "band", "bearing", "range").values
+    # each radial drawn as the wedge of bearings nearest to it (every degree, so the wedges are round)
+    fine_deg = np.arange(0.0, 360.5, 1.0)
+    nearest = np.argmin(np.abs((fine_deg[:, None] - bearings[None, :] + 180.0) % 360.0 - 180.0), axis=1)
+    vmax = float(np.nanpercentile(sd, 98)) if np.isfinite(sd).any() else 1.0
+    fig = new_figure(figsize=(3.6 * len(bands) + 0.6, 3.7 * len(classes) + 1.0), layout="constrained")
+    axes = []
+    mesh = None
+    for i, cls_name in enumerate(classes):
+        for j, band in enumerate(bands):
+            ax = fig.add_subplot(len(classes), len(bands), i * len(bands) + j + 1, projection="polar")
+            mesh = ax.pcolormesh(np.radians(fine_deg), r_km, sd[i, j][nearest].T, shading="nearest",
+                                 cmap="magma_r", vmin=0.0, vmax=vmax or 1.0, rasterized=True)
+            for b in theta:
+                ax.plot([b, b], [0.0, r_km[-1]], color="0.5", lw=0.4, ls=":")
+            ax.set_theta_zero_location("N")
+            ax.set_theta_direction(-1)
+            ax.set_rlim(0.0, r_km[-1])
+            ax.tick_params(labelsize=6)
+            ax.set_title(f"{cls_name} {band}", fontsize=9)
+            axes.append(ax)
+    fig.colorbar(mesh, ax=axes, orientation="horizontal", shrink=0.6, aspect=40,
+                 label="sd over members of K(r), dB (blank: no K, beyond land or the class below the bottom)")
+    fig.suptitle(f"sd of K over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}: each radial "
+                 f"(dotted) drawn over the bearings nearest to it; north up, range in km", fontsize=10)
+    return save_figure(fig, out, dpi=110, atomic=atomic)
+
+
+def spread_bearing_deg(summary: xr.Dataset) -> float:
+    """The bearing whose K moves most (the largest mean sd of K over classes, bands and ranges), deg."""
+    sd = summary["k_sd_db"].transpose("bearing", ...).values.reshape(summary.sizes["bearing"], -1)
+    with np.errstate(invalid="ignore"):
+        mean = np.array([np.nanmean(row) if np.isfinite(row).any() else -np.inf for row in sd])
+    return float(summary["bearing"].values[int(np.argmax(mean))])
+
+
+def plot_spread_along(ds: xr.Dataset, bearing_deg: float, out: str | Path, *, atomic: bool = True) -> Path:
+    """`plot_spread` along one radial of a bearing-dependent study (the nearest to ``bearing_deg``)."""
+    j = int(np.argmin(np.abs((ds["bearing"].values - bearing_deg + 180.0) % 360.0 - 180.0)))
+    one = ds.isel(bearing=j)
+    one.attrs = {**ds.attrs, "area": f"{ds.attrs.get('area', '?')}, bearing {float(ds['bearing'].values[j]):g} deg"}
+    return plot_spread(one, out, atomic=atomic)

@@ -13,6 +13,7 @@ from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.sensitivity.perturb import check_perturbations
 from acoustics.sensitivity.perturbspec import Perturbation
 from envdata.area import Area
+from envdata.datafiles import input_file_digests
 from envdata.errors import InputError
 
 STUDY_FORMAT_VERSION = 1
@@ -58,5 +59,6 @@ class StudySpec:
         """sha256 of the spec, the study format, tmakit's version and the BELLHOP binary."""
         payload = {"area": self.area.to_dict(), "perturbations": [p.to_dict() for p in self.perturbations],
                    "seed": self.seed, "tl": self.tl, "reciprocity_min_depth_m": self.reciprocity_min_depth_m,
-                   "format": STUDY_FORMAT_VERSION, "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256}
+                   "format": STUDY_FORMAT_VERSION, "tmakit": TMAKIT_VERSION, "bellhop_sha256": bellhop_sha256,
+                   "input_files": input_file_digests(self.area.water)}
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()

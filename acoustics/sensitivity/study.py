@@ -23,12 +23,14 @@ import xarray as xr
 
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
+from acoustics.builder.radial import depth_axis_m
 from acoustics.grid.dataset import TMAKIT_VERSION, now_iso
 from acoustics.grid.formats import STUDY_FORMAT
 from acoustics.sensitivity.members import MemberResult, compute_member, member_key
 from acoustics.sensitivity.perturbspec import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from envdata.area import Area
+from envdata.radials import area_radials
 
 
 @dataclass
@@ -53,7 +55,8 @@ def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int
               stats: StudyStats | None = None,
               reciprocity_min_depth_m: float = RECIPROCITY_MIN_DEPTH_M,
               on_result: Callable[[MemberResult], None] | None = None) -> xr.Dataset:
-    """Run the ensemble and return the study dataset (``k_db(member, class, band, range)``).
+    """Run the ensemble and return the study dataset (``k_db(member, class, band, range)``, or
+    ``k_db(member, class, band, bearing, range)`` for an area with ``[origin]``).
 
     Parameters
     ----------
@@ -92,7 +95,11 @@ def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int
     results: dict[int | None, MemberResult] = {}
     done = TaskStats()
     stats.members_total = members
-    tasks = run_tasks(functools.partial(compute_member, spec, exe=str(exe.path)), [None, *range(members)],
+    nominal_depth = None
+    if area.is_bearing_dependent and tl:  # every member's TL on the nominal grid's depth axis
+        nominal_depth = depth_axis_m(area, area_radials(area))
+    tasks = run_tasks(functools.partial(compute_member, spec, exe=str(exe.path), nominal_depth_m=nominal_depth),
+                      [None, *range(members)],
                       key=member_key, workers=workers, scheduler=scheduler,
                       cache=member_cache(cache_dir) if cache_dir is not None else None,
                       progress=progress, desc="sensitivity members", unit="member", stats=done)
@@ -136,7 +143,13 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
     for name in names:
         coords[name] = ("member", np.array([results[int(m)].params[name] for m in members]),
                         {"long_name": f"perturbation parameter {name}", "units": _unit(name)})
-    dims3 = ("class", "band", "range")
+    radial = area.is_bearing_dependent
+    dims3 = ("class", "band", "bearing", "range") if radial else ("class", "band", "range")
+    if radial:
+        coords["bearing"] = ("bearing", np.asarray(area.bearings.bearing_deg, dtype=float),
+                             {"units": "degree", "long_name": "bearing from the origin, clockwise from true north"})
+        coords["range"] = ("range", area.grid.range_m(), {"units": "m", "long_name": "range from the origin "
+                                                                                     "along the radial"})
     data_vars = {
         "k_db": (("member",) + dims3, k, {
             "units": "dB", "long_name": "transfer characteristic K(r) at the observer depth, perturbed member",
@@ -145,19 +158,24 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
             "units": "dB", "long_name": "transfer characteristic K(r) of the nominal area, same method"}),
     }
     if spec.tl:
-        depth = area.depth_m()
+        depth = nominal.depth_m if radial else area.depth_m()
         coords["depth"] = ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
                                             "axis": "Z", "long_name": "receiver depth"})
-        data_vars["tl_db"] = (("member", "class", "band", "depth", "range"),
+        tl_dims = ("class", "band", "bearing", "depth", "range") if radial else ("class", "band", "depth", "range")
+        data_vars["tl_db"] = (("member",) + tl_dims,
                               np.stack([results[int(m)].tl_db for m in members]),
                               {"units": "dB", "long_name": "band transmission loss, perturbed member",
                                "reference": "1 m from the source",
                                "comment": "NaN below the member's bottom"})
-        data_vars["tl_nominal_db"] = (("class", "band", "depth", "range"), nominal.tl_db,
+        data_vars["tl_nominal_db"] = (tl_dims, nominal.tl_db,
                                       {"units": "dB", "long_name": "band transmission loss, nominal area",
                                        "reference": "1 m from the source"})
     method = ("grid build per member (direct for every class)" if spec.tl else
               f"reciprocity for classes at or below {spec.reciprocity_min_depth_m:g} m, direct above")
+    if radial:
+        method = ("bearing-dependent grid per member (N x 2D from the observer, reciprocity for every class)"
+                  if spec.tl else "K per member along the radials (N x 2D from the observer, reciprocity "
+                                  "for every class)")
     attrs = {
         "Conventions": "CF-1.8",
         "tmakit_format": STUDY_FORMAT,
@@ -169,7 +187,6 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
         "area": area.name,
         "model": "bellhop",
         "observer_depth_m": float(area.observer.depth_m),
-        "water_depth_m": float(area.water.depth_m),
         "seed": int(spec.seed),
         "members": int(spec.members),
         "perturbations": json.dumps([p.to_dict() for p in spec.perturbations]),
@@ -181,12 +198,17 @@ def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], dige
         "source_hash": digest,
         "area_json": json.dumps(area.to_dict(), sort_keys=True),
     }
+    if area.water.depth_m is not None:
+        attrs["water_depth_m"] = float(area.water.depth_m)
+    else:
+        attrs["origin_lat_deg"] = float(area.origin.lat_deg)
+        attrs["origin_lon_deg"] = float(area.origin.lon_deg)
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
 def _unit(name: str) -> str:
-    for suffix, unit in (("_m", "m"), ("_mps", "m s-1"), ("_c", "degC"), ("_psu", "1e-3"), ("_gcc", "g cm-3"),
-                         ("_db_per_wavelength", "dB/wavelength")):
+    for suffix, unit in (("_km", "km"), ("_m", "m"), ("_mps", "m s-1"), ("_c", "degC"), ("_psu", "1e-3"),
+                         ("_gcc", "g cm-3"), ("_db_per_wavelength", "dB/wavelength")):
         if name.endswith(suffix):
             return unit
     return "1"

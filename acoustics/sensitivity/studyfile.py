@@ -36,16 +36,37 @@ def _ranges_m(text: str) -> list[float]:
     return values
 
 
+def _over_bearings(values: xr.DataArray, rms: bool = False) -> float:
+    """One number of a (class, band) summary: itself, or over the bearings of a bearing-dependent
+    study (rms for sds and rms errors, mean otherwise; bearings without K left out)."""
+    v = np.asarray(values.values, dtype=float).ravel()
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return float("nan")
+    return float(np.sqrt(np.mean(v ** 2))) if rms else float(np.mean(v))
+
+
 def output_files(out: Path, *, plot: Path | None = None, tl: bool = False,
-                 write_k_error: Path | None = None) -> dict[str, str]:
-    """The files a study writes: ``{"study": ..., "plot": ..., "sd_map": ..., "area_with_k_error": ...}``."""
+                 write_k_error: Path | None = None, into: Path | None = None,
+                 bearing_dependent: bool = False) -> dict[str, str]:
+    """The files a study writes: ``{"study": ..., "plot": ..., "spread": ..., "sd_map": ...,
+    "area_with_k_error": ..., "grid_with_k_error": ...}``.
+
+    With ``plot`` the K spread per class and band (for a bearing-dependent area the polar map
+    of the sd of K, and ``STEM-spread.png`` K's spread along the bearing where it moves most);
+    with ``tl`` also ``STEM-sd-map.png``, the sd of TL over depth and range.
+    """
     files = {"study": str(out)}
     if plot is not None:
         files["plot"] = str(plot)
+        if bearing_dependent:
+            files["spread"] = str(Path(plot).with_name(f"{Path(plot).stem}-spread.png"))
         if tl:
             files["sd_map"] = str(Path(plot).with_name(f"{Path(plot).stem}-sd-map.png"))
     if write_k_error is not None:
         files["area_with_k_error"] = str(write_k_error)
+    if into is not None:
+        files["grid_with_k_error"] = str(into)
     return files
 
 
@@ -55,11 +76,13 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
                    ranges_km: str = "5,10,20,50,100", range_min_km: float | None = None,
                    range_max_km: float | None = None,
                    reciprocity_min_depth_m: float = RECIPROCITY_MIN_DEPTH_M,
-                   progress: bool = False) -> dict:
+                   progress: bool = False, into: Path | None = None) -> dict:
     """Run a study from the command-line options, write its files and return what was done.
 
     ``out`` defaults to ``AREA-sensitivity.nc``; the keys of the result are what
     ``tmakit sensitivity`` reports (``files``, ``k``, ``range_error``, ``k_error_sd_db``, ...).
+    ``into`` names a grid of the same area to write the measured ``k_error_sd_db(class, band[,
+    bearing], range)`` into (checked before the study runs, replaced with the other outputs).
     """
     if workers < 1:
         raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
@@ -71,6 +94,11 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
     spec = StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
                           reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
     out = out if out is not None else Path(f"{area.name}-sensitivity.nc")
+    into_tables = None
+    if into is not None:  # a grid that cannot take the result is refused before the members run
+        from acoustics.sensitivity.intogrid import check_into_grid
+
+        into_tables = check_into_grid(into, area)
     digest = spec.digest(find_bellhop().sha256)
     cache_dir = resume_dir(out, digest)
     stats = StudyStats()
@@ -82,17 +110,35 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
                              range_max_m=None if range_max_km is None else range_max_km * 1000.0)
     merged = xr.merge([ds, summary], combine_attrs="override")
     measured = k_error_by_class(summary)
-    files = output_files(out, plot=plot, tl=tl, write_k_error=write_k_error)
+    radial = area.is_bearing_dependent
+    files = output_files(out, plot=plot, tl=tl, write_k_error=write_k_error, into=into, bearing_dependent=radial)
+    into_grid = None
+    if into_tables is not None:
+        from acoustics.sensitivity.intogrid import k_error_grid
+
+        into_grid = k_error_grid(into_tables, summary, ds, Path(out).name)
     try:
         with atomic_paths([Path(p) for p in files.values()]) as temps:
             tmp = dict(zip(files, temps))
             write_study(merged, tmp["study"], atomic=False)
             if "plot" in files:
-                from acoustics.sensitivity.plot import plot_sd_map, plot_spread
+                from acoustics.sensitivity import plot as plots
 
-                plot_spread(ds, tmp["plot"], atomic=False)
-                if "sd_map" in files:
-                    plot_sd_map(ds, tmp["sd_map"], atomic=False)
+                if radial:
+                    bearing = plots.spread_bearing_deg(summary)
+                    plots.plot_polar_sd(ds, summary, tmp["plot"], atomic=False)
+                    plots.plot_spread_along(ds, bearing, tmp["spread"], atomic=False)
+                    if "sd_map" in files:
+                        j = int(np.argmin(np.abs(ds["bearing"].values - bearing)))
+                        plots.plot_sd_map(ds.isel(bearing=j), tmp["sd_map"], atomic=False)
+                else:
+                    plots.plot_spread(ds, tmp["plot"], atomic=False)
+                    if "sd_map" in files:
+                        plots.plot_sd_map(ds, tmp["sd_map"], atomic=False)
+            if into_grid is not None:
+                from acoustics.sensitivity.intogrid import write_k_error_grid
+
+                write_k_error_grid(into_grid, tmp["grid_with_k_error"], atomic=False)
             if "area_with_k_error" in files:
                 writeback.write_k_error(area_file, measured, tmp["area_with_k_error"], atomic=False)
     finally:
@@ -102,16 +148,21 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
         for band in summary["band"].values:
             sel = {"class": cls_name, "band": band}
             per_cb[f"{cls_name}/{band}"] = {
-                "bias_db_median": round(float(np.median(summary["k_bias_db"].sel(sel))), 3),
-                "sd_db_median": round(float(np.median(summary["k_sd_db"].sel(sel))), 3),
-                "rms_error_db": round(float(summary["k_rms_error_db"].sel(sel)), 3),
-                "offset_sd_db": round(float(summary["k_offset_sd_db"].sel(sel)), 3),
-                "residual_rms_db": round(float(summary["k_residual_rms_db"].sel(sel)), 3),
-                "constant_fraction": round(float(summary["k_constant_fraction"].sel(sel)), 3)}
+                "bias_db_median": round(float(np.nanmedian(summary["k_bias_db"].sel(sel))), 3),
+                "sd_db_median": round(float(np.nanmedian(summary["k_sd_db"].sel(sel))), 3),
+                "rms_error_db": round(_over_bearings(summary["k_rms_error_db"].sel(sel), rms=True), 3),
+                "offset_sd_db": round(_over_bearings(summary["k_offset_sd_db"].sel(sel), rms=True), 3),
+                "residual_rms_db": round(_over_bearings(summary["k_residual_rms_db"].sel(sel), rms=True), 3),
+                "constant_fraction": round(_over_bearings(summary["k_constant_fraction"].sel(sel)), 3)}
     ranging = {}
     for c in summary["class"].values:
-        bias = summary["range_bias_m"].sel({"class": c}).values
-        rms = summary["range_rms_m"].sel({"class": c}).values
+        # a bearing-dependent study: the rms over bearings (per bearing in the study file)
+        bias = summary["range_bias_m"].sel({"class": c})
+        rms = summary["range_rms_m"].sel({"class": c})
+        if "bearing" in rms.dims:
+            bias = bias.mean("bearing", skipna=True)
+            rms = np.sqrt((rms ** 2).mean("bearing", skipna=True))
+        bias, rms = bias.values, rms.values
         ranging[str(c)] = {f"{r / 1000:g}": {"bias_m": round(float(bias[i]), 1), "rms_m": round(float(rms[i]), 1)}
                            for i, r in enumerate(summary["eval_range"].values)}
     drivers = {}
@@ -119,7 +170,15 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
         corr = summary["k_offset_correlation"].values[ic]
         order = [j for j in np.argsort(-np.abs(np.nan_to_num(corr))) if np.isfinite(corr[j])][:3]
         drivers[str(cls_name)] = {str(summary["parameter"].values[j]): round(float(corr[j]), 2) for j in order}
-    return {"files": files, "offset_drivers": drivers, "area": area.name, "members": members, "seed": seed,
+    by_bearing = {}
+    if radial:
+        for c in summary["class"].values:
+            sd = summary["k_sd_db"].sel({"class": c})
+            by_bearing[str(c)] = {f"{b:g}": round(float(np.nanmedian(sd.sel(bearing=b))), 3)
+                                  if np.isfinite(sd.sel(bearing=b)).any() else None
+                                  for b in summary["bearing"].values}
+    return {"files": files, "offset_drivers": drivers, "k_sd_db_median_by_bearing": by_bearing,
+            "area": area.name, "members": members, "seed": seed,
             "perturbations": [p.describe() for p in perturbations],
             "k_method": ds.attrs["k_method"], "members_reused": stats.members_reused,
             "workers": stats.workers, "bellhop_seconds": round(stats.bellhop_seconds, 3),

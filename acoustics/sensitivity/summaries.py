@@ -3,16 +3,24 @@ and the range error of level-based ranging (eq. 20) with the nominal tables in t
 
 Grinenkov & Mashoshin take dK as a constant offset, sd 1.5 dB surface / 2.0 dB submarine; the
 summaries say how much of the measured dK is such an offset.
+
+A study of an area with ``[origin]`` has a ``bearing`` axis: every summary over range is then
+per bearing too, and ``k_rms_db(class, band, bearing, range)`` is what ``--into GRID`` writes
+into a grid as its ``k_error_sd_db``, the sd the trackers take at each measurement's bearing and
+range. Cells with no K (beyond land, a class deeper than the water) are left out of the means.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
 
+from acoustics.detection import detection_terms, farthest_m
 from acoustics.levelrange import level_range
+from envdata.areafile import area_from_json
 from envdata.errors import InputError
 
 DEFAULT_EVAL_RANGES_M = (5000.0, 10000.0, 20000.0, 50000.0, 100000.0)
@@ -86,30 +94,26 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
                          f"({rng[0]:g}-{rng[-1]:g} m)")
     dk = ds["k_db"] - ds["k_nominal_db"]
     n = ds.sizes["member"]
+    radial = "bearing" in ds.dims
     bias = dk.mean("member")
     sd = dk.std("member", ddof=1) if n > 1 else xr.zeros_like(bias) * np.nan
+    k_rms = np.sqrt((dk ** 2).mean("member"))
     win = dk.isel(range=inside)
-    offset = win.mean("range")
+    offset = win.mean("range", skipna=True)
     offset_sd = offset.std("member", ddof=1) if n > 1 else xr.zeros_like(offset.isel(member=0)) * np.nan
-    ms = (win ** 2).mean(("member", "range"))
-    residual = np.sqrt(((win - offset) ** 2).mean(("member", "range")))
+    ms = (win ** 2).mean(("member", "range"), skipna=True)
+    residual = np.sqrt(((win - offset) ** 2).mean(("member", "range"), skipna=True))
     constant_fraction = xr.where(ms > 0, (offset ** 2).mean("member") / ms, 1.0)
-    k_error = np.sqrt((win ** 2).mean(("member", "band", "range")))
+    k_error = np.sqrt((win ** 2).mean([d for d in win.dims if d != "class"], skipna=True))
 
     eval_r = np.asarray([r for r in eval_ranges_m if rng[0] <= r <= rng[-1]], dtype=float)
     idx = np.abs(rng[None, :] - eval_r[:, None]).argmin(axis=1) if eval_r.size else np.zeros(0, int)
     true_r = rng[idx]
-    k_member = ds["k_db"].values[..., idx]  # (member, class, band, eval)
-    k_nom = ds["k_nominal_db"].values  # (class, band, range)
-    est = np.empty((n, ds.sizes["class"], idx.size))
-    for ic in range(ds.sizes["class"]):
-        levels = np.moveaxis(k_member[:, ic], 1, -1)  # (member, eval, band)
-        est[:, ic] = level_range_m(levels, k_nom[ic], rng)
-    err = est - true_r[None, None, :]
+    err = _range_errors(ds, idx, true_r, rng)  # (member, class[, bearing], eval)
     # which drawn parameter drives the constant part: correlation over members of each parameter
-    # with the member's offset (mean over bands and the window)
+    # with the member's offset (mean over bands, bearings and the window)
     params = [name for name, coord in ds.coords.items() if coord.dims == ("member",) and name != "member"]
-    band_offset = offset.mean("band").values  # (member, class)
+    band_offset = offset.mean([d for d in offset.dims if d not in ("member", "class")], skipna=True).values
     corr = np.full((ds.sizes["class"], len(params)), np.nan)
     for j, name in enumerate(params):
         x = ds[name].values.astype(float)
@@ -117,6 +121,23 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
             y = band_offset[:, ic]
             if n > 2 and x.std() > 0 and y.std() > 0:
                 corr[ic, j] = float(np.corrcoef(x, y)[0, 1])
+    err_dims = ("member", "class", "bearing", "eval_range") if radial else ("member", "class", "eval_range")
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a bearing with no K at a true range: NaN
+        range_bias = np.nanmean(err, axis=0)
+        range_rms = np.sqrt(np.nanmean(err ** 2, axis=0))
+    det_dims = ("class", "band", "bearing") if radial else ("class", "band")
+    detection = {}
+    if "area_json" in ds.attrs:  # the detection rule needs the area's noise, sonar and levels
+        det, det_nominal = _detection_ranges(ds)
+        detection = {
+            "detection_range_m": (("member",) + det_dims, det,
+                                  {"units": "m", "long_name": "largest range at which the band is detected at "
+                                                              "the class's mean level, member's K"}),
+            "detection_range_nominal_m": (det_dims, det_nominal, {"units": "m"}),
+            "detection_range_sd_m": (det_dims, _nanstd_members(det) if n > 1
+                                     else np.full(det_nominal.shape, np.nan),
+                                     {"units": "m", "long_name": "sd over members of the detection range"})}
     out = xr.Dataset(
         {
             "k_offset_correlation": (("class", "parameter"), corr,
@@ -124,6 +145,9 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
                                                                  "parameter with the member's mean K offset"}),
             "k_bias_db": (bias.dims, bias.values, {"units": "dB", "long_name": "mean over members of K - K_nominal"}),
             "k_sd_db": (sd.dims, sd.values, {"units": "dB", "long_name": "sd over members of K - K_nominal"}),
+            "k_rms_db": (k_rms.dims, k_rms.values,
+                         {"units": "dB", "long_name": "rms over members of K - K_nominal: the K error sd at "
+                                                      "each range (and bearing) that --into writes into a grid"}),
             "k_offset_sd_db": (offset_sd.dims, offset_sd.values,
                                {"units": "dB", "long_name": "sd over members of the range-mean of K - K_nominal"}),
             "k_residual_rms_db": (residual.dims, residual.values,
@@ -135,17 +159,75 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
             "k_rms_error_db": (ms.dims, np.sqrt(ms.values), {"units": "dB", "long_name": "rms of K - K_nominal"}),
             "k_error_sd_db": (k_error.dims, k_error.values,
                               {"units": "dB", "long_name": "measured sd of the transfer-characteristic error "
-                                                           "(rms over members, bands and ranges)"}),
-            "range_error_m": (("member", "class", "eval_range"), err,
+                                                           "(rms over members, bands, bearings and ranges)"}),
+            "range_error_m": (err_dims, err,
                               {"units": "m", "long_name": "level-ranging (eq. 20) error with nominal tables"}),
-            "range_bias_m": (("class", "eval_range"), err.mean(axis=0), {"units": "m"}),
-            "range_rms_m": (("class", "eval_range"), np.sqrt((err ** 2).mean(axis=0)), {"units": "m"}),
+            "range_bias_m": (err_dims[1:], range_bias, {"units": "m"}),
+            "range_rms_m": (err_dims[1:], range_rms, {"units": "m"}),
+            **detection,
         },
         coords={"member": ds["member"].values, "class": ds["class"].values, "band": ds["band"].values,
                 "range": rng, "parameter": ("parameter", np.array(params, dtype=object)),
-                "eval_range": ("eval_range", true_r, {"units": "m", "long_name": "true range"})},
+                "eval_range": ("eval_range", true_r, {"units": "m", "long_name": "true range"}),
+                **({"bearing": ds["bearing"].values} if radial else {})},
         attrs={"summary_range_min_m": float(lo), "summary_range_max_m": float(hi)})
     return out
+
+
+def _nanstd_members(x: np.ndarray) -> np.ndarray:
+    """sd over members (axis 0) of the finite values, NaN where fewer than two are finite."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.where(np.isfinite(x).sum(axis=0) > 1, np.nanstd(x, axis=0, ddof=1), np.nan)
+
+
+def _range_errors(ds: xr.Dataset, idx: np.ndarray, true_r: np.ndarray, rng: np.ndarray) -> np.ndarray:
+    """Error of level ranging (eq. 20) with the nominal tables in each member's sea, m:
+    (member, class[, bearing], eval_range); NaN where the member has no K at the true range."""
+    k_all = ds["k_db"].values
+    k_nom_all = ds["k_nominal_db"].values
+    radial = "bearing" in ds.dims
+    n, n_class = ds.sizes["member"], ds.sizes["class"]
+    n_bearing = ds.sizes["bearing"] if radial else 1
+    est = np.full((n, n_class, n_bearing, idx.size), np.nan)
+    for ic in range(n_class):
+        for jb in range(n_bearing):
+            k_member = (k_all[:, ic, :, jb] if radial else k_all[:, ic])[..., idx]   # (member, band, eval)
+            k_nom = k_nom_all[ic, :, jb] if radial else k_nom_all[ic]             # (band, range)
+            levels = np.moveaxis(k_member, 1, -1)                                 # (member, eval, band)
+            have = np.isfinite(levels).all(axis=-1)
+            if not np.isfinite(k_nom).any() or not have.any():
+                continue
+            r = level_range_m(np.where(have[..., None], levels, 0.0), k_nom, rng)
+            est[:, ic, jb] = np.where(have, r, np.nan)
+    err = est - true_r
+    return err if radial else err[:, :, 0]
+
+
+def _detection_ranges(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """Detection range of each member and of the nominal tables at each class's mean level, m:
+    (member, class, band[, bearing]) and (class, band[, bearing]); NaN where never detected."""
+    area = area_from_json(ds.attrs["area_json"], "the study's area_json")
+    by_name = {c.name: c for c in area.classes}
+    bands_by_name = {b.name: b for b in area.bands}
+    bands = tuple(bands_by_name[str(b)] for b in ds["band"].values)
+    rng = ds["range"].values
+    radial = "bearing" in ds.dims
+    members, nominal = [], []
+    for ic, name in enumerate(ds["class"].values):
+        cls = by_name[str(name)]
+        terms = detection_terms(area, cls, bands)
+        k = ds["k_db"].values[:, ic]          # (member, band[, bearing], range)
+        k0 = ds["k_nominal_db"].values[ic]    # (band[, bearing], range)
+        if radial:  # the band axis next to range for the rule, then back
+            det = farthest_m(rng, terms.detected(np.moveaxis(k, 1, 2)))           # (member, bearing, band)
+            det0 = farthest_m(rng, terms.detected(np.moveaxis(k0, 0, 1)))         # (bearing, band)
+            members.append(np.moveaxis(det, 2, 1))
+            nominal.append(det0.T)
+        else:
+            members.append(farthest_m(rng, terms.detected(k)))
+            nominal.append(farthest_m(rng, terms.detected(k0)))
+    return np.stack(members, axis=1), np.stack(nominal)
 
 
 def k_error_by_class(summary: xr.Dataset) -> dict[str, float]:

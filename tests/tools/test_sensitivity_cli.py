@@ -110,7 +110,7 @@ def test_malformed_file_through_the_console_entry_point(tmp_path):
     assert proc.stderr.strip().splitlines() == [
         f"error: {MALFORMED / 'perturb' / 'unknown-kind.toml'}: [[perturb]] #1: unknown perturbation kind "
         "'thermoclyne' (known: mixed-layer, displace, temperature, salinity, eof, water-depth, bottom-speed, "
-        "bottom-density, bottom-attenuation, source-depth, observer-depth)"]
+        "bottom-density, bottom-attenuation, source-depth, observer-depth, relief, water, front, month)"]
     assert "Traceback" not in proc.stderr and list(tmp_path.iterdir()) == []
 
 
@@ -139,14 +139,65 @@ def test_default_perturbations_are_valid_for_the_builtin_areas():
         assert np.isclose(default_perturbations(area)[5].sd, 0.01 * area.water.depth_m)
 
 
-def test_a_bearing_dependent_area_is_refused_cleanly(capsys, tmp_path):
+def _small_shelf_toml(tmp_path) -> Path:
+    """The shelf-break area with two radials to 8 km and one band: a study member is 2 runs."""
+    folder = envdata.area_path("shelf-break").parent
+    text = envdata.area_path("shelf-break").read_text().replace('"data/', f'"{folder}/data/')
+    text = text.replace("step_deg = 30.0", "bearing_deg = [90.0, 180.0]")
+    text = text.replace("range_max_m = 30000.0", "range_max_m = 8000.0")
+    path = tmp_path / "small-shelf.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.bellhop
+def test_a_bearing_dependent_study_end_to_end_feeds_the_grid(capsys, tmp_path, tiny_grid_file):
+    import acoustics
     from tools import cli
 
-    assert cli.main(["sensitivity", "shelf-break", "--members", "2", "--out", str(tmp_path / "s.nc")]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err == ("error: area shelf-break: sensitivity studies work on areas without [origin] "
-                   "(one profile over a flat bottom); this one is computed along radials")
-    assert list(tmp_path.iterdir()) == []
+    area = _small_shelf_toml(tmp_path)
+    grid = tmp_path / "grid.nc"
+    assert cli.main(["grids", "build", str(area), "--out", str(grid), "--workers", "2"]) == 0
+    capsys.readouterr()
+    # hostile inputs first: nothing may be written, the grid left as it was
+    before = grid.read_bytes()
+    other_area_grid = tmp_path / "tiny.nc"  # a copy: the session's file may be open in other tests
+    other_area_grid.write_bytes(tiny_grid_file.read_bytes())
+    for extra, message in (
+            (["--perturb", "displace:sd_m=10"], "changes one profile over a flat bottom"),
+            (["--perturb", "water:sd_factor=1"], "has no standard deviations (t_sd, s_sd); give sd_c and sd_psu"),
+            (["--into", str(TINY)], "exists and is not a tmakit netCDF file"),
+            (["--into", str(other_area_grid)], "the grid is of area 'tiny-munk', the study of 'shelf-break'")):
+        assert cli.main(["sensitivity", str(area), "--members", "2", "--out", str(tmp_path / "s.nc"),
+                         *extra]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("error: ") and message in err[0], err
+    # a grid of the same area on other radials cannot take the study's sd: refused before any member runs
+    one_radial = tmp_path / "one-radial.toml"
+    one_radial.write_text(area.read_text().replace("bearing_deg = [90.0, 180.0]", "bearing_deg = [90.0]"))
+    assert cli.main(["sensitivity", str(one_radial), "--members", "2", "--out", str(tmp_path / "s.nc"),
+                     "--into", str(grid)]) == 2
+    assert capsys.readouterr().err.strip() == (f"error: {grid}: the grid's bearings (90, 180 deg) are not the "
+                                               f"study's (90 deg)")
+    assert not (tmp_path / "s.nc").exists() and grid.read_bytes() == before
+    assert not list(tmp_path.glob(".s.nc.partial-*"))
+    out = tmp_path / "s.nc"
+    assert cli.main(["sensitivity", str(area), "--members", "3", "--workers", "2", "--out", str(out),
+                     "--perturb", "relief:sd_frac=0.05,corr_km=5", "--perturb", "water:sd_c=0.3,sd_psu=0.05",
+                     "--perturb", "front:north_km=3", "--plot", str(tmp_path / "sd.png"),
+                     "--into", str(grid), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert set(info["files"]) == {"study", "plot", "spread", "grid_with_k_error"}
+    assert (tmp_path / "sd.png").stat().st_size > 0 and (tmp_path / "sd-spread.png").stat().st_size > 0
+    study = sens.open_study(out)
+    assert study["k_db"].dims == ("member", "class", "band", "bearing", "range")
+    assert study["front_north_km"].values.tolist() == [3.0, 3.0, 3.0]  # a what-if: no draw
+    tables = acoustics.open_grid(grid)
+    assert tables.has_k_error_map
+    # the grid now carries the study's rms dK per bearing and range, read where it is asked
+    rms = study["k_rms_db"].sel({"class": "SW", "band": "FB2", "bearing": 180.0}).values
+    got = tables.k_error_sd_at(tables.class_index("SW"), np.array([4000.0]), np.array([180.0]))[0, 1]
+    assert abs(got - rms[np.argmin(np.abs(study["range"].values - 4000.0))]) < 1e-9
 
 
 @pytest.mark.bellhop

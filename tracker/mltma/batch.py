@@ -46,7 +46,7 @@ from tracker.mltma.polish import polish
 from tracker.mltma.range_prior import level_ranges_m, range_prior_m
 from tracker.mltma.search import search
 from tracker.mltma.window import TackWindow, tack_window
-from tracker.ranging import offset_nodes
+from tracker.ranging import offset_nodes, offset_nodes_per_row
 
 
 class MLBatch:
@@ -122,6 +122,36 @@ class MLBatch:
         self.last_range_m = np.full(b, np.nan)                 # last smoothed range (NaN: none)
         self.last_estimates = None                             # the last cycle's output
 
+    def _k_sd_along_range(self, brg) -> np.ndarray:
+        """The grid's K error sd of each row's class along the range axis at its bearing, (B, M, R), dB."""
+        n_r = self.range_axis_m.size
+        out = np.empty((self.n_rows, self.n_bands, n_r))
+        for c in np.unique(self.class_index):
+            rows = np.flatnonzero(self.class_index == c)
+            r = np.broadcast_to(self.range_axis_m, (rows.size, n_r))
+            b = np.broadcast_to(brg[rows, None], (rows.size, n_r))
+            out[rows] = np.moveaxis(self.tables.k_error_sd_at(int(c), r, b), -1, 1)
+        return out
+
+    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd):
+        """Eq. 21's sd again, each row's dK nodes from the grid's k_error_sd_db at its bearing and
+        level range (mean over the detected bands)."""
+        have = np.isfinite(r_level)
+        if not have.any():
+            return r_level_sd
+        sd_k = np.array([c.k_error_sd_db for c in (self.tables.classes[i] for i in self.class_index)])
+        for c in np.unique(self.class_index[have]):
+            rows = np.flatnonzero(have & (self.class_index == c))
+            at = self.tables.k_error_sd_at(int(c), r_level[rows], brg[rows])            # (rows, M)
+            det = detected[rows]
+            sd_k[rows] = np.where(det.any(axis=1), (at * det).sum(axis=1) / np.maximum(det.sum(axis=1), 1),
+                                  sd_k[rows])
+        noise_sd = np.array([self.tables.classes[i].noise_sd_db for i in self.class_index])
+        nodes = offset_nodes_per_row(noise_sd, sd_k, self.params.offsets_n)
+        _, r_sd = level_ranges_m(level, detected, sd_w, self.p0_db, self.class_index, k_db, self.range_axis_m,
+                                 self.level_offsets, self.sonar.receiver_gain_db, row_offsets=nodes, k_sd_db=k_sd)
+        return np.where(have, r_sd, r_level_sd)
+
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
                obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
                obs_depth_m: float | None = None) -> dict:
@@ -166,9 +196,15 @@ class MLBatch:
         new_tack = self._detect_maneuver(n, sd_p, sd_w)
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
+        k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
-            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db)
+            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd)
+        if k_sd is not None:
+            # eq. 21 with the K error sd measured at this row's bearing and level range (a study's
+            # k_error_sd_db in the grid) in place of the class's one number: it weights the range
+            # term of eq. 25
+            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd)
         r_prior, r_prior_sd = range_prior_m(r_level, r_level_sd, self.last_range_m)
 
         # this cycle's bearing joins the bearing form, weighted with the latest range

@@ -11,7 +11,7 @@ from acoustics.levelrange import level_range
 
 
 def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, range_axis_m,
-                   level_offsets, gain_db):
+                   level_offsets, gain_db, row_offsets=None, k_sd_db=None):
     """Level-based range (eq. 20) and its sd (eq. 21) of every row, each with its class's K(r).
 
     Parameters
@@ -32,6 +32,12 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
         Eq. 21 quadrature of each class (`tracker.ranging.offset_nodes`).
     gain_db : float
         Receiver gain H of eq. 12, dB.
+    row_offsets : (offsets (n, B), weights (n,)), optional
+        Each row's own eq. 21 nodes (`tracker.ranging.offset_nodes_per_row`), in place of its
+        class's: where the grid carries a K error sd by bearing and range.
+    k_sd_db : ndarray, shape (B, M, R), optional
+        That sd of each row along the range axis at its bearing, dB: eq. 20's weights become
+        1 / (sigma_dW^2 + sd^2(r)) (``acoustics.levelrange.level_range``).
 
     Returns
     -------
@@ -43,11 +49,12 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
     r_sd = np.full(b, np.nan)
     for c in np.unique(class_index):
         rows = np.flatnonzero(class_index == c)
-        off, wts = level_offsets[c]
+        off, wts = level_offsets[c] if row_offsets is None else (row_offsets[0][:, rows], row_offsets[1])
         k_class = k_db[c] if k_db.ndim == 3 else np.moveaxis(k_db[c][:, rows], 1, 0)  # (M, R) or
         r_opt[rows], r_sd[rows] = level_range(                                    # (rows, M, R)
             level_db[rows], detected[rows], level_sd_db[rows], p0_db[rows], k_class, range_axis_m,
-            offsets_db=off, weights=wts, gain_db=gain_db)
+            offsets_db=off, weights=wts, gain_db=gain_db,
+            k_sd_db=None if k_sd_db is None else k_sd_db[rows])
     return r_opt, np.maximum(r_sd, range_axis_m[1] - range_axis_m[0])
 
 

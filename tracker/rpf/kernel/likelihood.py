@@ -73,3 +73,40 @@ def level_loglik_particle(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_
     d = level_db - (sl + k_at(r, xp, fp, m) + offset_db)
     return -(d * d) * half_inv_var
 
+
+
+@njit(fastmath=FASTMATH, error_model="numpy")
+def level_loglik_particle_sd(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_db, xp, fp, sp, m,
+                             var_l):
+    """`level_loglik_particle` with the K error sd of the grid at the particle's range added:
+    the variance is sigma_l^2 + sd(r)^2 (``sp`` the sd profile on ``xp``). The density's
+    -1/2 ln(var) is left out, as `tracker.rpf.likelihood.level_loglik` says why."""
+    r = math.sqrt(x * x + y * y)
+    if ross:
+        tvx = vx + ovx
+        tvy = vy + ovy
+        v = max(math.sqrt(tvx * tvx + tvy * tvy), ROSS_MIN_SPEED_MPS)
+        sl = ROSS_LEVEL_DB + ROSS_SLOPE_DB_PER_DECADE * math.log10(v / ROSS_REFERENCE_SPEED_MPS)
+    else:
+        sl = p0_db
+    d = level_db - (sl + k_at(r, xp, fp, m) + offset_db)
+    sd = sd_at(r, xp, sp, m)
+    var = var_l + sd * sd
+    return -0.5 * (d * d) / var
+
+
+@njit(fastmath=FASTMATH, error_model="numpy")
+def sd_at(r, xp, sp, m):
+    """The sd profile at r: linear on the first ``m`` points, end values held (no penalty)."""
+    if r <= xp[0]:
+        return sp[0]
+    if r >= xp[m - 1]:
+        return sp[m - 1]
+    j = int((r - xp[0]) / (xp[m - 1] - xp[0]) * (m - 1))
+    if j > m - 2:
+        j = m - 2
+    while j > 0 and xp[j] > r:
+        j -= 1
+    while j < m - 2 and xp[j + 1] <= r:
+        j += 1
+    return sp[j] + (sp[j + 1] - sp[j]) * (r - xp[j]) / (xp[j + 1] - xp[j])

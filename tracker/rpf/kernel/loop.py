@@ -32,7 +32,7 @@ from numba import njit
 
 from tracker.rpf.kernel.estimate import moments_run, particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
-from tracker.rpf.kernel.likelihood import bearing_pass, level_loglik_particle
+from tracker.rpf.kernel.likelihood import bearing_pass, level_loglik_particle, level_loglik_particle_sd
 from tracker.rpf.kernel.motion import predict_pass
 from tracker.rpf.kernel.params import Measured, Outputs
 from tracker.rpf.kernel.prior import init_particle
@@ -127,7 +127,15 @@ def run_one(s, observer, measured, profiles, prior, model, settings, out):
             predict_pass(state[1], state[3], gy, dt, dv_scale, cpy, cvy)
         if has_b:
             bearing_pass(state[0], state[1], log_w, cz, sz, half_b)
-        if has_l:
+        if has_l and profiles.has_sd:  # the grid's K error sd at each particle's range
+            sp = profiles.k_sd_db[p]
+            var_l = model.sigma_l_db * model.sigma_l_db
+            for i in range(n):
+                off = state[4, i] if d > 4 else 0.0
+                log_w[i] += level_loglik_particle_sd(state[0, i], state[1, i], state[2, i],
+                                                     state[3, i], off, lv, ovx, ovy, ross, p0_db,
+                                                     xp, fp, sp, m, var_l)
+        elif has_l:
             for i in range(n):
                 off = state[4, i] if d > 4 else 0.0
                 log_w[i] += level_loglik_particle(state[0, i], state[1, i], state[2, i],

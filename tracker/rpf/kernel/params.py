@@ -57,12 +57,18 @@ class Profiles(NamedTuple):
         Range axes, m, and K values, dB, padded with their last value.
     length : ndarray of int64, shape (P,)
         Number of points of each.
+    k_sd_db : ndarray, shape (P, M)
+        sd of the K error along the same ranges, dB (zeros where a profile has none).
+    has_sd : bool
+        Whether any profile has one: the level likelihood's variance is then sigma_l^2 + sd(r)^2.
     """
 
     index: np.ndarray
     range_m: np.ndarray
     k_db: np.ndarray
     length: np.ndarray
+    k_sd_db: np.ndarray
+    has_sd: bool
 
 
 class Prior(NamedTuple):
@@ -176,7 +182,7 @@ def profile_arrays(k_profiles, n_cycles: int) -> Profiles:
     n_cycles : int
         K.
     """
-    rows, where = [], {}
+    rows, where, sds = [], {}, []
     prof_idx = np.zeros(n_cycles, dtype=np.int64)
     for k in range(n_cycles):
         p = None if k_profiles is None else k_profiles[k]
@@ -185,16 +191,24 @@ def profile_arrays(k_profiles, n_cycles: int) -> Profiles:
         if id(p) not in where:
             where[id(p)] = len(rows)
             rows.append((np.asarray(p.range_m, dtype=float), np.asarray(p.k_db, dtype=float)))
+            sds.append(getattr(p, "k_sd_db", None))
         prof_idx[k] = where[id(p)]
     if not rows:
-        return Profiles(prof_idx, np.zeros((1, 1)), np.zeros((1, 1)), np.ones(1, dtype=np.int64))
+        return Profiles(prof_idx, np.zeros((1, 1)), np.zeros((1, 1)), np.ones(1, dtype=np.int64),
+                        np.zeros((1, 1)), False)
     m = max(r.size for r, _ in rows)
     prof_r = np.empty((len(rows), m))
     prof_k = np.empty((len(rows), m))
     for i, (r, kk) in enumerate(rows):
         prof_r[i, :r.size], prof_r[i, r.size:] = r, r[-1]
         prof_k[i, :kk.size], prof_k[i, kk.size:] = kk, kk[-1]
-    return Profiles(prof_idx, prof_r, prof_k, np.array([r.size for r, _ in rows], dtype=np.int64))
+    prof_sd = np.zeros((len(rows), m))
+    for i, sd in enumerate(sds):
+        if sd is not None:
+            sd = np.asarray(sd, dtype=float)
+            prof_sd[i, :sd.size], prof_sd[i, sd.size:] = sd, sd[-1]
+    return Profiles(prof_idx, prof_r, prof_k, np.array([r.size for r, _ in rows], dtype=np.int64),
+                    prof_sd, any(sd is not None for sd in sds))
 
 
 def prior_of(cfg) -> Prior:

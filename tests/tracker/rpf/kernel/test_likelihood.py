@@ -11,7 +11,12 @@ from numpy.testing import assert_allclose
 
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 from tests.tracker.rpf.kernel.conftest import RTOL, particles, profile
-from tests.tracker.rpf.kernel.wrappers import bearing_loglik_arrays, k_at_arrays, level_loglik_arrays
+from tests.tracker.rpf.kernel.wrappers import (
+    bearing_loglik_arrays,
+    k_at_arrays,
+    level_loglik_arrays,
+    level_loglik_sd_arrays,
+)
 from tracker.rpf.likelihood import bearing_loglik, level_loglik
 
 
@@ -52,3 +57,24 @@ def test_level_loglik_matches_rpf(model, d, uniform):
                               p.range_m, p.k_db, 10.0)
     assert_allclose(got, ref, rtol=RTOL)
     assert np.any(ref < -4000)  # some particles beyond the grid: the penalty is exercised
+
+
+@pytest.mark.parametrize("uniform", [False, True])
+def test_level_loglik_with_the_grids_k_error_sd_matches_rpf(uniform):
+    import dataclasses
+
+    rng = np.random.default_rng(12)
+    state = particles(rng)
+    base = profile(uniform)
+    # a K error sd growing along range, 0.5 to 4 dB (a study's k_error_sd_db in the grid)
+    p = dataclasses.replace(base, k_sd_db=np.linspace(0.5, 4.0, base.range_m.size))
+    obs_vel = np.array([1.2, -2.0])
+    ref = level_loglik(state, 95.0, obs_vel, p, 2.0)
+    got = level_loglik_sd_arrays(state, 95.0, obs_vel[0], obs_vel[1], True, math.nan, p.range_m, p.k_db,
+                                 p.k_sd_db, 2.0)
+    assert_allclose(got, ref, rtol=RTOL, atol=1e-9)
+    # the variance grew by sd(r)^2 at each particle's range: the same misfit costs less
+    plain = level_loglik(state, 95.0, obs_vel, base, 2.0)
+    r = np.hypot(state[0], state[1])
+    var = 4.0 + np.interp(r, p.range_m, p.k_sd_db) ** 2
+    assert_allclose(ref, plain * 4.0 / var, rtol=1e-9, atol=1e-9)

@@ -11,7 +11,7 @@ from numba import njit
 
 from tracker.rpf.kernel.estimate import particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
-from tracker.rpf.kernel.likelihood import bearing_pass, k_at, level_loglik_particle
+from tracker.rpf.kernel.likelihood import bearing_pass, k_at, level_loglik_particle, level_loglik_particle_sd
 from tracker.rpf.kernel.motion import predict_pass
 from tracker.rpf.kernel.prior import init_particle
 from tracker.rpf.kernel.random import exponential, fill_exponentials, fill_normal_pairs, normal_pair, uniform
@@ -89,6 +89,19 @@ def level_loglik_arrays(state, level_db, ovx, ovy, ross, p0_db, xp, fp, sigma_db
         out[i] = level_loglik_particle(state[0, i], state[1, i], state[2, i], state[3, i], off,
                                        level_db, ovx, ovy, ross, p0_db, xp, fp, xp.size,
                                        0.5 / (sigma_db * sigma_db))
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def level_loglik_sd_arrays(state, level_db, ovx, ovy, ross, p0_db, xp, fp, sp, sigma_db):
+    """Eq. 33 with the grid's K error sd profile ``sp`` for (D, N) particles (for tests)."""
+    n = state.shape[1]
+    out = np.empty(n)
+    for i in range(n):
+        off = state[4, i] if state.shape[0] > 4 else 0.0
+        out[i] = level_loglik_particle_sd(state[0, i], state[1, i], state[2, i], state[3, i], off,
+                                          level_db, ovx, ovy, ross, p0_db, xp, fp, sp, xp.size,
+                                          sigma_db * sigma_db)
     return out
 
 
