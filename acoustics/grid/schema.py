@@ -34,7 +34,7 @@ BEARING_VARS = {"tl_db": ("class", "band", "bearing", "depth", "range"),
                 "bottom_depth_m": ("bearing", "range")}
 #: Variables a grid may have (a flat grid's TL from the observer depth, written since it could
 #: track a target at an unknown depth; older grids of the same format lack it).
-OPTIONAL_VARS = {"tl_obs_db": ("class", "band", "depth", "range")}
+FLAT_OPTIONAL_VARS = {"tl_obs_db": ("class", "band", "depth", "range")}
 BEARING_ATTRS = {"origin_lat_deg": numbers.Real, "origin_lon_deg": numbers.Real}
 FIXED_ENDS = {False: "source", True: "observer"}
 #: Optional variables and their dimensions without and with bearings: the K error sd a
@@ -60,7 +60,7 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
         if not np.issubdtype(ds[name].dtype, np.floating):
             raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers, "
                                 f"got {ds[name].dtype}")
-    for name, dims in ({} if by_bearing else OPTIONAL_VARS).items():
+    for name, dims in ({} if by_bearing else FLAT_OPTIONAL_VARS).items():
         if name in ds.data_vars and (ds[name].dims != dims
                                      or not np.issubdtype(ds[name].dtype, np.floating)):
             raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers "
