@@ -10,6 +10,7 @@ this module parses, calls and reports.
 from __future__ import annotations
 
 import logging
+import math
 import os
 from pathlib import Path
 
@@ -66,6 +67,17 @@ def _quiet_dask(verbose: int) -> None:
         logging.getLogger("distributed").setLevel(logging.WARNING)
 
 
+def _ranges_km(text: str) -> tuple[float, ...]:
+    """--ranges-km as numbers, km."""
+    try:
+        values = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise envdata.InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
+    if not values or any(not (math.isfinite(v) and v > 0) for v in values):
+        raise envdata.InputError(f"--ranges-km: need positive ranges, got {text!r}")
+    return values
+
+
 def run_sensitivity(args) -> Report:
     out = args.out if args.out is not None else Path(f"{envdata.load_area(args.area).name}-sensitivity.nc")
     kinds = {"study": Kind.NETCDF, "plot": Kind.PNG, "sd_map": Kind.PNG, "spread": Kind.PNG,
@@ -76,9 +88,17 @@ def run_sensitivity(args) -> Report:
         check_output_file(path, kinds[name], force=args.force)
     if args.scheduler is not None:
         _quiet_dask(getattr(args, "verbose", 0) or 0)
-    info = sens.run_study_file(args.area, members=args.members, perturb=args.perturb, seed=args.seed,
+    for flag, value, ok, bound in (("--members", args.members, 1 <= args.members <= 100_000, "in [1, 100000]"),
+                                   ("--seed", args.seed, 0 <= args.seed < 2 ** 63, "in [0, 2^63)"),
+                                   ("--workers", args.workers, args.workers >= 1, ">= 1")):
+        if not ok:
+            raise envdata.InputError(f"{flag}: must be {bound}, got {value}")
+    ranges_km = _ranges_km(args.ranges_km)
+    perturbations = ([p for text in args.perturb for p in sens.parse_spec(text, f"--perturb {text.strip()}")]
+                     if args.perturb else None)
+    info = sens.run_study_file(args.area, members=args.members, perturbations=perturbations, seed=args.seed,
                           scheduler=args.scheduler, workers=args.workers, out=out, tl=args.tl,
-                          plot=args.plot, write_k_error=args.write_k_error, ranges_km=args.ranges_km,
+                          plot=args.plot, write_k_error=args.write_k_error, ranges_km=ranges_km,
                           range_min_km=args.range_min_km, range_max_km=args.range_max_km,
                           reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args),
                           into=args.into)

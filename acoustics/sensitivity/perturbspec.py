@@ -116,7 +116,7 @@ class Perturbation:
     kind: Kind
     sd: float
     options: tuple[tuple[str, float], ...] = ()
-    source: str = "--perturb"  # where the spec came from, for messages
+    source: str = "perturbation"  # where the spec came from, for messages
 
     def __post_init__(self) -> None:
         sd_key, _ = KEYS[self.kind]
@@ -236,12 +236,13 @@ def make_perturbation(kind: str, values: dict, source: str) -> Perturbation:
     return Perturbation(kind=k, sd=parsed.get(sd_key, SD_DEFAULTS.get(k, 0.0)), options=options, source=source)
 
 
-def parse_spec(text: str) -> list[Perturbation]:
-    """Parse one ``--perturb`` value: ``KIND:KEY=VALUE,...`` or the path of a TOML spec file."""
+def parse_spec(text: str, source: str | None = None) -> list[Perturbation]:
+    """Parse one perturbation spec: ``KIND:KEY=VALUE,...`` or the path of a TOML spec file;
+    ``source`` names it in messages (default ``perturbation TEXT``)."""
     text = text.strip()
     if text.endswith(".toml") or (Path(text).exists() and ":" not in text):
         return load_perturbations(text)
-    source = f"--perturb {text}"
+    source = source or f"perturbation {text}"
     kind, sep, rest = text.partition(":")
     if not sep or not rest.strip():
         raise PerturbationError(f"{source}: expected KIND:KEY=VALUE[,KEY=VALUE...], e.g. displace:sd_m=10")

@@ -48,9 +48,9 @@ class StudySpec:
 
     def __post_init__(self) -> None:
         if not 1 <= self.members <= 100_000:
-            raise InputError(f"--members: must be in [1, 100000], got {self.members}")
+            raise InputError(f"members: must be in [1, 100000], got {self.members}")
         if not 0 <= self.seed < 2 ** 63:
-            raise InputError(f"--seed: must be in [0, 2^63), got {self.seed}")
+            raise InputError(f"seed: must be in [0, 2^63), got {self.seed}")
         if not (np.isfinite(self.reciprocity_min_depth_m) and self.reciprocity_min_depth_m >= 0):
             raise InputError(f"reciprocity_min_depth_m: must be >= 0 m, got {self.reciprocity_min_depth_m}")
         check_perturbations(self.area, list(self.perturbations))

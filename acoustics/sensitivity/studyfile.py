@@ -19,21 +19,11 @@ from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.gridfile import remove_cache, resume_dir
 from acoustics.sensitivity import writeback
 from acoustics.sensitivity.files import write_study
-from acoustics.sensitivity.perturbspec import default_perturbations, parse_spec
+from acoustics.sensitivity.perturbspec import default_perturbations
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from acoustics.sensitivity.study import StudyStats, run_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
 from envdata.files import atomic_paths
-
-
-def _ranges_m(text: str) -> list[float]:
-    try:
-        values = [float(v) * 1000.0 for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise envdata.InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
-    if not values or any(not (np.isfinite(v) and v > 0) for v in values):
-        raise envdata.InputError(f"--ranges-km: need positive ranges, got {text!r}")
-    return values
 
 
 def _over_bearings(values: xr.DataArray, rms: bool = False) -> float:
@@ -70,14 +60,18 @@ def output_files(out: Path, *, plot: Path | None = None, tl: bool = False,
     return files
 
 
-def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = None, seed: int = 0,
+def run_study_file(area_name: str, *, members: int, perturbations=None, seed: int = 0,
                    scheduler: str | None = None, workers: int = 1, out: Path | None = None,
                    tl: bool = False, plot: Path | None = None, write_k_error: Path | None = None,
-                   ranges_km: str = "5,10,20,50,100", range_min_km: float | None = None,
+                   ranges_km: tuple[float, ...] = (5.0, 10.0, 20.0, 50.0, 100.0),
+                   range_min_km: float | None = None,
                    range_max_km: float | None = None,
                    reciprocity_min_depth_m: float = RECIPROCITY_MIN_DEPTH_M,
                    progress: bool = False, into: Path | None = None) -> dict:
-    """Run a study from the command-line options, write its files and return what was done.
+    """Run a study, write its files and return what was done.
+
+    ``perturbations`` (a list of `Perturbation`; default the area's defaults); ``ranges_km`` where
+    the range error is evaluated, km.
 
     ``out`` defaults to ``AREA-sensitivity.nc``; the keys of the result are what
     ``tmakit sensitivity`` reports (``files``, ``k``, ``range_error``, ``k_error_sd_db``, ...).
@@ -85,12 +79,13 @@ def run_study_file(area_name: str, *, members: int, perturb: list[str] | None = 
     bearing], range)`` into (checked before the study runs, replaced with the other outputs).
     """
     if workers < 1:
-        raise envdata.InputError(f"--workers: must be >= 1, got {workers}")
+        raise envdata.InputError(f"workers: must be >= 1, got {workers}")
     area_file = envdata.area_path(area_name)
     area = envdata.load_area(area_name)
-    perturbations = ([p for text in perturb for p in parse_spec(text)] if perturb
-                     else default_perturbations(area))
-    eval_ranges = _ranges_m(ranges_km)
+    perturbations = list(perturbations) if perturbations else default_perturbations(area)
+    eval_ranges = [float(r) * 1000.0 for r in ranges_km]
+    if not eval_ranges or not all(np.isfinite(r) and r > 0 for r in eval_ranges):
+        raise envdata.InputError(f"evaluation ranges: need positive ranges, got {list(ranges_km)} km")
     spec = StudySpec(area=area, perturbations=tuple(perturbations), members=members, seed=seed, tl=tl,
                           reciprocity_min_depth_m=reciprocity_min_depth_m)  # validates before any output
     out = out if out is not None else Path(f"{area.name}-sensitivity.nc")

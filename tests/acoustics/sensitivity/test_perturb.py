@@ -26,7 +26,7 @@ def test_inline_spec_parses_keys_defaults_and_numbers():
     [p] = ps.parse_spec(" eof:sd_mps=1.5,modes=2,depth_m=800 ")
     assert (p.sd, p.option("modes"), p.option("depth_m"), p.n_draws) == (1.5, 2.0, 800.0, 2)
     assert p.param_names() == ["eof_a1_mps", "eof_a2_mps"]
-    assert ps.parse_spec(p.describe()) == [dataclasses.replace(p, source=f"--perturb {p.describe()}")]
+    assert ps.parse_spec(p.describe()) == [dataclasses.replace(p, source=f"perturbation {p.describe()}")]
 
 
 def test_file_spec_reads_every_table(tiny_area):
@@ -37,7 +37,7 @@ def test_file_spec_reads_every_table(tiny_area):
 
 
 @pytest.mark.parametrize("text, match", [
-    ("displace", r"--perturb displace: expected KIND:KEY=VALUE"),
+    ("displace", r"perturbation displace: expected KIND:KEY=VALUE"),
     ("displace:", r"expected KIND:KEY=VALUE"),
     ("displace:sd_m", r"expected KEY=VALUE, got 'sd_m'"),
     ("displace:sd_m=1,sd_m=2", r"key 'sd_m' given twice"),
