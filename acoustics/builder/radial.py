@@ -117,12 +117,14 @@ def radial_grid_bytes(area: Area, n_depth: int) -> float:
 def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
                       scheduler: str | None = None, cache_dir: str | Path | None = None,
                       progress: bool = False, stats: BuildStats | None = None,
-                      change: FieldChange | None = None, exe: str | None = None) -> xr.Dataset:
+                      change: FieldChange | None = None, exe: str | None = None,
+                      radials: list[Radial] | None = None) -> xr.Dataset:
     """The bearing-dependent grid dataset of docs/formats.md for an area with ``[origin]``.
 
     Parameters as ``acoustics.build_grid``, which calls this for such an area; ``change`` (a
     sensitivity member's change to the data the area reads, ``envdata.fieldchange``) is applied
-    before the radials are cut; ``exe`` names the BELLHOP executable (default ``find_bellhop``).
+    before the radials are cut; ``exe`` names the BELLHOP executable (default ``find_bellhop``);
+    ``radials`` are the area's radials already cut (``envdata.radials.area_radials``).
     """
     model = Model(model)
     exe_path = exe
@@ -130,7 +132,8 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     inputs = input_file_digests(area.water)
     exe = find_bellhop() if model is Model.BELLHOP else None
     digest = source_hash(area, model, exe.sha256 if exe else None, inputs)
-    radials = area_radials(area, progress=progress, change=change)
+    if radials is None:
+        radials = area_radials(area, progress=progress, change=change)
     depth = depth_axis_m(area, radials)
     check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
     rng = area.grid.range_m()
@@ -184,17 +187,19 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
 
 
 def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int = 1,
-                exe: str | None = None, stats: BuildStats | None = None) -> tuple[np.ndarray, np.ndarray]:
+                exe: str | None = None, stats: BuildStats | None = None,
+                radials: list[Radial] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """K alone of a bearing-dependent area: ``k_db(class, band, bearing, range)`` and
     ``bottom_depth_m(bearing, range)``, as `build_radial_grid` computes them.
 
     The same runs (the source at the observer, reciprocity) with receivers at the class depths
     only, so no TL table is kept: what a sensitivity member needs. NaN beyond land and where the
-    class is deeper than the water. ``change`` as for `build_radial_grid`.
+    class is deeper than the water. ``change`` and ``radials`` as for `build_radial_grid`.
     """
     stats = stats if stats is not None else BuildStats()
     exe = exe if exe is not None else str(find_bellhop().path)
-    radials = area_radials(area, change=change)
+    if radials is None:
+        radials = area_radials(area, change=change)
     rng = area.grid.range_m()
     receivers = np.array(sorted({c.depth_m for c in area.classes}))
     row = {z: i for i, z in enumerate(receivers)}
