@@ -230,17 +230,19 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
 
 
 def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int = 1,
-                exe: str | None = None, stats: BuildStats | None = None) -> tuple[np.ndarray, np.ndarray]:
+                exe: str | None = None, stats: BuildStats | None = None,
+                radials: list[Radial] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """K alone of a bearing-dependent area: ``k_db(class, band, bearing, range)`` and
     ``bottom_depth_m(bearing, range)``, as `build_radial_grid` computes them.
 
     The same runs (the source at the observer, reciprocity) with receivers at the class depths
     only, so no TL table is kept: what a sensitivity member needs. NaN beyond land and where the
-    class is deeper than the water. ``change`` as for `build_radial_grid`.
+    class is deeper than the water. ``change`` and ``radials`` as for `build_radial_grid`.
     """
     stats = stats if stats is not None else BuildStats()
     exe = exe if exe is not None else str(find_bellhop().path)
-    radials = area_radials(area, change=change)
+    if radials is None:
+        radials = area_radials(area, change=change)
     rng = area.grid.range_m()
     receivers = np.array(sorted({c.depth_m for c in area.classes}))
     row = {z: i for i, z in enumerate(receivers)}

@@ -30,6 +30,7 @@ from acoustics.builder.radial import build_radial_grid, radial_k_db
 from acoustics.grid.depthinterp import tl_at_depths
 from acoustics.sensitivity.perturb import member_environment
 from acoustics.sensitivity.spec import StudySpec
+from envdata.radials import area_radials
 
 
 @dataclass(frozen=True)
@@ -70,18 +71,21 @@ def member_key(member: int | None) -> str:
 
 
 def compute_member(spec: StudySpec, member: int | None, exe: str | None = None,
-                   nominal_depth_m: np.ndarray | None = None) -> MemberResult:
+                   nominal_depth_m: np.ndarray | None = None, radials: list | None = None) -> MemberResult:
     """Member ``member`` of the study (``None``: the nominal area); runs BELLHOP in this process.
 
     ``nominal_depth_m``: the depth axis a bearing-dependent member's TL is put on (``tl``; the
-    nominal's own, which its result carries in ``depth_m``).
+    nominal's own, which its result carries in ``depth_m``). ``radials``: the member's radials
+    already cut (`member_radials`), else they are cut here.
     """
     if member is None:
         area, change, params = spec.area, None, {}
     else:
         area, change, params = member_environment(spec.area, list(spec.perturbations), spec.seed, member)
     if area.is_bearing_dependent:
-        return _radial_member(spec, member, area, change, params, exe, nominal_depth_m)
+        if radials is None:
+            radials = area_radials(area, change=change)
+        return _radial_member(spec, member, area, radials, params, exe, nominal_depth_m)
     if not spec.tl:
         stats = BuildStats()
         k = k_at_observer_db(area, reciprocity_min_depth_m=spec.reciprocity_min_depth_m, exe=exe, stats=stats)
@@ -94,12 +98,25 @@ def compute_member(spec: StudySpec, member: int | None, exe: str | None = None,
                         bellhop_seconds=stats.bellhop_seconds, tl_db=tl)
 
 
-def _radial_member(spec: StudySpec, member, area, change, params, exe, nominal_depth_m) -> MemberResult:
+def member_radials(spec: StudySpec, member: int | None) -> list:
+    """The radials of member ``member`` (None: the nominal area) of a bearing-dependent study.
+
+    Cut where this is called: a study cuts every member's radials on its own thread before the
+    members run, since the data files are netCDF, whose libraries (netCDF-C, HDF5) are not
+    thread-safe, and the members run on threads.
+    """
+    if member is None:
+        return area_radials(spec.area)
+    area, change, _ = member_environment(spec.area, list(spec.perturbations), spec.seed, member)
+    return area_radials(area, change=change)
+
+
+def _radial_member(spec: StudySpec, member, area, radials, params, exe, nominal_depth_m) -> MemberResult:
     stats = BuildStats()
     if not spec.tl:
-        k, _ = radial_k_db(area, change=change, exe=exe, stats=stats)
+        k, _ = radial_k_db(area, exe=exe, stats=stats, radials=radials)
         return MemberResult(member=member, k_db=k, params=params, bellhop_seconds=stats.bellhop_seconds)
-    grid = build_radial_grid(area, workers=1, stats=stats, change=change, exe=exe)
+    grid = build_radial_grid(area, workers=1, stats=stats, exe=exe, radials=radials)
     depth = grid["depth"].values if nominal_depth_m is None else np.asarray(nominal_depth_m)
     tl = tl_at_depths(grid["tl_db"].values, grid["depth"].values, depth).astype(np.float32)
     return MemberResult(member=member, k_db=grid["k_db"].values, params=params,

@@ -26,7 +26,7 @@ from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
 from acoustics.builder.radial import depth_axis_m
 from acoustics.grid.dataset import TMAKIT_VERSION, now_iso
 from acoustics.grid.formats import STUDY_FORMAT
-from acoustics.sensitivity.members import MemberResult, compute_member, member_key
+from acoustics.sensitivity.members import MemberResult, compute_member, member_key, member_radials
 from acoustics.sensitivity.perturbspec import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
 from envdata.area import Area
@@ -96,15 +96,25 @@ def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int
     done = TaskStats()
     stats.members_total = members
     nominal_depth = None
-    if area.is_bearing_dependent and tl:  # every member's TL on the nominal grid's depth axis
-        nominal_depth = depth_axis_m(area, area_radials(area))
-    tasks = run_tasks(functools.partial(compute_member, spec, exe=str(exe.path), nominal_depth_m=nominal_depth),
-                      [None, *range(members)],
-                      key=member_key, workers=workers, scheduler=scheduler,
+    items: list = [None, *range(members)]
+    fn = functools.partial(compute_member, spec, exe=str(exe.path))
+    if area.is_bearing_dependent:
+        # every member's radials are cut here, on this thread, before the members run on theirs:
+        # the data files are netCDF, and netCDF-C and HDF5 are not thread-safe (a few hundredths
+        # of a second per member against seconds of BELLHOP); a member found in the cache needs none
+        cache = member_cache(cache_dir) if cache_dir is not None else None
+        items = [(m, None if cache is not None and cache.load(member_key(m)) is not None else member_radials(spec, m))
+                 for m in items]
+        if tl:  # every member's TL on the nominal grid's depth axis
+            nominal_depth = depth_axis_m(area, items[0][1] if items[0][1] is not None else area_radials(area))
+        fn = functools.partial(_radial_task, spec, exe=str(exe.path), nominal_depth_m=nominal_depth)
+    tasks = run_tasks(fn, items,
+                      key=_item_key, workers=workers, scheduler=scheduler,
                       cache=member_cache(cache_dir) if cache_dir is not None else None,
                       progress=progress, desc="sensitivity members", unit="member", stats=done)
     with contextlib.closing(tasks):  # stops the pending members whatever happens here
-        for member, result, reused in tasks:
+        for item, result, reused in tasks:
+            member = item[0] if isinstance(item, tuple) else item
             results[member] = result
             if reused:
                 stats.members_reused += member is not None
@@ -116,6 +126,16 @@ def run_study(area: Area, perturbations: Sequence[Perturbation], *, members: int
     ds = study_dataset(spec, results, digest, exe.describe())
     stats.wall_seconds = time.perf_counter() - start
     return ds
+
+
+def _item_key(item) -> str:
+    """A task's cache key: the member's (an item is a member, or a member and its radials)."""
+    return member_key(item[0] if isinstance(item, tuple) else item)
+
+
+def _radial_task(spec: StudySpec, item, exe: str, nominal_depth_m) -> MemberResult:
+    member, radials = item
+    return compute_member(spec, member, exe=exe, nominal_depth_m=nominal_depth_m, radials=radials)
 
 
 def study_dataset(spec: StudySpec, results: dict[int | None, MemberResult], digest: str,
