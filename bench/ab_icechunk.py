@@ -42,9 +42,8 @@ TABLES = 24
 
 def plain_zarr(folder: Path, tables: np.ndarray) -> float:
     root = zarr.open_group(str(folder / "plain.zarr"), mode="w", zarr_format=3)
-    tl = root.create_array("tl_db", shape=(TABLES, *TABLE), chunks=(1, *TABLE), dtype="float32",
-                           fill_value=np.nan)
-    done = root.create_array("done", shape=(TABLES,), chunks=(TABLES,), dtype="bool", fill_value=False)
+    _template(root)
+    tl, done = root["tl_db"], root["done"]
     start = time.perf_counter()
     for i in range(TABLES):
         tl[i] = tables[i]
@@ -52,16 +51,26 @@ def plain_zarr(folder: Path, tables: np.ndarray) -> float:
     return (time.perf_counter() - start) / TABLES
 
 
-def with_icechunk(folder: Path, tables: np.ndarray) -> float:
+def _template(group) -> None:
+    """The atlas-like layout: one chunk per table, the ``done`` flags in one chunk."""
+    group.create_array("tl_db", shape=(TABLES, *TABLE), chunks=(1, *TABLE), dtype="float32",
+                       fill_value=np.nan)
+    group.create_array("done", shape=(TABLES,), chunks=(TABLES,), dtype="bool", fill_value=False)
+
+
+def _ice_repository(folder: Path):
+    """A new icechunk repository in ``folder`` with the template committed."""
     import icechunk
 
-    repo = icechunk.Repository.create(icechunk.local_filesystem_storage(str(folder / "ice")))
+    repo = icechunk.Repository.create(icechunk.local_filesystem_storage(str(folder)))
     session = repo.writable_session("main")
-    root = zarr.open_group(session.store, mode="w", zarr_format=3)
-    root.create_array("tl_db", shape=(TABLES, *TABLE), chunks=(1, *TABLE), dtype="float32",
-                      fill_value=np.nan)
-    root.create_array("done", shape=(TABLES,), chunks=(TABLES,), dtype="bool", fill_value=False)
+    _template(zarr.open_group(session.store, mode="w", zarr_format=3))
     session.commit("template")
+    return repo
+
+
+def with_icechunk(folder: Path, tables: np.ndarray) -> float:
+    repo = _ice_repository(folder / "ice")
     start = time.perf_counter()
     for i in range(TABLES):
         session = repo.writable_session("main")
@@ -76,13 +85,7 @@ def two_writers(folder: Path, tables: np.ndarray) -> dict:
     """Two sessions from the same snapshot, each writing one table and its flag; both commit."""
     import icechunk
 
-    repo = icechunk.Repository.create(icechunk.local_filesystem_storage(str(folder / "ice2")))
-    session = repo.writable_session("main")
-    root = zarr.open_group(session.store, mode="w", zarr_format=3)
-    root.create_array("tl_db", shape=(TABLES, *TABLE), chunks=(1, *TABLE), dtype="float32",
-                      fill_value=np.nan)
-    root.create_array("done", shape=(TABLES,), chunks=(TABLES,), dtype="bool", fill_value=False)
-    session.commit("template")
+    repo = _ice_repository(folder / "ice2")
     a, b = repo.writable_session("main"), repo.writable_session("main")
     for s, i in ((a, 0), (b, 1)):
         r = zarr.open_group(s.store, mode="r+")

@@ -48,50 +48,44 @@ def _check_runs(runs: int, cycles: int, bytes_per_run_cycle: float, what: str) -
     check_memory(runs * cycles * bytes_per_run_cycle, f"{what}: {runs} runs of {cycles} cycles")
 
 
+def _self_built_study_runs(args, study, default_runs: int, bytes_per_run_cycle: float, builds: str) -> int:
+    """The runs of a study that builds its own tables (depth, follow, shelf), after refusing the
+    options it does not take and another scenario than its own."""
+    from tracker.scenario import load_scenario
+
+    if args.level_sigma_db is not None or args.grid is not None:
+        raise InputError(f"--level-sigma-db, --grid: the {args.study} study builds {builds}")
+    if args.scenario != study.SCENARIO:
+        raise InputError(f"{args.study}: the study is written for scenario {study.SCENARIO!r}, got "
+                         f"{args.scenario!r}")
+    runs = default_runs if args.runs is None else args.runs
+    _check_runs(runs, load_scenario(study.SCENARIO).times_s().size, bytes_per_run_cycle, args.study)
+    return runs
+
+
 def run_experiment(args) -> Report:
     if args.workers < 1:
         raise InputError(f"--workers: must be >= 1, got {args.workers}")
     check_output_dir(args.out)
     if args.study == "depth":
-        from tracker.scenario import load_scenario
         from tracker.studies import depth
 
-        if args.level_sigma_db is not None or args.grid is not None:
-            raise InputError("--level-sigma-db, --grid: the depth study builds its own grid")
-        if args.scenario != depth.SCENARIO:
-            raise InputError(f"depth: the study is written for scenario {depth.SCENARIO!r}, got "
-                             f"{args.scenario!r}")
-        runs = 24 if args.runs is None else args.runs
-        _check_runs(runs, load_scenario(depth.SCENARIO).times_s().size, 8.0 * 60, "depth")
+        runs = _self_built_study_runs(args, depth, 24, 8.0 * 60, "its own grid")
         res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args))
         return Report(res["summary"], res)
     if args.study == "follow":
-        from tracker.scenario import load_scenario
         from tracker.studies import follow
 
-        if args.level_sigma_db is not None or args.grid is not None:
-            raise InputError("--level-sigma-db, --grid: the follow study builds its own grid and atlases")
-        if args.scenario != follow.SCENARIO:
-            raise InputError(f"follow: the study is written for scenario {follow.SCENARIO!r}, got "
-                             f"{args.scenario!r}")
-        runs = 10 if args.runs is None else args.runs
-        _check_runs(runs, load_scenario(follow.SCENARIO).times_s().size, 8.0 * 80, "follow")
+        runs = _self_built_study_runs(args, follow, 10, 8.0 * 80, "its own grid and atlases")
         res = follow.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers)
         text = (f"follow study: {runs} runs of {res['scenario']}; mean position RMSE after 10 min, m:\n" +
                 "\n".join(f"  {k:>28}: {v:8.0f}" for k, v in res["mean_rmse_after_10min_m"].items()))
         return Report(text, res)
     if args.study == "shelf":
-        from tracker.scenario import load_scenario
         from tracker.studies import shelf
 
-        if args.level_sigma_db is not None or args.grid is not None:
-            raise InputError("--level-sigma-db, --grid: the shelf study builds its own two grids")
-        if args.scenario != shelf.SCENARIO:
-            raise InputError(f"shelf: the study is written for scenario {shelf.SCENARIO!r}, got "
-                             f"{args.scenario!r}")
-        runs = 100 if args.runs is None else args.runs
-        _check_runs(runs, load_scenario(shelf.SCENARIO).times_s().size, 8.0 * 40, "shelf")
+        runs = _self_built_study_runs(args, shelf, 100, 8.0 * 40, "its own two grids")
         res = shelf.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args))
         return Report(res["summary"], res)
