@@ -28,15 +28,33 @@ def _modules() -> dict[str, Path]:
     return mods
 
 
+def _lazy_tables(mods: dict[str, Path]) -> dict[str, dict[str, str]]:
+    """package -> {name: module} of the re-exports its ``__init__`` declares with
+    ``envdata.lazyexports.lazy_exports`` (imported on first use: arrows all the same)."""
+    tables = {}
+    for name, path in mods.items():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "lazy_exports"
+                    and len(node.args) == 2 and isinstance(node.args[1], ast.Dict)):
+                tables[name] = {ast.literal_eval(n): ast.literal_eval(k)
+                                for k, v in zip(node.args[1].keys, node.args[1].values) for n in v.elts}
+    return tables
+
+
 def _graph(mods: dict[str, Path]) -> dict[str, set[str]]:
-    """module -> the project modules it imports (``from pkg import submodule`` names the submodule)."""
-    graph: dict[str, set[str]] = {name: set() for name in mods}
+    """module -> the project modules it imports (``from pkg import submodule`` names the submodule,
+    ``from pkg import name`` of a lazy re-export the module that defines it; a package's lazy
+    re-export table counts as its imports)."""
+    lazy = _lazy_tables(mods)
+    graph: dict[str, set[str]] = {name: set(lazy.get(name, {}).values()) for name in mods}
     for name, path in mods.items():
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             if isinstance(node, ast.Import):
                 targets = [alias.name for alias in node.names]
             elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                subs = [f"{node.module}.{a.name}" for a in node.names if f"{node.module}.{a.name}" in mods]
+                table = lazy.get(node.module, {})
+                subs = [f"{node.module}.{a.name}" if f"{node.module}.{a.name}" in mods else table[a.name]
+                        for a in node.names if f"{node.module}.{a.name}" in mods or a.name in table]
                 targets = subs if len(subs) == len(node.names) else [node.module, *subs]
             else:
                 continue

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from acoustics.builder.gridfile import build_grid_file as build_file
 from envdata.errors import InputError
 from envdata.limits import check_memory
 from tools.outputs import check_output_dir
@@ -99,6 +98,8 @@ def run_experiment(args) -> Report:
         _check_runs(runs, idm_experiment.get_scenario(args.scenario).t_s.size, 8.0 * 40, "idm")
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
+            from acoustics.builder.gridfile import build_grid_file as build_file
+
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
                               workers=args.workers, progress=want_progress(args)).file
         res = idm_experiment.run(args.scenario, runs=runs,

@@ -1,4 +1,4 @@
-"""Settings of the regularized particle filter: `RpfConfig`, `Method` and `Engine`.
+"""Settings of the regularized particle filter: `RpfConfig` and `Engine`.
 
 References
 ----------
@@ -25,14 +25,6 @@ class Engine(StrEnum):
 
     KERNEL = "kernel"
     NUMPY = "numpy"
-
-
-class Method(StrEnum):
-    """Which measurements the filter uses."""
-
-    RPF = "rpf"          # bearings and SPL (eq. 31)
-    RPF_BOT = "rpf-bot"  # bearings only (eq. 32)
-    RPF_VP = "rpf-vp"    # bearings and SPL, variance-preserving regularization (not in the paper)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -12,8 +12,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from tracker.methods import Method
 from tracker.rpf.batch import run_batch
-from tracker.rpf.config import Method, RpfConfig
+from tracker.rpf.config import RpfConfig
 from tracker.rpf.likelihood import bearing_rad
 
 log = logging.getLogger(__name__)
@@ -72,11 +73,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     from tracker.errors import MeasurementFileError
 
     m = measurements
-    try:
-        method = Method(method)
-    except ValueError:
-        raise MeasurementFileError(f"method {method!r} is not an RPF method (rpf, rpf-bot, "
-                                   f"rpf-vp)") from None
+    chosen = method
+    method = Method(chosen) if chosen in set(Method) else None
+    if method is None or not method.is_particle_filter:
+        raise MeasurementFileError(f"method {chosen!r} is not an RPF method (rpf, rpf-bot, rpf-vp)")
     spl = method is not Method.RPF_BOT
     cfg = config or RpfConfig()
     if method is Method.RPF_VP:
