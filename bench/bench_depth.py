@@ -39,12 +39,12 @@ RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
 def throughput() -> None:
     import acoustics
     import envdata
+    from tools.studies.depth import DEPTH_SPAN_M, _rpf_config
     from tracker.rpf import run_batch
     from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
     from tracker.rpf.track import cycle_profiles
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate_batch
-    from tracker.studies.depth import DEPTH_SPAN_M, _rpf_config
 
     grid = REPO / "docs" / "results" / "depth" / "grids" / "shelf-break-bellhop.nc"
     if not grid.exists():

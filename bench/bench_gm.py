@@ -20,10 +20,10 @@ from benchresults import say, write  # noqa: E402
 def main() -> None:
     import acoustics
     from acoustics.builder.gridfile import build_grid_file
+    from tools.studies.gm import run
     from tracker.mltma import MLTracker
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate
-    from tracker.studies.gm import run
 
     out = Path(__file__).resolve().parents[1] / "out" / "bench"
     if len(sys.argv) > 1:

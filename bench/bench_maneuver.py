@@ -14,8 +14,8 @@ import time
 from pathlib import Path
 
 from acoustics.grid.formats import RESULT_FORMAT
+from tools.studies import gm
 from tracker.mltma import MLParams
-from tracker.studies import gm
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "results" / "maneuver.json"
 

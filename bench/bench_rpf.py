@@ -92,8 +92,8 @@ print(json.dumps({"elapsed_s": elapsed, "steps": steps, "n": n, "resampled": res
 
 
 def _scenario():
+    from tools.studies.idm_scenarios import get_scenario
     from tracker import rpf
-    from tracker.studies.idm_scenarios import get_scenario
 
     sc = get_scenario("idm-static")
     t = sc.t_s
@@ -154,7 +154,7 @@ def bench_stonesoup(python: str, n: int = 5000) -> float | None:
 def bench_full(runs: int = 1000, workers: int = 2) -> tuple[float, float, float]:
     """Wall time (s), peak memory (GiB, largest process) and particle-steps/s of a full study."""
     code = (f"import sys; sys.path.insert(0, {str(REPO)!r}); from pathlib import Path; "
-            f"from tracker.studies import idm as e; import json; "
+            f"from tools.studies import idm as e; import json; "
             f"d = e.run('idm-static', runs={runs}, out_dir=Path(sys.argv[1]), seed=1, "
             f"workers={workers}, grid=sys.argv[2]); "
             f"print(json.dumps({{'elapsed_s': d['elapsed_s'], "

@@ -1,4 +1,6 @@
-"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle.
+"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle;
+inside ``acoustics`` its sub-packages by role, inside ``tools`` the studies (which build tables
+and run the trackers) below the commands that run them, and the tracker never building tables.
 
 Read from the source (every ``import`` statement, those inside functions too), so a lazy import
 that closes a circle is caught as well as one at the top of a module.
@@ -17,6 +19,12 @@ LAYERS = ("envdata", "acoustics", "tracker", "tools")
 #: import its own sub-package and those ranked below it.
 ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plots": 4, "nx2d": 4,
                    "sensitivity": 5}
+#: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
+#: the tracker by the layers) below the command line and its command modules at the root.
+TOOLS_RANKS = {"studies": 0, "": 1}
+#: What builds or computes tables: the tracker takes tables (the grid's face) and never these.
+TABLE_MAKERS = ("acoustics.bellhop", "acoustics.ram", "acoustics.builder", "acoustics.nx2d",
+                "acoustics.sensitivity")
 
 
 def _modules() -> dict[str, Path]:
@@ -103,13 +111,24 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return out
 
 
-def test_no_layer_imports_a_higher_one():
-    mods = _modules()
-    graph = _graph(mods)
+def upward_layers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from a layer to a higher one (`LAYERS`)."""
     rank = {layer: i for i, layer in enumerate(LAYERS)}
-    upward = sorted((a, b) for a, targets in graph.items() for b in targets
-                    if rank[b.split(".")[0]] > rank[a.split(".")[0]])
-    assert upward == []
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if rank[b.split(".")[0]] > rank[a.split(".")[0]])
+
+
+def test_no_layer_imports_a_higher_one():
+    assert upward_layers(_graph(_modules())) == []
+
+
+def test_the_layer_check_finds_an_upward_arrow():
+    # planted: the tracker importing a study (the studies rank above it, in tools/) and the
+    # formulas importing the tracker; the studies' own downward arrows stay unflagged
+    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.tables"},
+             "acoustics.kcurve": {"tracker.ranging"},
+             "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"}}
+    assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"), ("tracker.track", "tools.studies.gm")]
 
 
 def acoustics_rank(module: str) -> int:
@@ -143,6 +162,50 @@ def test_the_rank_check_finds_an_upward_arrow():
              "acoustics.plots.figures": {"acoustics.grid.tables", "acoustics.kcurve"}}
     assert upward_in_acoustics(graph) == [("acoustics.bellhop.runner", "acoustics.builder.executor"),
                                           ("acoustics.kcurve", "acoustics.plots.figures")]
+
+
+def tools_rank(module: str) -> int:
+    """Rank of a ``tools`` module (`TOOLS_RANKS`; a module at the root is a command's)."""
+    parts = module.split(".")
+    return TOOLS_RANKS[parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in TOOLS_RANKS) else ""]
+
+
+def upward_in_tools(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from a study up to the command line."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.startswith("tools") and b.startswith("tools") and tools_rank(b) > tools_rank(a))
+
+
+def tracker_table_makers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from the tracker to a module that builds or computes tables."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.split(".")[0] == "tracker" and b.startswith(TABLE_MAKERS))
+
+
+def test_the_studies_rank_below_the_commands():
+    assert upward_in_tools(_graph(_modules())) == []
+
+
+def test_the_tracker_never_builds_tables():
+    assert tracker_table_makers(_graph(_modules())) == []
+
+
+def test_the_studies_stand_above_the_tracker():
+    # the studies build tables and run the trackers: they live in tools/, above both
+    mods = _modules()
+    assert not any(name.startswith("tracker.studies") for name in mods)
+    assert "tools.studies.gm" in mods and "tools.studies.follow" in mods
+
+
+def test_the_tools_and_tracker_checks_find_their_arrows():
+    # planted: a study importing a command module, the tracker importing a builder (the arrow
+    # the studies used to draw from tracker/), and allowed arrows that must stay unflagged
+    graph = {"tools.studies.shelf": {"tools.experiment_cmd", "tools.studies.shelf_plot", "tracker.track"},
+             "tools.experiment_cmd": {"tools.studies.shelf", "tools.report"},
+             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.tables"},
+             "tracker.simulate": {"acoustics.grid.tables", "acoustics.levelrange"}}
+    assert upward_in_tools(graph) == [("tools.studies.shelf", "tools.experiment_cmd")]
+    assert tracker_table_makers(graph) == [("tracker.studies.depth", "acoustics.builder.gridfile")]
 
 
 def test_the_import_graph_has_no_circle():

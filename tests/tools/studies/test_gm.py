@@ -6,7 +6,7 @@ import pytest
 
 import acoustics
 import envdata
-from tracker.studies.gm import design, run
+from tools.studies.gm import design, run
 
 
 @pytest.fixture(scope="session")
@@ -67,8 +67,8 @@ def test_tv_110km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
 
 def test_design_centre_is_the_class_distribution():
     from envdata import TargetClass
+    from tools.studies.gm import center_offsets
     from tracker.scenario import load_scenario
-    from tracker.studies.gm import center_offsets
 
     cls = TargetClass(name="TV", depth_m=8.0, speed_mean_mps=7.5, speed_sd_mps=1.0,
                       noise_mean_db=133.02, noise_sd_db=2.5, k_error_sd_db=1.5)
@@ -94,7 +94,7 @@ def test_progress_bar_on_stderr(ocean_grid_file, tmp_path, capfd):
 def test_rms_skips_runs_without_an_estimate():
     import numpy as np
 
-    from tracker.studies.gm import weighted_rms
+    from tools.studies.gm import weighted_rms
 
     # 1 class, 3 runs, 2 cycles; run 0 has no range estimate in cycle 0 (not yet detected)
     sq = {"range": np.array([[[np.nan, 4.0], [1.0, 1.0], [9.0, 9.0]]])}

@@ -15,14 +15,13 @@ nominal tables twice:
   over members, bands, bearings and ranges) everywhere, as a constant map and as
   sigma_l = hypot(1.1, number), as the trackers did before.
 
-``python -m tracker.studies.kerror --grid G --study S --out DIR [--runs N]`` writes
+``tmakit experiment kerror shelf-tv --grid G --study S --out DIR [--runs N]`` writes
 ``kerror_rmse.csv`` (``t_min``, ``METHOD_SD_rmse_m``), ``kerror.json`` and ``kerror_rmse.png``
 (all or none).
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import time
 from pathlib import Path
@@ -34,6 +33,7 @@ from acoustics.grid.io import open_grid
 from acoustics.grid.tables import GridTables, as_tables
 from acoustics.sensitivity.files import open_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
+from envdata.errors import InputError
 from envdata.files import atomic_paths
 from tracker.mltma import MLBatch
 from tracker.rpf import RpfConfig, run_batch
@@ -99,7 +99,7 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     out = Path(out_dir)
     with_map = open_grid(grid)
     if not with_map.has_k_error_map:
-        raise ValueError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
+        raise InputError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
     ds = open_study(study)
     summary_k = summarize(ds)
     sc = load_scenario(SCENARIO)
@@ -180,22 +180,3 @@ def _figure(frame: pd.DataFrame, summary: dict):
                  f"member of a {summary['study_members']}-member study", fontsize=9)
     fig.tight_layout()
     return fig
-
-
-def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--grid", required=True)
-    parser.add_argument("--study", required=True)
-    parser.add_argument("--out", required=True)
-    parser.add_argument("--runs", type=int, default=48)
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--particles", type=int, default=2000)
-    args = parser.parse_args(argv)
-    summary = run(grid=args.grid, study=args.study, out_dir=args.out, runs=args.runs, seed=args.seed,
-                  n_particles=args.particles)
-    print(json.dumps({k: summary[k] for k in ("mean_rmse_after_5min_m", "scalar_k_error_sd_db",
-                                              "k_error_sd_db_median_by_bearing", "seconds")}, indent=1))
-
-
-if __name__ == "__main__":
-    main()

@@ -162,7 +162,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "k_difference_db": _k_difference(tables, cls_index, band),
                "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "shelf_rmse.csv", out / "shelf.json", out / "shelf_rmse.png"]
-    from tracker.studies.shelf_plot import rmse_figure
+    from tools.studies.shelf_plot import rmse_figure
 
     fig = rmse_figure(frame, summary)
     from acoustics.plots.figures import save_figure

@@ -221,7 +221,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "depth_errors.csv", out / "depth.json", out / "depth.png"]
     from acoustics.plots.figures import save_figure
-    from tracker.studies.depth_plot import depth_figure
+    from tools.studies.depth_plot import depth_figure
 
     fig = depth_figure(frame, summary)
     with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):

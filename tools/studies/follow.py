@@ -32,10 +32,10 @@ from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.opentables import open_tables
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
+from tools.studies.shelf import _rpf_errors
 from tracker.mltma import MLBatch, MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
-from tracker.studies.shelf import _rpf_errors
 
 AREA, ATLAS_AREA, SCENARIO = "shelf-break", "shelf-break-atlas", "shelf-cross"
 SPACINGS_KM = (10.0, 5.0)
