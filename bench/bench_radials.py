@@ -103,8 +103,8 @@ def wide_area(folder: Path, *, step_deg: float, range_max_m: float) -> Path:
     """shelf-break's synthetic sea on a box wide enough for ``range_max_m``, in the products'
     layouts, and an area file using it (``step_deg`` radials to ``range_max_m``)."""
     sys.path.insert(0, str(REPO))
-    from tools import make_sample_data as sea
-    from tools.sample_layouts import gebco_axis_deg, write_gebco
+    from tests.fixtures import sample_data as sea
+    from tests.fixtures.layouts import gebco_axis_deg, write_gebco
 
     half_lat = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LAT
     half_lon = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LON

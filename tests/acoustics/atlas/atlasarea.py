@@ -12,7 +12,7 @@ import shutil
 from pathlib import Path
 
 import envdata
-from tools.make_sample_data import DATA, RELIEF_FILE, write_monthly
+from tests.fixtures.sample_data import DATA, RELIEF_FILE, write_monthly
 
 ATLAS_TOML = """
 [area]
