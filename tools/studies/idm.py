@@ -29,9 +29,10 @@ from acoustics.grid.tables import GridTables
 from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tools.studies.idm_columns import COLUMN
-from tools.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
+from tools.studies.idm_scenarios import IdmScenario, get_scenario
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
+from tracker.scenario import ScenarioError
 
 log = logging.getLogger(__name__)
 

@@ -33,6 +33,7 @@ from acoustics.grid.io import open_grid
 from acoustics.grid.tables import GridTables, as_tables
 from acoustics.sensitivity.files import open_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
+from envdata.classes import SourceLevelModel
 from envdata.errors import InputError
 from envdata.files import atomic_paths
 from tracker.mltma import MLBatch
@@ -86,7 +87,7 @@ def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, level_sigma_
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles, cfg=cfg, rng=rng,
-                        source_level_model="p0", p0_db=target.noise_mean_db, p0_sd_db=target.noise_sd_db)
+                        source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, p0_sd_db=target.noise_sd_db)
         mean = res.mean[0]
         err[run] = np.hypot(mean[:, 0] + obs[:, 0] - sim.x_m[run], mean[:, 1] + obs[:, 1] - sim.y_m[run])
     return err

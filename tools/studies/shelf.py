@@ -30,6 +30,7 @@ from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.tables import GridTables
 from envdata.area import Area, Water
 from envdata.areafile import load_area
+from envdata.classes import SourceLevelModel
 from envdata.files import atomic_paths
 from envdata.radials import area_radials
 from envdata.ssp import SoundSpeedProfile
@@ -111,7 +112,7 @@ def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.rand
                                   sim.bearing_deg[run], sim.obs_x_m, sim.obs_y_m)
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
                         level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles,
-                        cfg=cfg, rng=rng, source_level_model="p0", p0_db=target.noise_mean_db,
+                        cfg=cfg, rng=rng, source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                         p0_sd_db=target.noise_sd_db)
         mean = res.mean[0]
         err[run] = np.hypot(mean[:, 0] + obs[:, 0] - sim.x_m[run], mean[:, 1] + obs[:, 1] - sim.y_m[run])

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+#: One knot, m/s (the papers give speeds in knots).
 KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
