@@ -1,6 +1,6 @@
 """Benchmarks of the ML tracker (Grinenkov & Mashoshin): cycle latency and the experiment.
 
-Run: ``make bench`` or ``python bench/bench_gm.py [GRID]`` (default: the ocean-deep grid in
+Run: ``make bench`` or ``python -m bench.bench_gm [GRID]`` (default: the ocean-deep grid in
 out/bench/, built or reused first). Prints `name: value unit` lines.
 """
 
@@ -13,8 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import say, write  # noqa: E402
+from bench.harness import Session
+
+session = Session("gm")
 
 
 def main() -> None:
@@ -45,13 +46,13 @@ def main() -> None:
         trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
         lat.append(time.perf_counter() - t0)
     lat_ms = 1000.0 * np.median(lat[-20:])       # 220-240 bearings on the tack
-    say("ml_cycle_latency_3_classes_240_bearings", float(lat_ms), "ms (median of the last 20 cycles)")
-    say("ml_class_cycles_per_second", 3.0 / (lat_ms / 1000.0), "1/s")
+    session.say("ml_cycle_latency_3_classes_240_bearings", float(lat_ms), "ms (median of the last 20 cycles)")
+    session.say("ml_class_cycles_per_second", 3.0 / (lat_ms / 1000.0), "1/s")
     t0 = time.perf_counter()
     run("gm-tv-30km", grid_path=path, n=11, out_dir=out / "gm-experiment", workers=2)
-    say("gm_experiment_1331_runs_2_workers", time.perf_counter() - t0, "s")
+    session.say("gm_experiment_1331_runs_2_workers", time.perf_counter() - t0, "s")
 
 
 if __name__ == "__main__":
     main()
-    write("gm")
+    session.write()

@@ -2,7 +2,7 @@
 gm-tv-30km (27 runs; its figures must not get worse) run with the paper's tests and with the
 present ones, side by side; written to docs/results/maneuver.json.
 
-    python bench/bench_maneuver.py OCEAN_DEEP_GRID.nc
+    python -m bench.bench_maneuver [OCEAN_DEEP_GRID.nc]   (default: built or reused in out/bench/)
 """
 
 from __future__ import annotations
@@ -11,25 +11,32 @@ import json
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 from acoustics.grid.formats import RESULT_FORMAT
+from bench.harness import Session
 from tools.studies import gm
 from tracker.mltma import MLParams
 
-OUT = Path(__file__).resolve().parents[1] / "docs" / "results" / "maneuver.json"
-
 
 def main(grid: str) -> dict:
+    session = Session("maneuver")
     result = {"tmakit_format": RESULT_FORMAT, "scenario": "gm-tv-30km", "runs": 27}
     for label, params in (("paper", MLParams(maneuver_curved=False, level_vs_k=False)), ("now", MLParams())):
         with tempfile.TemporaryDirectory() as tmp:
             start = time.perf_counter()
             res = gm.run("gm-tv-30km", grid_path=grid, n=3, out_dir=tmp, seed=0, workers=2, params=params)
             result[label] = {"steady_state": res["steady_state"], "seconds": round(time.perf_counter() - start, 1)}
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    session.write(**result)
     return result
 
 
+def default_grid() -> str:
+    """The ocean-deep grid in out/bench/, built or reused (``make bench`` passes no grid)."""
+    from acoustics.builder.gridfile import build_grid_file
+    from bench.harness import REPO
+
+    return str(build_grid_file("ocean-deep", REPO / "out" / "bench" / "ocean-deep-bellhop.nc", workers=2).file)
+
+
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1]), indent=1))
+    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else default_grid()), indent=1))
