@@ -96,9 +96,11 @@ def command_line() -> str:
 
 
 def provenance(*, command: str | None = None, load_before: list[float] | None = None,
-               extra_versions: Mapping[str, str] | None = None) -> dict:
-    """What makes a result file traceable (see the module docstring)."""
-    commit, clean = git_state()
+               extra_versions: Mapping[str, str] | None = None,
+               git: tuple[str | None, bool | None] | None = None) -> dict:
+    """What makes a result file traceable (see the module docstring); ``git`` is the checkout's
+    state when the measurement began (default: now)."""
+    commit, clean = git if git is not None else git_state()
     return {"command": command or command_line(), "commit": commit, "tree_clean": clean,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "load_average": {"before": load_before, "after": load_average()},
@@ -124,6 +126,7 @@ class Session:
         self.name = name
         self.command = command
         self.load_before = load_average()
+        self.git = git_state()  # the code measured, before anything is written
         self.figures: dict[str, dict] = {}
 
     def say(self, name: str, value, unit: str = "", *, runs=None) -> None:
@@ -156,7 +159,7 @@ class Session:
         """docs/results/NAME.json: the provenance, ``context`` and the figures said."""
         data = {**context, **({"figures": self.figures} if self.figures else {})}
         return write_result(self.name, data, provenance_data=provenance(
-            command=self.command, load_before=self.load_before, extra_versions=extra_versions))
+            command=self.command, load_before=self.load_before, extra_versions=extra_versions, git=self.git))
 
 
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:

@@ -22,7 +22,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from bench.harness import REPO, load_average, provenance
+from bench.harness import REPO, git_state, load_average, provenance
 
 #: Old names of provenance fields a result file carried in its body.
 _OLD_FIELDS = {"commit": "commit", "date": "date", "bench": "bench", "script": "script",
@@ -40,7 +40,7 @@ def _stamp(path: Path, prov: dict) -> None:
 
 
 def record(files: list[Path], command: list[str]) -> int:
-    before = load_average()
+    before, git = load_average(), git_state()  # the code that makes the files, before they are written
     mtimes = {f: f.stat().st_mtime if f.exists() else None for f in files}
     status = subprocess.run(command, cwd=REPO).returncode
     if status != 0:
@@ -48,7 +48,7 @@ def record(files: list[Path], command: list[str]) -> int:
     stale = [str(f) for f in files if not f.exists() or f.stat().st_mtime == mtimes[f]]
     if stale:
         raise SystemExit(f"record: the command did not write {', '.join(stale)}")
-    prov = provenance(command=" ".join(command), load_before=before)
+    prov = provenance(command=" ".join(command), load_before=before, git=git)
     for f in files:
         _stamp(f, prov)
         print(f"# provenance: {f.relative_to(REPO) if f.is_relative_to(REPO) else f}", flush=True)
