@@ -24,7 +24,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from bench.harness import load_average, provenance, write_result
+from bench.harness import git_state, load_average, provenance, write_result
 
 #: Each snippet prints one number (seconds, or particle-steps per second) and runs in the
 #: checkout's directory with the checkout first on sys.path.
@@ -120,7 +120,7 @@ def main(argv=None) -> int:
     parser.add_argument("--name", default="ab-refactor", help="docs/results/NAME.json (default %(default)s)")
     parser.add_argument("--only", action="append", choices=sorted(WORKLOADS), help="only this workload")
     args = parser.parse_args(argv)
-    load_before = load_average()
+    load_before, git = load_average(), git_state()
     sides = {"before": args.before.resolve(), "after": args.after.resolve()}
     result = {"repeats": args.repeats, "checkouts": {k: _describe(v) for k, v in sides.items()}, "workloads": {}}
     for name, (snippet, better) in WORKLOADS.items():
@@ -137,7 +137,7 @@ def main(argv=None) -> int:
                                      "better": better}
         print(f"{name}: before {med['before']:.4g}, after {med['after']:.4g}, after/before {ratio:.3f}",
               flush=True)
-    write_result(args.name, result, provenance_data=provenance(load_before=load_before))
+    write_result(args.name, result, provenance_data=provenance(load_before=load_before, git=git))
     return 0
 
 

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 import zarr
 
-from bench.harness import load_average, provenance, write_result
+from bench.harness import git_state, load_average, provenance, write_result
 
 #: One table: class x band x bearing x depth x range, float32 (about 4 MiB, a small atlas's).
 TABLE = (3, 3, 12, 101, 300)
@@ -114,7 +114,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     import icechunk
 
-    load_before = load_average()
+    load_before, git = load_average(), git_state()
     rng = np.random.default_rng(0)
     tables = rng.normal(80.0, 10.0, (TABLES, *TABLE)).astype(np.float32)
     times = {"zarr": [], "icechunk": []}
@@ -142,7 +142,7 @@ def main(argv=None) -> int:
     print(f"icechunk_over_zarr: {result['icechunk_over_zarr']:.2f}")
     print(f"two_writers: {writers}")
     write_result(args.name, result, provenance_data=provenance(
-        load_before=load_before, extra_versions={"zarr": zarr.__version__, "icechunk": icechunk.__version__}))
+        load_before=load_before, git=git, extra_versions={"zarr": zarr.__version__, "icechunk": icechunk.__version__}))
     return 0
 
 

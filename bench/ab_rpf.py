@@ -23,7 +23,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from bench.harness import REPO, load_average, provenance, write_result
+from bench.harness import REPO, git_state, load_average, provenance, write_result
 
 _CHILD = r'''
 import json, time
@@ -72,7 +72,7 @@ def main(argv=None) -> int:
     parser.add_argument("--cache-root", type=Path, default=Path("/tmp/tmakit-ab-numba-cache"))
     parser.add_argument("--name", help="also write docs/results/NAME.json")
     args = parser.parse_args(argv)
-    load_before = load_average()
+    load_before, git = load_average(), git_state()
     labels = [chr(ord("A") + i) for i in range(len(args.pythons))]
     pythons = dict(zip(labels, args.pythons))
     results: dict[str, list[dict]] = {label: [] for label in labels}
@@ -93,7 +93,7 @@ def main(argv=None) -> int:
     if args.name:
         write_result(args.name, {"pythons": pythons, "rounds": args.rounds, "runs": results,
                                  "medians_m_particle_steps_per_s": medians},
-                     provenance_data=provenance(load_before=load_before))
+                     provenance_data=provenance(load_before=load_before, git=git))
     return 0
 
 
