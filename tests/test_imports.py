@@ -216,3 +216,29 @@ def test_the_cycle_finder_finds_a_circle():
     # the check above could pass by finding nothing at all: show it finds a planted circle
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
     assert _cycles(graph) == [["a", "b", "c"]]
+
+
+def bench_problems(sources: dict[str, str]) -> list[str]:
+    """A benchmark importing from tests/ or editing sys.path (bench/ is a package run with -m)."""
+    out = []
+    for name, text in sources.items():
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.Import) and any(a.name.split(".")[0] == "tests" for a in node.names):
+                out.append(f"{name}: imports tests")
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "tests":
+                out.append(f"{name}: imports tests")
+            elif isinstance(node, ast.Attribute) and node.attr == "path" and getattr(node.value, "id", "") == "sys":
+                out.append(f"{name}: sys.path")
+        out += [f"{name}: sys.path in code it runs" for line in text.splitlines()
+                if "sys.path" in line and not line.lstrip().startswith("#")
+                and ("insert(" in line or "[:0]" in line or "append(" in line)]
+    return sorted(set(out))
+
+
+def test_the_benchmarks_import_no_tests_and_edit_no_path():
+    sources = {p.name: p.read_text() for p in (REPO / "bench").glob("*.py")}
+    assert bench_problems(sources) == []
+    planted = {"a.py": "import sys\nsys.path.insert(0, 'bench')\n", "b.py": "from tests.x import y\n",
+               "c.py": "CHILD = '''\nsys.path[:0] = ['x']\n'''\n"}
+    assert bench_problems(planted) == ["a.py: sys.path", "a.py: sys.path in code it runs", "b.py: imports tests",
+                                       "c.py: sys.path in code it runs"]
