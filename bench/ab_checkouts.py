@@ -26,25 +26,20 @@ from pathlib import Path
 
 from bench.harness import git_state, load_average, provenance, write_result
 
+GRIDS_BUILD = """
+import subprocess, sys, time, tempfile, os
+out = os.path.join(tempfile.mkdtemp(), "g.nc")
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "{area}", "--out", out,
+                "--workers", "2"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+"""
+
 #: Each snippet prints one number (seconds, or particle-steps per second) and runs in the
 #: checkout's directory with the checkout first on sys.path.
 WORKLOADS = {
-    "grids_build_ocean_deep_2_workers_s": ("""
-import subprocess, sys, time, tempfile, os
-out = os.path.join(tempfile.mkdtemp(), "g.nc")
-t = time.perf_counter()
-subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "ocean-deep", "--out", out,
-                "--workers", "2"], check=True, capture_output=True)
-print(time.perf_counter() - t)
-""", "lower"),
-    "grids_build_shelf_break_2_workers_s": ("""
-import subprocess, sys, time, tempfile, os
-out = os.path.join(tempfile.mkdtemp(), "g.nc")
-t = time.perf_counter()
-subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "shelf-break", "--out", out,
-                "--workers", "2"], check=True, capture_output=True)
-print(time.perf_counter() - t)
-""", "lower"),
+    **{f"grids_build_{area.replace('-', '_')}_2_workers_s": (GRIDS_BUILD.format(area=area), "lower")
+       for area in ("ocean-deep", "shelf-break")},
     "ml_cycle_3_classes_240_bearings_ms": ("""
 import dataclasses, time, numpy as np, envdata, acoustics
 from tracker.mltma import MLTracker

@@ -13,14 +13,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.harness import Session
+from bench.harness import Session, bench_grid
 
 session = Session("gm")
 
 
 def main() -> None:
     import acoustics
-    from acoustics.builder.gridfile import build_grid_file
     from tools.studies.gm import run
     from tracker.mltma import MLTracker
     from tracker.scenario import load_scenario
@@ -30,7 +29,7 @@ def main() -> None:
     if len(sys.argv) > 1:
         path = Path(sys.argv[1])
     else:
-        path = build_grid_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2).file
+        path = Path(bench_grid("ocean-deep"))
     grid = acoustics.open_grid(path)
     # one 40-min tack (the scenario's first, made 2400 s long): the last cycles carry 220-240
     # bearings on the tack, as the latency figure asks

@@ -13,7 +13,7 @@ import tempfile
 import time
 
 from acoustics.grid.formats import RESULT_FORMAT
-from bench.harness import Session
+from bench.harness import Session, bench_grid
 from tools.studies import gm
 from tracker.mltma import MLParams
 
@@ -30,13 +30,5 @@ def main(grid: str) -> dict:
     return result
 
 
-def default_grid() -> str:
-    """The ocean-deep grid in out/bench/, built or reused (``make bench`` passes no grid)."""
-    from acoustics.builder.gridfile import build_grid_file
-    from bench.harness import REPO
-
-    return str(build_grid_file("ocean-deep", REPO / "out" / "bench" / "ocean-deep-bellhop.nc", workers=2).file)
-
-
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else default_grid()), indent=1))
+    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else bench_grid("ocean-deep")), indent=1))

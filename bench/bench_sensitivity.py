@@ -29,9 +29,8 @@ session = Session("sensitivity")
 MEMBERS = 16
 
 
-
-
 def study(area, workers: int):
+    """A study of the area's default perturbations on ``workers``: dataset, stats, wall time, s."""
     stats = sens.StudyStats()
     start = time.perf_counter()
     ds = sens.run_study(area, default_perturbations(area), members=MEMBERS, seed=0, workers=workers, stats=stats)

@@ -11,25 +11,16 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
 
 import numpy as np
 
 import envdata
 from acoustics import sensitivity as sens
-from acoustics.sensitivity.perturbspec import default_perturbations
+from bench.bench_sensitivity import MEMBERS, study
 from bench.harness import Session, median
 
 session = Session("sensitivity-shelf")
 
-MEMBERS = 16
-
-
-def study(area, workers: int):
-    stats = sens.StudyStats()
-    start = time.perf_counter()
-    ds = sens.run_study(area, default_perturbations(area), members=MEMBERS, seed=0, workers=workers, stats=stats)
-    return ds, stats, time.perf_counter() - start
 
 
 def main(argv=None) -> None:

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from acoustics.grid.formats import RESULT_FORMAT
 from bench.harness import REPO as ROOT
-from bench.harness import Session
+from bench.harness import Session, bench_grid
 from envdata.areafile import area_path
 
 
@@ -46,13 +46,5 @@ def main(grid: str) -> dict:
     return result
 
 
-def default_grid() -> str:
-    """The shelf-break grid in out/bench/, built or reused (``make bench`` passes no grid)."""
-    from acoustics.builder.gridfile import build_grid_file
-    from bench.harness import REPO
-
-    return str(build_grid_file("shelf-break", REPO / "out" / "bench" / "shelf-break-bellhop.nc", workers=2).file)
-
-
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else default_grid()), indent=1))
+    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else bench_grid("shelf-break")), indent=1))

@@ -162,6 +162,14 @@ class Session:
             command=self.command, load_before=self.load_before, extra_versions=extra_versions, git=self.git))
 
 
+def bench_grid(area: str) -> str:
+    """The built-in area's BELLHOP grid in out/bench/, built or reused (for a benchmark run with
+    no grid given, as ``make bench`` runs them)."""
+    from acoustics.builder.gridfile import build_grid_file
+
+    return str(build_grid_file(area, REPO / "out" / "bench" / f"{area}-bellhop.nc", workers=2).file)
+
+
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
     """Run ``tmakit ARGS --json`` in a child process: wall time (s), peak resident size of the
     largest process it waited for (MiB), and its JSON report."""
