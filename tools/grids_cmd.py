@@ -115,7 +115,7 @@ def run_check(args) -> Report:
     lines = [f"area {result.area}: K on {result.sample} ({result.baseline_seconds:.1f} s of BELLHOP)",
              f"  the build runs with: {settings}"]
     for v in result.variants:
-        verdict = "converged" if v.converged else f"NOT converged (> {CONVERGED_DB:g} dB)"
+        verdict = "converged" if v.converged else f"NOT converged (median > {CONVERGED_DB:g} dB)"
         lines.append(f"  {v.change}: K moves {v.median_db:.2f} dB median, {v.worst_db:.2f} dB at worst "
                      f"({v.worst}); {verdict}")
     data = dataclasses.asdict(result)

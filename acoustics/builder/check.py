@@ -5,7 +5,8 @@ Each variant computes K alone (receivers at the class depths and the observer's:
 rows are, without its TL table) with one setting changed, and is compared with the area's own:
 the median over classes, bands, bearings and ranges of |dK|, and the worst class and band's
 median. A setting is converged when doubling it moves K by at most ``CONVERGED_DB`` in the
-median (DESIGN.md "Near-surface sources and the beam fan"). A flat area's one profile is its
+median (DESIGN.md "Near-surface sources and the beam fan"); the worst class and band is said
+beside it. A flat area's one profile is its
 sample; a bearing-dependent area's sample is ``SAMPLE_RADIALS`` of its bearings, evenly spread.
 """
 
@@ -33,7 +34,8 @@ SAMPLE_RADIALS = 3
 @dataclass(frozen=True, slots=True)
 class Variant:
     """One doubled setting: what it changed, |dK| median over everything and the worst class and
-    band's median, dB, its runs' BELLHOP time, s, and whether it is within ``CONVERGED_DB``."""
+    band's median, dB, its runs' BELLHOP time, s, and whether the median is within
+    ``CONVERGED_DB``."""
 
     name: str
     change: str
@@ -139,6 +141,6 @@ def check_area(area: Area, *, workers: int = 1, progress: bool = False) -> Check
         med = float(np.median(d[ok])) if ok.any() else 0.0
         variants.append(Variant(name=name, change=change, median_db=round(med, 3), worst_db=round(per[worst], 3),
                                 worst=f"{names[worst][0]} {names[worst][1]}", bellhop_seconds=round(seconds, 2),
-                                converged=per[worst] <= CONVERGED_DB))
+                                converged=med <= CONVERGED_DB))
     return CheckResult(area=area.name, settings=build_settings(area), sample=description,
                        baseline_seconds=round(base_seconds, 2), variants=tuple(variants))
