@@ -1,35 +1,77 @@
-"""The ML analysis's manoeuvre tests before and after (tracker.mltma.maneuver): the G&M study of
-gm-tv-30km (27 runs; its figures must not get worse) run with the paper's tests and with the
-present ones, side by side; written to docs/results/maneuver.json.
+"""The ML analysis's manoeuvre tests, the paper's (`tracker.studies.gm.PAPER_PARAMS`) and the
+default ones (`tracker.mltma.MLParams()`), on what each must do; written to
+docs/results/maneuver.json:
 
-    python bench/bench_maneuver.py OCEAN_DEEP_GRID.nc
+- quick on a real turn: the Grinenkov & Mashoshin study of gm-tv-30km (the transport turns and
+  speeds up at 20 min), both sets of tests on the same runs: the true class's RMS on each tack
+  and the delay with which the turn is declared;
+- quiet on a straight target: the follow study (docs/atlas-tracking.md; BELLHOP's levels along
+  the true path, a target that never manoeuvres), rerun into docs/results/atlas-tracking/: the
+  manoeuvres the ML analysis declares per run and its position RMSE.
+
+    python bench/bench_maneuver.py OCEAN_DEEP_GRID.nc [--runs 1331] [--follow-runs 10]
+
+The follow study builds its grid and atlases into docs/results/atlas-tracking/grids/ (reused).
 """
 
 from __future__ import annotations
 
-import json
-import sys
+import argparse
 import tempfile
 import time
 from pathlib import Path
 
-from acoustics.grid.formats import RESULT_FORMAT
+from benchresults import REPO, _figures, say, write
+
 from tracker.mltma import MLParams
-from tracker.studies import gm
+from tracker.studies import follow, gm
 
-OUT = Path(__file__).resolve().parents[1] / "docs" / "results" / "maneuver.json"
+SCENARIO = "gm-tv-30km"
+TESTS = {"paper": gm.PAPER_PARAMS, "default": MLParams()}
 
 
-def main(grid: str) -> dict:
-    result = {"tmakit_format": RESULT_FORMAT, "scenario": "gm-tv-30km", "runs": 27}
-    for label, params in (("paper", MLParams(maneuver_curved=False, level_vs_k=False)), ("now", MLParams())):
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("grid", help="the ocean-deep grid (tmakit grids build ocean-deep)")
+    ap.add_argument("--runs", type=int, default=1331, help="gm runs, a cube (default 1331)")
+    ap.add_argument("--follow-runs", type=int, default=10)
+    args = ap.parse_args(argv)
+    n = round(args.runs ** (1.0 / 3.0))
+    gm_out = {}
+    for label, params in TESTS.items():
         with tempfile.TemporaryDirectory() as tmp:
             start = time.perf_counter()
-            res = gm.run("gm-tv-30km", grid_path=grid, n=3, out_dir=tmp, seed=0, workers=2, params=params)
-            result[label] = {"steady_state": res["steady_state"], "seconds": round(time.perf_counter() - start, 1)}
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
-    return result
+            res = gm.run(SCENARIO, grid_path=args.grid, n=n, out_dir=tmp, seed=0, workers=2, params=params)
+        gm_out[label] = res
+        true = res["true_class"]
+        for tack, figures in (("tack1", res["steady_state"][true]), ("tack2", res["later_tacks"][0][true])):
+            say(f"gm_{label}_{tack}_course_rms", figures["course_rms_deg"], "deg")
+            say(f"gm_{label}_{tack}_speed_rms", figures["speed_rms_mps"], "m/s")
+            say(f"gm_{label}_{tack}_range_rms", figures["range_rms_m"], "m")
+        turn = res["manoeuvres"][1]
+        say(f"gm_{label}_turn_delay_mean", turn["delay_s"]["mean"] if turn["delay_s"] else float("nan"), "s")
+        say(f"gm_{label}_turn_delay_max", turn["delay_s"]["max"] if turn["delay_s"] else float("nan"), "s")
+        say(f"gm_{label}_turn_missed_runs", turn["missed_runs"], "runs")
+        say(f"gm_{label}_false_per_run", sum(item["false_per_run"] for item in res["manoeuvres"]), "per run")
+        say(f"gm_{label}_seconds", round(time.perf_counter() - start, 1), "s")
+    for tack in ("tack1", "tack2"):
+        for key, unit in (("course_rms", "deg"), ("speed_rms", "m/s"), ("range_rms", "m")):
+            ratio = _figures[f"gm_default_{tack}_{key}"]["value"] / _figures[f"gm_paper_{tack}_{key}"]["value"]
+            say(f"gm_default_over_paper_{tack}_{key}", round(ratio, 4), "")
+    out = REPO / "docs" / "results" / "atlas-tracking"
+    start = time.perf_counter()
+    res = follow.run(runs=args.follow_runs, out_dir=out, seed=0, workers=2)
+    for name in follow.TABLES:
+        for label in ("ml", "ml-paper"):
+            key = f"{label}_{name}_bellhop"
+            say(f"follow_{key}_manoeuvres_per_run", res["ml_manoeuvres_declared"][key]["mean_manoeuvres"], "per run")
+            say(f"follow_{key}_mean_rmse_after_10min", round(res["mean_rmse_after_10min_m"][key]), "m")
+    say("follow_seconds", round(time.perf_counter() - start, 1), "s")
+    write("maneuver", scenario=SCENARIO, gm_runs=n ** 3, follow_runs=args.follow_runs,
+          grid=str(Path(args.grid)), follow_result=str((out / "follow.json").relative_to(REPO)),
+          gm_later_tacks={k: v["later_tacks"] for k, v in gm_out.items()},
+          gm_manoeuvres={k: v["manoeuvres"] for k, v in gm_out.items()})
 
 
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1]), indent=1))
+    main()

@@ -47,9 +47,17 @@ def write(name: str, **context) -> Path:
                                 text=True, timeout=10).stdout.strip() or None
     except OSError:
         commit = None
-    data = {"bench": f"bench/bench_{name}.py", "commit": commit,
+    try:
+        tree_clean = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
+                                    capture_output=True, text=True, timeout=10).stdout.strip() == ""
+    except OSError:
+        tree_clean = None
+    data = {"bench": f"bench/bench_{name}.py",
+            "command": " ".join(["python", f"bench/bench_{name}.py", *sys.argv[1:]]), "commit": commit,
+            "tree_clean": tree_clean,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "cores": os.cpu_count(), "load_average_at_start": round(_load_at_start, 2),
+            "cores": os.cpu_count(), "memory_gib": _memory_gib(), "versions": _versions(),
+            "load_average_at_start": round(_load_at_start, 2),
             "load_average_at_end": round(os.getloadavg()[0], 2), **context, "results": _figures}
     RESULTS_DIR.mkdir(parents=True, exist_ok=True)
     path = RESULTS_DIR / f"{name}.json"
@@ -58,6 +66,29 @@ def write(name: str, **context) -> Path:
     tmp.replace(path)
     print(f"# wrote {path.relative_to(REPO)}", flush=True)
     return path
+
+
+def _memory_gib() -> float | None:
+    """The machine's memory, GiB (None where /proc/meminfo is not there)."""
+    try:
+        kib = next(int(line.split()[1]) for line in Path("/proc/meminfo").read_text().splitlines()
+                   if line.startswith("MemTotal:"))
+    except (OSError, StopIteration, ValueError):
+        return None
+    return round(kib / 2 ** 20, 1)
+
+
+def _versions() -> dict:
+    """Python's and the numerical packages' versions."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": sys.version.split()[0]}
+    for pkg in ("numpy", "numba", "xarray", "aubellhop"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            pass
+    return out
 
 
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
