@@ -55,7 +55,7 @@ def main(argv=None) -> None:
         say(f"gm_{label}_false_per_run", sum(item["false_per_run"] for item in res["manoeuvres"]), "per run")
         say(f"gm_{label}_seconds", round(time.perf_counter() - start, 1), "s")
     for tack in ("tack1", "tack2"):
-        for key, unit in (("course_rms", "deg"), ("speed_rms", "m/s"), ("range_rms", "m")):
+        for key in ("course_rms", "speed_rms", "range_rms"):
             ratio = _figures[f"gm_default_{tack}_{key}"]["value"] / _figures[f"gm_paper_{tack}_{key}"]["value"]
             say(f"gm_default_over_paper_{tack}_{key}", round(ratio, 4), "")
     out = REPO / "docs" / "results" / "atlas-tracking"
