@@ -26,6 +26,20 @@ _figures: dict[str, dict] = {}
 _load_at_start = os.getloadavg()[0]
 
 
+def _git(*args: str) -> str | None:
+    try:
+        return subprocess.run(["git", *args], cwd=REPO, capture_output=True, text=True, timeout=10).stdout.strip()
+    except OSError:
+        return None
+
+
+# the code measured: the commit and whether tracked files differed from it, when the benchmark
+# started (a benchmark that writes result files into the tree leaves it changed at its end)
+_commit = _git("rev-parse", "--short", "HEAD") or None
+_status = _git("status", "--porcelain", "--untracked-files=no")
+_tree_clean = None if _status is None else _status == ""
+
+
 def say(name: str, value, unit: str = "", *, runs: list[float] | None = None) -> None:
     """Print one figure and keep it for `write`; ``runs`` are the repeats a median came from."""
     text = f"{value:.4g}" if isinstance(value, float) else str(value)
@@ -42,19 +56,9 @@ def median(values) -> float:
 
 def write(name: str, **context) -> Path:
     """Write the figures said so far to docs/results/NAME.json (atomically) and return its path."""
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
-                                text=True, timeout=10).stdout.strip() or None
-    except OSError:
-        commit = None
-    try:
-        tree_clean = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
-                                    capture_output=True, text=True, timeout=10).stdout.strip() == ""
-    except OSError:
-        tree_clean = None
     data = {"bench": f"bench/bench_{name}.py",
-            "command": " ".join(["python", f"bench/bench_{name}.py", *sys.argv[1:]]), "commit": commit,
-            "tree_clean": tree_clean,
+            "command": " ".join(["python", f"bench/bench_{name}.py", *sys.argv[1:]]), "commit": _commit,
+            "tree_clean": _tree_clean,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "cores": os.cpu_count(), "memory_gib": _memory_gib(), "versions": _versions(),
             "load_average_at_start": round(_load_at_start, 2),
