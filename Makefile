@@ -73,7 +73,7 @@ $(ICECHUNK):
 	@touch $@
 
 bench: setup $(STONESOUP)
-	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python bench/run.py
+	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m bench.run
 
 clean:
 	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out

@@ -7,19 +7,18 @@ built; ``plots/`` how it is drawn; ``sensitivity/`` the perturbed-environment st
 ``nx2d/`` the BELLHOP3D route kept out of the build.
 """
 
-from acoustics.absorption import thorp_db_per_km
-from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
-from acoustics.builder.gridfile import build_grid_file
-from acoustics.builder.kobserver import build_k
-from acoustics.builder.plan import plan_runs
-from acoustics.errors import BellhopError, GridFileError
-from acoustics.grid.io import open_grid, write_grid
-from acoustics.grid.schema import check_grid
-from acoustics.grid.tables import FlatTables, GridTables, RadialTables, as_tables
-from acoustics.kcurve import spectral_term_db
-from acoustics.urick import k_urick_db, spherical_tl_db
+from envdata.lazyexports import lazy_exports
 
-__all__ = ["BellhopError", "BuildStats", "FlatTables", "GridFileError", "GridTables", "Model", "RadialTables",
-           "as_tables", "build_grid", "build_grid_file", "build_k", "check_grid", "expected_source_hash",
-           "k_urick_db", "open_grid", "plan_runs", "spectral_term_db", "spherical_tl_db", "thorp_db_per_km",
-           "write_grid"]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "acoustics.absorption": ["thorp_db_per_km"],
+    "acoustics.builder.flat": ["BuildStats", "Model", "build_grid", "expected_source_hash"],
+    "acoustics.builder.gridfile": ["build_grid_file"],
+    "acoustics.builder.kobserver": ["build_k"],
+    "acoustics.builder.plan": ["plan_runs"],
+    "acoustics.errors": ["BellhopError", "GridFileError"],
+    "acoustics.grid.io": ["open_grid", "write_grid"],
+    "acoustics.grid.schema": ["check_grid"],
+    "acoustics.grid.tables": ["FlatTables", "GridTables", "RadialTables", "as_tables"],
+    "acoustics.kcurve": ["spectral_term_db"],
+    "acoustics.urick": ["k_urick_db", "spherical_tl_db"],
+})

@@ -1,6 +1,6 @@
 """The same workloads on two checkouts of tmakit, interleaved: is one slower than the other?
 
-    python bench/ab_checkouts.py BEFORE_DIR AFTER_DIR [--repeats 3] [--out docs/results/ab.json]
+    python -m bench.ab_checkouts BEFORE_DIR AFTER_DIR [--repeats 3] [--name ab-refactor]
 
 Each workload runs in a fresh process with the checkout first on the import path and the same Python
 and BELLHOP (this venv's), alternately A B, B A, A B, ... so that drift in the machine's load falls
@@ -8,14 +8,15 @@ on both; the figure is the median over the repeats and the ratio after / before 
 Workloads: the ``grids build`` of ocean-deep and of shelf-break on 2 workers (wall time of the
 command), one cycle of the ML tracker with 3 class hypotheses and 220-240 bearings on the tack (as
 bench_gm.py, on the Urick grid: no BELLHOP in it), and the compiled particle filter's throughput on
-bearings (one filter, as bench_rpf.py). Not part of ``make bench``: it compares a change with its
-parent.
+bearings (one filter, as bench_rpf.py), and ``tmakit --help`` (the start-up every command pays).
+The workloads' code runs on either side of the studies' move to tools/ (it falls back to the old
+module paths). Written to docs/results/NAME.json by the harness. Not part of ``make bench``: it
+compares a change with its parent.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
 import subprocess
@@ -23,27 +24,22 @@ import sys
 import tempfile
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+from bench.harness import git_state, load_average, provenance, write_result
+
+GRIDS_BUILD = """
+import subprocess, sys, time, tempfile, os
+out = os.path.join(tempfile.mkdtemp(), "g.nc")
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "{area}", "--out", out,
+                "--workers", "2"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+"""
 
 #: Each snippet prints one number (seconds, or particle-steps per second) and runs in the
 #: checkout's directory with the checkout first on sys.path.
 WORKLOADS = {
-    "grids_build_ocean_deep_2_workers_s": ("""
-import subprocess, sys, time, tempfile, os
-out = os.path.join(tempfile.mkdtemp(), "g.nc")
-t = time.perf_counter()
-subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "ocean-deep", "--out", out,
-                "--workers", "2"], check=True, capture_output=True)
-print(time.perf_counter() - t)
-""", "lower"),
-    "grids_build_shelf_break_2_workers_s": ("""
-import subprocess, sys, time, tempfile, os
-out = os.path.join(tempfile.mkdtemp(), "g.nc")
-t = time.perf_counter()
-subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "shelf-break", "--out", out,
-                "--workers", "2"], check=True, capture_output=True)
-print(time.perf_counter() - t)
-""", "lower"),
+    **{f"grids_build_{area.replace('-', '_')}_2_workers_s": (GRIDS_BUILD.format(area=area), "lower")
+       for area in ("ocean-deep", "shelf-break")},
     "ml_cycle_3_classes_240_bearings_ms": ("""
 import dataclasses, time, numpy as np, envdata, acoustics
 from tracker.mltma import MLTracker
@@ -68,11 +64,17 @@ for i in range(len(m)):
 print(1000.0 * float(np.median(lat[-20:])))
 """, "lower"),
     "rpf_one_filter_bearings_msteps_per_s": ("""
-import time, sys, numpy as np
-sys.path.insert(0, "bench")
-from bench_rpf import _scenario
+import math, time, numpy as np
 from tracker import rpf
-_, t, obs, b = _scenario()
+try:
+    from tools.studies.idm_scenarios import get_scenario
+except ImportError:  # a checkout before the studies moved to tools/
+    from tracker.studies.idm_scenarios import get_scenario
+sc = get_scenario("idm-static")  # as bench_rpf._scenario
+t = sc.t_s
+obs = sc.observer_state(t)
+rel = sc.target_state(t) - obs
+b = rpf.bearing_rad(rel[:, 0], rel[:, 1]) + math.radians(1.5) * np.random.default_rng(1).standard_normal(t.size)
 cfg = rpf.RpfConfig(n_particles=5000)
 rpf.run_batch(t_s=t[:5], obs_state=obs[:5], bearing_rad_meas=b[None, :5], level_db_meas=None,
               k_profiles=None, cfg=cfg, rng=np.random.default_rng(0))  # compile
@@ -84,6 +86,12 @@ for i in range(3):
     best = max(best, t.size * 5000 / (time.perf_counter() - s))
 print(best / 1e6)
 """, "higher"),
+    "tmakit_help_s": ("""
+import subprocess, sys, time
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "--help"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+""", "lower"),
 }
 
 
@@ -104,12 +112,15 @@ def main(argv=None) -> int:
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", type=Path)
+    parser.add_argument("--name", default="ab-refactor", help="docs/results/NAME.json (default %(default)s)")
+    parser.add_argument("--only", action="append", choices=sorted(WORKLOADS), help="only this workload")
     args = parser.parse_args(argv)
+    load_before, git = load_average(), git_state()
     sides = {"before": args.before.resolve(), "after": args.after.resolve()}
-    result = {"load_average_1min_at_start": os.getloadavg()[0], "repeats": args.repeats,
-              "checkouts": {k: _describe(v) for k, v in sides.items()}, "workloads": {}}
+    result = {"repeats": args.repeats, "checkouts": {k: _describe(v) for k, v in sides.items()}, "workloads": {}}
     for name, (snippet, better) in WORKLOADS.items():
+        if args.only and name not in args.only:
+            continue
         values = {"before": [], "after": []}
         for i in range(args.repeats):
             order = ("before", "after") if i % 2 == 0 else ("after", "before")
@@ -121,9 +132,7 @@ def main(argv=None) -> int:
                                      "better": better}
         print(f"{name}: before {med['before']:.4g}, after {med['after']:.4g}, after/before {ratio:.3f}",
               flush=True)
-    result["load_average_1min_at_end"] = os.getloadavg()[0]
-    if args.out:
-        args.out.write_text(json.dumps(result, indent=1) + "\n")
+    write_result(args.name, result, provenance_data=provenance(load_before=load_before, git=git))
     return 0
 
 

@@ -1,6 +1,6 @@
 """Plain Zarr 3 against icechunk (transactional Zarr) for the atlas's way of writing: one table at a time.
 
-    make .venv-icechunk/.installed && .venv-icechunk/bin/python bench/ab_icechunk.py [--out FILE]
+    make .venv-icechunk/.installed && .venv-icechunk/bin/python -m bench.ab_icechunk [--name icechunk]
 
 An atlas writes each (month, origin) table into its own chunks and then sets its ``done`` flag
 (acoustics/builder/atlas.py); a reader trusts only tables whose flag is set and whose chunks pass
@@ -23,8 +23,6 @@ a tmakit dependency (its own venv, like Stone Soup's).
 from __future__ import annotations
 
 import argparse
-import json
-import os
 import shutil
 import statistics
 import sys
@@ -34,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 import zarr
+
+from bench.harness import git_state, load_average, provenance, write_result
 
 #: One table: class x band x bearing x depth x range, float32 (about 4 MiB, a small atlas's).
 TABLE = (3, 3, 12, 101, 300)
@@ -110,10 +110,11 @@ def two_writers(folder: Path, tables: np.ndarray) -> dict:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", type=Path)
+    parser.add_argument("--name", default="icechunk", help="docs/results/NAME.json (default %(default)s)")
     args = parser.parse_args(argv)
     import icechunk
 
+    load_before, git = load_average(), git_state()
     rng = np.random.default_rng(0)
     tables = rng.normal(80.0, 10.0, (TABLES, *TABLE)).astype(np.float32)
     times = {"zarr": [], "icechunk": []}
@@ -131,8 +132,7 @@ def main(argv=None) -> int:
         shutil.rmtree(folder, ignore_errors=True)
     med = {k: statistics.median(v) for k, v in times.items()}
     result = {"table_shape": list(TABLE), "table_mib": tables[0].nbytes / 2**20, "tables": TABLES,
-              "repeats": args.repeats, "load_average_1min": os.getloadavg()[0],
-              "versions": {"zarr": zarr.__version__, "icechunk": icechunk.__version__},
+              "repeats": args.repeats,
               "seconds_per_table": times, "median_seconds_per_table": med,
               "icechunk_over_zarr": med["icechunk"] / med["zarr"], "two_writers": writers,
               "local_filesystem_storage": "icechunk warns at run time: not safe for concurrent commits "
@@ -141,8 +141,8 @@ def main(argv=None) -> int:
         print(f"{name}_seconds_per_table: {value:.4f} s")
     print(f"icechunk_over_zarr: {result['icechunk_over_zarr']:.2f}")
     print(f"two_writers: {writers}")
-    if args.out:
-        args.out.write_text(json.dumps(result, indent=1) + "\n")
+    write_result(args.name, result, provenance_data=provenance(
+        load_before=load_before, git=git, extra_versions={"zarr": zarr.__version__, "icechunk": icechunk.__version__}))
     return 0
 
 

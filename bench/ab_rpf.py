@@ -1,6 +1,6 @@
 """Compare the compiled particle filter's speed under several Python environments, interleaved.
 
-    python bench/ab_rpf.py PYTHON_A PYTHON_B [PYTHON_C ...] [--rounds 6]
+    python -m bench.ab_rpf PYTHON_A PYTHON_B [PYTHON_C ...] [--rounds 6] [--name NAME]
 
 For comparing dependency sets (numpy/numba versions) on a shared, noisy machine. Each round runs
 one measuring process per environment, forwards then backwards (A B C, C B A, A B C, ...), so
@@ -9,7 +9,8 @@ process times the kernel (`tracker.rpf_kernel`, via
 ``rpf.run_batch``) on the bench's idm-static bearings, N = 5000, 151 cycles: one filter (best of
 5) and 40 runs in one call on one thread (best of 2), in particle-steps per second of wall time
 and per second of the process's CPU time. CPU time is the figure that other users' load
-changes least. Both environments run this checkout's code. Not part of ``make bench``.
+changes least. Both environments run this checkout's code (on their PYTHONPATH). With --name,
+written to docs/results/NAME.json by the harness. Not part of ``make bench``.
 """
 
 from __future__ import annotations
@@ -22,14 +23,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+from bench.harness import REPO, git_state, load_average, provenance, write_result
 
 _CHILD = r'''
-import json, sys, time
-sys.path[:0] = [sys.argv[1], sys.argv[1] + "/bench"]
+import json, time
 import numba
 import numpy as np
-from bench_rpf import _scenario
+from bench.bench_rpf import _scenario
 from tracker import rpf
 
 _, t, obs, b = _scenario()
@@ -60,8 +60,8 @@ FIGURES = ("one_wall", "one_cpu", "batched40_wall", "batched40_cpu")
 
 def measure(python: str, cache_dir: Path) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir))  # one numba cache per environment
-    proc = subprocess.run([python, "-c", _CHILD, str(REPO)], capture_output=True, text=True,
-                          env=env, check=True)
+    env["PYTHONPATH"] = str(REPO)  # this checkout's code, whatever the environment installs
+    proc = subprocess.run([python, "-c", _CHILD], capture_output=True, text=True, env=env, cwd=REPO, check=True)
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
@@ -70,7 +70,9 @@ def main(argv=None) -> int:
     parser.add_argument("pythons", nargs="+", metavar="PYTHON")
     parser.add_argument("--rounds", type=int, default=6)
     parser.add_argument("--cache-root", type=Path, default=Path("/tmp/tmakit-ab-numba-cache"))
+    parser.add_argument("--name", help="also write docs/results/NAME.json")
     args = parser.parse_args(argv)
+    load_before, git = load_average(), git_state()
     labels = [chr(ord("A") + i) for i in range(len(args.pythons))]
     pythons = dict(zip(labels, args.pythons))
     results: dict[str, list[dict]] = {label: [] for label in labels}
@@ -88,6 +90,10 @@ def main(argv=None) -> int:
               + ", ".join(f"{k} {medians[label][k]:.2f}" for k in FIGURES)
               + " M particle-steps/s; vs A: "
               + ", ".join(f"{medians[label][k] / medians['A'][k]:.3f}" for k in FIGURES))
+    if args.name:
+        write_result(args.name, {"pythons": pythons, "rounds": args.rounds, "runs": results,
+                                 "medians_m_particle_steps_per_s": medians},
+                     provenance_data=provenance(load_before=load_before, git=git))
     return 0
 
 

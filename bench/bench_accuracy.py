@@ -1,6 +1,6 @@
 """What each shortcut of the default grid build costs in K(r) accuracy, against the full computation.
 
-Run with ``make bench`` (or ``python bench/bench_accuracy.py``). The full computation is every
+Run with ``make bench`` (or ``python -m bench.bench_accuracy``). The full computation is every
 quadrature frequency of every band at BELLHOP's automatic beam count, K(r) computed directly
 (source at the class depth); against it: the default grid, the fixed fan of beams alone, the
 one-run-per-band frequency shortcut alone, fans of 250 to 3000 beams, K by reciprocity, and the
@@ -14,17 +14,15 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
 import acoustics
 import envdata
+from bench.harness import Session
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import say, write  # noqa: E402
+session = Session("accuracy")
 
 
 def k_difference(a, b) -> tuple[float, float, float]:
@@ -49,8 +47,8 @@ def main() -> None:
     for name, k in (("default_grid", grid["k_db"]), ("fixed_beam_fan", k_beams),
                     ("frequency_shortcut", k_short)):
         med, p95, rms = k_difference(k, k_full)
-        say(f"k_error_{name}_vs_full_median", med, "dB")
-        say(f"k_error_{name}_vs_full_p95", p95, "dB")
+        session.say(f"k_error_{name}_vs_full_median", med, "dB")
+        session.say(f"k_error_{name}_vs_full_p95", p95, "dB")
     # how many beams incoherent K(r) needs (one run per band; reference: BELLHOP's own count)
     for n_beams in (250, 500, 1000, 1500, 3000):
         fan = dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=n_beams))
@@ -58,8 +56,8 @@ def main() -> None:
         k_fan = acoustics.build_k(fan, reciprocity_min_depth_m=math.inf, workers=ncores)
         seconds = time.perf_counter() - start
         med, p95, _ = k_difference(k_fan, k_full)
-        say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")
-        say(f"k_error_{n_beams}_beams_vs_full_p95", p95, f"dB ({seconds:.1f} s for K alone)")
+        session.say(f"k_error_{n_beams}_beams_vs_full_median", med, "dB")
+        session.say(f"k_error_{n_beams}_beams_vs_full_p95", p95, f"dB ({seconds:.1f} s for K alone)")
     # the whole TL field of one class and band against the full computation
     nps, fb1 = area.classes[0], area.bands[0]
     one = dict(classes=(nps,), bands=(fb1,))
@@ -67,14 +65,14 @@ def main() -> None:
     tl_full = acoustics.build_grid(dataclasses.replace(full, **one), workers=ncores)["tl_db"].values[0, 0]
     audible = tl_full < 120.0  # leave out deep shadows, where no band would be detected
     d = np.abs(tl_default - tl_full)[audible]
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
-    say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
+    session.say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
+    session.say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
     for cls in area.classes:
         med, p95, _ = k_difference(k_recip.sel({"class": cls.name}), grid["k_db"].sel({"class": cls.name}))
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
-        say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_p95", p95, "dB")
+        session.say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
+        session.say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_p95", p95, "dB")
 
 
 if __name__ == "__main__":
     main()
-    write("accuracy")
+    session.write()

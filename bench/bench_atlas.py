@@ -1,6 +1,8 @@
 """Benchmarks of atlases (README "Atlases").
 
-Run with ``python bench/bench_atlas.py [--repeats N]``; writes ``docs/results/atlas.json``.
+Run with ``python -m bench.bench_atlas [--repeats N]``; writes ``docs/results/atlas.json``. The
+area is the atlas tests' (tests/data/atlas-test.toml, its climatology written by the data build
+``python -m tests.fixtures.sample_data --monthly``).
 
 - Speed: an atlas of the test area (the shelf-break relief, 2 months x 6 positions = 12 tables)
   with tables of 12 radials x 3 bands to 10 km (36 BELLHOP runs, BELLHOP's own beam count, a
@@ -37,14 +39,14 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+from bench.harness import REPO as ROOT
+from bench.harness import Session
 
-from tests.acoustics.atlas.atlasarea import write_atlas_area  # noqa: E402
+#: The atlas tests' area, as data (the tests read it too).
+ATLAS_TOML = ROOT / "tests" / "data" / "atlas-test.toml"
 
 CHILD = """
 import json, resource, sys
-sys.path.insert(0, {root!r})
 import envdata
 from acoustics.builder.atlas import build_atlas_file
 area = envdata.load_area({area!r})
@@ -79,8 +81,19 @@ high_hz = 3000.0
 """
 
 
+def write_atlas_area(folder: Path, *, spacing_km: float) -> Path:
+    """The atlas tests' area in ``folder`` with this lattice spacing, its climatology and relief
+    beside it (written by the data build, a command of the tests' fixtures)."""
+    if not (folder / "woa_monthly_t.nc").exists():
+        subprocess.run([sys.executable, "-m", "tests.fixtures.sample_data", "--monthly", str(folder)],
+                       cwd=ROOT, check=True)
+    path = folder / "atlas-test.toml"
+    path.write_text(ATLAS_TOML.read_text().replace("spacing_km = 8.0", f"spacing_km = {spacing_km}"))
+    return path
+
+
 def area_file(folder: Path, spacing_km: float, step_deg: float = 30.0, depth_step_m: float = 50.0) -> Path:
-    path = write_atlas_area(folder, months=(2, 8), spacing_km=spacing_km)
+    path = write_atlas_area(folder, spacing_km=spacing_km)
     text = path.read_text().replace("step_deg = 90.0", f"step_deg = {step_deg}")
     text = text.replace("depth_step_m = 50.0\n\n[water]", f"depth_step_m = {depth_step_m}\n\n[water]")
     path.write_text(text)
@@ -99,9 +112,9 @@ def speed_area_file(folder: Path) -> Path:
 
 def build(area: Path, out: Path, workers: int, cluster: bool = False) -> dict:
     start = time.perf_counter()
-    done = subprocess.run([sys.executable, "-c", CHILD.format(root=str(ROOT), area=str(area), out=str(out),
-                                                              workers=workers, cluster=cluster)],
-                          capture_output=True, text=True, check=True)
+    done = subprocess.run([sys.executable, "-c", CHILD.format(area=str(area), out=str(out), workers=workers,
+                                                              cluster=cluster)],
+                          capture_output=True, text=True, check=True, cwd=ROOT)
     info = json.loads(done.stdout.strip().splitlines()[-1])
     info["process_seconds"] = time.perf_counter() - start
     return info
@@ -110,14 +123,14 @@ def build(area: Path, out: Path, workers: int, cluster: bool = False) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "results" / "atlas.json")
     args = parser.parse_args()
+    session = Session("atlas")
     results: dict = {}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         area = speed_area_file(tmp / "speed")
         one, two = [], []
-        load = [os.getloadavg()]
+        load = [os.getloadavg()]  # per build, beside the session's before and after
         for i in range(args.repeats):
             order = (1, 2) if i % 2 == 0 else (2, 1)
             for workers in order:
@@ -198,10 +211,7 @@ def main() -> None:
                                "bellhop_s_per_table": round(info["bellhop_seconds"] / info["tables"], 3)})
         results["cost_per_table_vs_depths"] = depth_cost
         print(json.dumps(depth_cost), flush=True)
-    results["machine"] = {"cores": os.cpu_count(), "note": "shared with other jobs; read the ratios",
-                          "load_average_1_5_15_min_at_end": list(os.getloadavg())}
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(results, indent=2) + "\n")
+    session.write(**results)
     print(json.dumps(results["speed"], indent=1))
 
 

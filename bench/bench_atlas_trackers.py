@@ -5,13 +5,12 @@ one position (the same axes); the filter on one run and on a batch of 20 runs (t
 a cycle serve the whole batch). 7 interleaved repeats, medians, the load average beside them;
 each repeat opens the tables anew (no view kept from the last). Written to docs/results/atlas-trackers.json.
 
-    python bench/bench_atlas_trackers.py [ATLAS.zarr]   (default: the follow study's 5 km atlas)
+    python -m bench.bench_atlas_trackers [ATLAS.zarr]   (default: the follow study's 5 km atlas)
 """
 
 from __future__ import annotations
 
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -20,14 +19,15 @@ import numpy as np
 
 from acoustics.grid.atlas import open_atlas
 from acoustics.grid.formats import RESULT_FORMAT
+from bench.harness import REPO as ROOT
+from bench.harness import Session
+from envdata.classes import SourceLevelModel
 from tracker.mltma import MLBatch
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
-ROOT = Path(__file__).resolve().parents[1]
-OUT = ROOT / "docs" / "results" / "atlas-trackers.json"
 ATLAS = ROOT / "docs" / "results" / "atlas-tracking" / "grids" / "atlas-5km.zarr"
 REPEATS = 7  # a single filter run is ~20 ms: 7 interleaved repeats for a steady median
 N_PARTICLES = 5000
@@ -62,7 +62,7 @@ def _rpf_seconds(tables, sim, ic: int, runs: int) -> float:
     run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearings,
               level_db_meas=np.repeat(sim.level_db[:1, :, 0], runs, 0), k_profiles=profiles, cfg=cfg,
               rng=np.random.default_rng(1),
-              source_level_model="p0", p0_db=tables.classes[ic].noise_mean_db, p0_sd_db=2.5)
+              source_level_model=SourceLevelModel.P0, p0_db=tables.classes[ic].noise_mean_db, p0_sd_db=2.5)
     return time.perf_counter() - start
 
 
@@ -72,23 +72,22 @@ def main(path: Path) -> dict:
     ic = base.class_index(sc.target_class)
     sim = simulate_batch(sc, _tables(path, "atlas"), np.random.default_rng(0), dk_db=[0.0])
     _rpf_seconds(base, sim, ic, 1)  # compile the kernel once, outside the timings
-    load_before = os.getloadavg()
+    session = Session("atlas-trackers")
     times = {k: [] for k in ("ml_grid", "ml_atlas", "rpf_grid", "rpf_atlas", "rpf20_grid", "rpf20_atlas")}
-    for _ in range(REPEATS):
-        for which in ("grid", "atlas"):
-            times[f"ml_{which}"].append(_ml_seconds(_tables(path, which), sim))
-            times[f"rpf_{which}"].append(_rpf_seconds(_tables(path, which), sim, ic, 1))
-            times[f"rpf20_{which}"].append(_rpf_seconds(_tables(path, which), sim, ic, 20))
+    # each workload's own time (the tables opened anew are not timed), grid and atlas in turns
+    workloads = {f"{kind}_{which}": (lambda kind=kind, which=which: times[f"{kind}_{which}"].append(
+        _ml_seconds(_tables(path, which), sim) if kind == "ml"
+        else _rpf_seconds(_tables(path, which), sim, ic, 1 if kind == "rpf" else 20)))
+        for kind in ("ml", "rpf", "rpf20") for which in ("grid", "atlas")}
+    session.interleave(workloads, REPEATS)
     med = {k: float(np.median(v)) for k, v in times.items()}
     result = {"tmakit_format": RESULT_FORMAT, "atlas": _shown(path), "scenario": sc.name, "cycles": int(sim.t_s.size),
               "ml_rows": len(base.classes), "rpf_particles": N_PARTICLES, "repeats": REPEATS, "times_s": times,
               "median_s": med, "ml_cycle_ms": {"grid": 1e3 * med["ml_grid"], "atlas": 1e3 * med["ml_atlas"]},
               "ratio_ml_atlas_over_grid": med["ml_atlas"] / med["ml_grid"],
               "ratio_rpf_atlas_over_grid": med["rpf_atlas"] / med["rpf_grid"],
-              "ratio_rpf20_atlas_over_grid": med["rpf20_atlas"] / med["rpf20_grid"], "target_ratio": 1.3,
-              "load_average_1_5_15_min": {"before": list(load_before), "after": list(os.getloadavg())},
-              "machine": {"cores": os.cpu_count(), "note": "shared with other jobs; read the ratios"}}
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
+              "ratio_rpf20_atlas_over_grid": med["rpf20_atlas"] / med["rpf20_grid"], "target_ratio": 1.3}
+    session.write(**result)
     return result
 
 

@@ -1,7 +1,7 @@
 """Benchmarks of the unknown target depth: the particle filter's cost, and the reciprocity error
 of a flat grid's observer-centred TL near the surface.
 
-    make bench, or: python bench/bench_depth.py
+    make bench, or: python -m bench.bench_depth
 
 Prints one line per figure, ``name: value unit``, all measured in this one run, and writes
 docs/results/depth.json:
@@ -21,16 +21,13 @@ docs/results/depth.json:
 
 from __future__ import annotations
 
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import median, say, write  # noqa: E402
+from bench.harness import REPO, Session, median
+
+session = Session("depth")
 
 RUNS, PARTICLES, REPEATS = 20, 2000, 7
 RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
@@ -39,12 +36,13 @@ RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
 def throughput() -> None:
     import acoustics
     import envdata
+    from envdata.classes import SourceLevelModel
+    from tools.studies.depth import DEPTH_SPAN_M, _rpf_config
     from tracker.rpf import run_batch
     from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
     from tracker.rpf.track import cycle_profiles
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate_batch
-    from tracker.studies.depth import DEPTH_SPAN_M, _rpf_config
 
     grid = REPO / "docs" / "results" / "depth" / "grids" / "shelf-break-bellhop.nc"
     if not grid.exists():
@@ -60,7 +58,7 @@ def throughput() -> None:
     level = sim.level_db[:, :, 0]
     cls = tables.classes[ic]
     common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing, level_db_meas=level,
-                  cfg=cfg, source_level_model="p0", p0_db=cls.noise_mean_db)
+                  cfg=cfg, source_level_model=SourceLevelModel.P0, p0_db=cls.noise_mean_db)
     # one bearing's profiles for every run (the fixed-depth filter's cost does not depend on it)
     profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
     target_k = tables.target_depth_k(ic, 0)
@@ -84,12 +82,12 @@ def throughput() -> None:
             fn(rep + 1)
             cpu[name].append(work / (time.process_time() - cpu0))
             wall[name].append(work / (time.perf_counter() - wall0))
-    say("rpf_fixed_depth_particle_cycles_per_s", median(cpu["fixed"]), "1/s", runs=cpu["fixed"])
-    say("rpf_depth_state_particle_cycles_per_s", median(cpu["unknown"]), "1/s", runs=cpu["unknown"])
+    session.say("rpf_fixed_depth_particle_cycles_per_s", median(cpu["fixed"]), "1/s", runs=cpu["fixed"])
+    session.say("rpf_depth_state_particle_cycles_per_s", median(cpu["unknown"]), "1/s", runs=cpu["unknown"])
     ratios = [u / f for u, f in zip(cpu["unknown"], cpu["fixed"])]
-    say("rpf_depth_state_throughput_ratio", median(ratios), "", runs=ratios)
+    session.say("rpf_depth_state_throughput_ratio", median(ratios), "", runs=ratios)
     wall_ratios = [u / f for u, f in zip(wall["unknown"], wall["fixed"])]
-    say("rpf_depth_state_throughput_ratio_wall", median(wall_ratios), "", runs=wall_ratios)
+    session.say("rpf_depth_state_throughput_ratio_wall", median(wall_ratios), "", runs=wall_ratios)
 
 
 def reciprocity() -> None:
@@ -104,10 +102,10 @@ def reciprocity() -> None:
     t = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
     for ic, cls in enumerate(t.classes):
         diff = t.at_target_depth(cls.depth_m).k_grid_db[ic] - t.k_grid_db[ic]   # (M, R)
-        say(f"reciprocity_error_median_abs_db_at_{cls.depth_m:g}m", float(np.median(np.abs(diff))), "dB")
+        session.say(f"reciprocity_error_median_abs_db_at_{cls.depth_m:g}m", float(np.median(np.abs(diff))), "dB")
 
 
 if __name__ == "__main__":
     throughput()
     reciprocity()
-    write("depth")
+    session.write()

@@ -1,6 +1,6 @@
 """Benchmarks of the ML tracker (Grinenkov & Mashoshin): cycle latency and the experiment.
 
-Run: ``make bench`` or ``python bench/bench_gm.py [GRID]`` (default: the ocean-deep grid in
+Run: ``make bench`` or ``python -m bench.bench_gm [GRID]`` (default: the ocean-deep grid in
 out/bench/, built or reused first). Prints `name: value unit` lines.
 """
 
@@ -13,23 +13,23 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import say, write  # noqa: E402
+from bench.harness import Session, bench_grid
+
+session = Session("gm")
 
 
 def main() -> None:
     import acoustics
-    from acoustics.builder.gridfile import build_grid_file
+    from tools.studies.gm import run
     from tracker.mltma import MLTracker
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate
-    from tracker.studies.gm import run
 
     out = Path(__file__).resolve().parents[1] / "out" / "bench"
     if len(sys.argv) > 1:
         path = Path(sys.argv[1])
     else:
-        path = build_grid_file("ocean-deep", out / "ocean-deep-bellhop.nc", workers=2).file
+        path = Path(bench_grid("ocean-deep"))
     grid = acoustics.open_grid(path)
     # one 40-min tack (the scenario's first, made 2400 s long): the last cycles carry 220-240
     # bearings on the tack, as the issue's latency figure asks
@@ -45,13 +45,13 @@ def main() -> None:
         trk.update_from(m, i, obs_vel=(vx[i], vy[i]))
         lat.append(time.perf_counter() - t0)
     lat_ms = 1000.0 * np.median(lat[-20:])       # 220-240 bearings on the tack
-    say("ml_cycle_latency_3_classes_240_bearings", float(lat_ms), "ms (median of the last 20 cycles)")
-    say("ml_class_cycles_per_second", 3.0 / (lat_ms / 1000.0), "1/s")
+    session.say("ml_cycle_latency_3_classes_240_bearings", float(lat_ms), "ms (median of the last 20 cycles)")
+    session.say("ml_class_cycles_per_second", 3.0 / (lat_ms / 1000.0), "1/s")
     t0 = time.perf_counter()
     run("gm-tv-30km", grid_path=path, n=11, out_dir=out / "gm-experiment", workers=2)
-    say("gm_experiment_1331_runs_2_workers", time.perf_counter() - t0, "s")
+    session.say("gm_experiment_1331_runs_2_workers", time.perf_counter() - t0, "s")
 
 
 if __name__ == "__main__":
     main()
-    write("gm")
+    session.write()

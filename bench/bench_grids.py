@@ -1,6 +1,6 @@
 """Speed and memory of the propagation grids of the default area, and the naive loop they replace.
 
-Run with ``make bench`` (or ``python bench/bench_grids.py``). Prints one line per figure, ``name:
+Run with ``make bench`` (or ``python -m bench.bench_grids``). Prints one line per figure, ``name:
 value unit``, and writes docs/results/grids.json. ``grids build`` on 1 and 2 workers and the raw
 BELLHOP runs on the same .env files are interleaved and repeated; the figures are medians
 (ratios: medians of the side-by-side pairs). What the build's shortcuts cost in accuracy is
@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import os
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -21,9 +20,9 @@ import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.plan import plan_runs, receiver_depths_m
 from acoustics.kcurve import band_frequencies_hz
+from bench.harness import Session, cli_with_rusage, median
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import cli_with_rusage, median, say, write  # noqa: E402
+session = Session("grids")
 
 REPO = Path(__file__).resolve().parents[1]
 REPEATS = 3  # timings interleaved and repeated; the figures are medians
@@ -47,7 +46,7 @@ def main() -> None:
     exe = find_bellhop().path
     area = envdata.load_area(envdata.DEFAULT_AREA)
     ncores = os.cpu_count() or 1
-    say("cores", ncores)
+    session.say("cores", ncores)
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "g.nc"
         # -- speed and memory of the default area ----------------------------------------------
@@ -63,23 +62,23 @@ def main() -> None:
             raws.append(raw_bellhop_seconds([r.env for r in runs], exe))
             rss.append(max(rss1, rss2))
         wall1, wall2, raw = median(w1), median(w2), median(raws)
-        say("repeats", REPEATS)
-        say("ocean_deep_runs", len(runs), "BELLHOP runs")
-        say("ocean_deep_build_1_worker", wall1, "s (median)", runs=w1)
-        say("ocean_deep_build_2_workers", wall2, "s (median)", runs=w2)
-        say("ocean_deep_raw_bellhop_sum", raw, "s (median)", runs=raws)
-        say("overhead_build_over_raw_bellhop", median([a / b for a, b in zip(w1, raws)]),
+        session.say("repeats", REPEATS)
+        session.say("ocean_deep_runs", len(runs), "BELLHOP runs")
+        session.say("ocean_deep_build_1_worker", wall1, "s (median)", runs=w1)
+        session.say("ocean_deep_build_2_workers", wall2, "s (median)", runs=w2)
+        session.say("ocean_deep_raw_bellhop_sum", raw, "s (median)", runs=raws)
+        session.say("overhead_build_over_raw_bellhop", median([a / b for a, b in zip(w1, raws)]),
             "ratio, median of pairs (target <= 1.10)")
-        say("parallel_speedup_2_vs_1_workers", median([a / b for a, b in zip(w1, w2)]),
+        session.say("parallel_speedup_2_vs_1_workers", median([a / b for a, b in zip(w1, w2)]),
             "x, median of pairs (target >= 1.7)")
-        say("ocean_deep_peak_rss", max(rss), "MiB (target < 1024)")
+        session.say("ocean_deep_peak_rss", max(rss), "MiB (target < 1024)")
         # the command's fixed cost (start-up, writing the netCDF), the same on any number of workers
-        say("ocean_deep_fixed_cost_w1_minus_raw", median([a - b for a, b in zip(w1, raws)]), "s")
+        session.say("ocean_deep_fixed_cost_w1_minus_raw", median([a - b for a, b in zip(w1, raws)]), "s")
 
     # -- the naive loop: classes x bands x frequencies at BELLHOP's automatic beam count ----------
     receivers = receiver_depths_m(area).size * area.grid.range_m().size
     ns_per = raw / (sum(r.n_beams for r in runs) * receivers) * 1e9
-    say("bellhop_cost_per_beam_receiver", ns_per, "ns")
+    session.say("bellhop_cost_per_beam_receiver", ns_per, "ns")
     c0 = area.water.ssp.speed_mps[0]
 
     def auto_beams(f):  # BELLHOP's choice for NBeams = 0 (angleMod): 0.3 r_max f / c0, at least 300
@@ -93,12 +92,12 @@ def main() -> None:
     probe = [r for r in plan_runs(auto_area) if r.source_depth_m == 200.0][0]
     probe_s = raw_bellhop_seconds([probe.env], exe)
     predicted = auto_beams(probe.freq_hz) * receivers * ns_per * 1e-9
-    say("cost_model_check_auto_beam_run", probe_s / predicted, "measured/predicted")
-    say("naive_loop_estimate", naive_s, f"s ({len(area.classes) * len(area.bands) * area.propagation.freqs_per_band}"
-        " runs at automatic beam counts)")
-    say("speedup_over_naive_loop", naive_s / wall2, "x")
+    session.say("cost_model_check_auto_beam_run", probe_s / predicted, "measured/predicted")
+    naive_runs = len(area.classes) * len(area.bands) * area.propagation.freqs_per_band
+    session.say("naive_loop_estimate", naive_s, f"s ({naive_runs} runs at automatic beam counts)")
+    session.say("speedup_over_naive_loop", naive_s / wall2, "x")
 
 
 if __name__ == "__main__":
     main()
-    write("grids")
+    session.write()

@@ -1,13 +1,13 @@
 """RAM against BELLHOP on the bearing-dependent shelf-break grid: time, memory, workers scaling.
 
-``python bench/bench_models.py [--range-km R] [--bands FB1,FB2] [--repeats N]`` writes
+``python -m bench.bench_models [--range-km R] [--bands FB1,FB2] [--repeats N]`` writes
 docs/results/models.json.
 
 The shelf-break area's 12 radials, cut to ``--bands`` and ``--range-km`` (the area file's own
 30 km and FB1-FB2 are the issue's target; RAM's cost grows as f^2 x depth x range, so on a
 shared 2-core machine the defaults are FB1 to 3 km; docs/models.md scales the measured cost to
 the full build). Each build is ``tmakit grids build
---json`` in a child process (``benchresults.cli_with_rusage``: wall time and the peak resident
+--json`` in a child process (``bench.harness.cli_with_rusage``: wall time and the peak resident
 size of the largest process, the RAM worker processes included), ``--force`` so that nothing is
 reused: BELLHOP on 2 workers, RAM on 1 worker and on 2, side by side in one run, repeated,
 medians.
@@ -17,14 +17,13 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import tempfile
 from pathlib import Path
 
 import envdata
+from bench.harness import Session, cli_with_rusage
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from benchresults import cli_with_rusage, say, write  # noqa: E402
+session = Session("models")
 
 
 def cut_area(folder: Path, *, range_km: float, bands: list[str]) -> Path:
@@ -76,16 +75,16 @@ def main(argv: list[str] | None = None) -> int:
                 rss[which].append(peak)
                 if which == "ram_w1":
                     ram_seconds.append(info["ram_seconds"])
-                    say("ram_runs", info["runs"], "RAM runs")
-                    say("dims", str(info["dims"]))
+                    session.say("ram_runs", info["runs"], "RAM runs")
+                    session.say("dims", str(info["dims"]))
     med = {k: statistics.median(v) for k, v in times.items()}
     for k in times:
-        say(f"{k}_wall", med[k], "s", runs=times[k])
-        say(f"{k}_peak_rss", max(rss[k]), "MiB", runs=rss[k])
-    say("ram_run_seconds_sum_w1", statistics.median(ram_seconds), "s", runs=ram_seconds)
-    say("ram_w2_over_bellhop_w2", med["ram_w2"] / med["bellhop_w2"], "x")
-    say("ram_speedup_2_vs_1", med["ram_w1"] / med["ram_w2"], "x (target >= 1.8)")
-    write("models", area="shelf-break, 12 radials", bands=bands, range_km=args.range_km, repeats=args.repeats)
+        session.say(f"{k}_wall", med[k], "s", runs=times[k])
+        session.say(f"{k}_peak_rss", max(rss[k]), "MiB", runs=rss[k])
+    session.say("ram_run_seconds_sum_w1", statistics.median(ram_seconds), "s", runs=ram_seconds)
+    session.say("ram_w2_over_bellhop_w2", med["ram_w2"] / med["bellhop_w2"], "x")
+    session.say("ram_speedup_2_vs_1", med["ram_w1"] / med["ram_w2"], "x (target >= 1.8)")
+    session.write(area="shelf-break, 12 radials", bands=bands, range_km=args.range_km, repeats=args.repeats)
     return 0
 
 

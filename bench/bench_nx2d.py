@@ -1,7 +1,7 @@
 """Benchmark: BELLHOP3D's Nx2D mode (one run per frequency over every radial) against the per-radial
 2-D BELLHOP runs of a bearing-dependent grid (issue: measure both, keep the better).
 
-Run with ``make bench`` (or ``python bench/bench_nx2d.py``). Prints one line per figure,
+Run with ``make bench`` (or ``python -m bench.bench_nx2d``). Prints one line per figure,
 ``name: value unit``, and writes ``docs/results/nx2d.json`` (docs/nx2d.md is written from it).
 Two areas, each with 12 radials, 3 bands and ranges to 30 km: the built-in ``shelf-break`` (real
 bathymetry and climatology files) and the same area made flat (1000 m of Munk water), where the
@@ -12,7 +12,6 @@ minutes on 2 cores, depending on their load.
 
 from __future__ import annotations
 
-import json
 import os
 import resource
 import time
@@ -29,18 +28,19 @@ from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial
 from acoustics.builder.runs import execute_runs
 from acoustics.nx2d.box3d import box_positions
 from acoustics.nx2d.route import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
+from bench.harness import REPO, Session
 from envdata.radials import area_radials, geodesic_points
 
-REPO = Path(__file__).resolve().parents[1]
-
 REPEATS = int(os.environ.get("NX2D_REPEATS", "3"))
-RESULTS = REPO / "docs" / "results" / "nx2d.json"
 AUDIBLE_DB = 120.0  # cells compared: the 2-D route's TL below this (deep shadows left out)
 
 
+#: Prints the figures (the result file holds them in ``areas``, as measured).
+session = Session("nx2d")
+
+
 def say(name: str, value, unit: str = "") -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
+    session.say(name, value, unit)
 
 
 def flat_area() -> envdata.Area:
@@ -335,11 +335,7 @@ def _relative(described: dict) -> dict:
 
 
 def main() -> None:
-    load = os.getloadavg()[0]
-    say("cores", os.cpu_count() or 1)
-    say("load_average_at_start", load)
-    results = {"repeats": REPEATS, "cores": os.cpu_count(), "load_average_at_start": load,
-               "bellhop": _relative(find_bellhop().describe()),
+    results = {"repeats": REPEATS, "bellhop": _relative(find_bellhop().describe()),
                "bellhop3d": _relative(find_bellhop3d().describe())}
     shelf = envdata.load_area("shelf-break")
     results["geometry"] = geometry(shelf)
@@ -350,13 +346,8 @@ def main() -> None:
         res = bench_area(area, label, cell_variant=cells)
         results["areas"][area.name] = res
         report(label, res)
-    results["load_average_at_end"] = os.getloadavg()[0]
-    say("load_average_at_end", results["load_average_at_end"])
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    tmp = RESULTS.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(results, indent=1) + "\n")
-    tmp.replace(RESULTS)
-    say("results", str(RESULTS.relative_to(REPO)))
+    session.figures.clear()  # the result file keeps the measured structure, not the printed lines
+    session.write(**results)
 
 
 if __name__ == "__main__":

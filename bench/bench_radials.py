@@ -1,6 +1,6 @@
 """Benchmarks of bearing-dependent grids (N x 2D BELLHOP runs along radials).
 
-Run with ``make bench`` (or ``python bench/bench_radials.py [--repeats N]``). Prints one line per
+Run with ``make bench`` (or ``python -m bench.bench_radials [--repeats N]``). Prints one line per
 figure, ``name: value unit``, and writes them to ``docs/results/radials.json``.
 
 - Speed, on the built-in ``shelf-break`` area (12 radials x 3 bands x 3 classes to 30 km): the
@@ -12,7 +12,8 @@ figure, ``name: value unit``, and writes them to ``docs/results/radials.json``.
 - What the machine allows: the same raw runs two at a time (two BELLHOP processes slow each
   other down; nothing can beat this), and the build on 2 workers against it.
 - Memory: the peak resident size of ``grids build`` on a 36-radial, 3-band, 3-class area to
-  50 km (the same synthetic sea on a box large enough, written in GEBCO's and WOA's layouts).
+  50 km (the same synthetic sea on a box large enough, written in GEBCO's and WOA's layouts by
+  the data build, ``python -m tests.fixtures.sample_data --relief-box-km``).
   Target < 1 GiB.
 - Convergence of the default ray step (25 m) against a 5 m step, on shelf-break: |dK| median
   and 95th percentile over classes, bands, bearings and ranges.
@@ -36,21 +37,8 @@ import acoustics
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.radial import depth_axis_m, plan_radial_runs
+from bench.harness import REPO, Session, cli_with_rusage
 from envdata.radials import area_radials
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import cli_with_rusage  # noqa: E402
-
-REPO = Path(__file__).resolve().parents[1]
-RESULTS = REPO / "docs" / "results" / "radials.json"
-LOAD_AT_START = os.getloadavg()[0]
-
-
-def say(name: str, value, unit: str = "", results: dict | None = None) -> None:
-    text = f"{value:.4g}" if isinstance(value, float) else str(value)
-    print(f"{name}: {text} {unit}".rstrip(), flush=True)
-    if results is not None:
-        results[name] = {"value": value, "unit": unit}
 
 
 def raw_runs(area: envdata.Area):
@@ -102,17 +90,9 @@ def raw_bellhop_wall_two_at_a_time(runs, exe: Path) -> float:
 def wide_area(folder: Path, *, step_deg: float, range_max_m: float) -> Path:
     """shelf-break's synthetic sea on a box wide enough for ``range_max_m``, in the products'
     layouts, and an area file using it (``step_deg`` radials to ``range_max_m``)."""
-    sys.path.insert(0, str(REPO))
-    from tools import make_sample_data as sea
-    from tools.sample_layouts import gebco_axis_deg, write_gebco
-
-    half_lat = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LAT
-    half_lon = (range_max_m + 10_000.0) / 1000.0 / sea.KM_PER_DEG_LON
-    lat = gebco_axis_deg(sea.ORIGIN_LAT_DEG - half_lat, sea.ORIGIN_LAT_DEG + half_lat)
-    lon = gebco_axis_deg(sea.ORIGIN_LON_DEG - half_lon, sea.ORIGIN_LON_DEG + half_lon)
+    subprocess.run([sys.executable, "-m", "tests.fixtures.sample_data", "--out", str(folder), "--relief-box-km",
+                    str((range_max_m + 10_000.0) / 1000.0)], cwd=REPO, check=True)
     relief = folder / "wide_gebco_15s.nc"
-    write_gebco(relief, lat, lon, sea.elevation_m(lat[:, None], lon[None, :]),
-                title="synthetic shelf-break relief, wide box (tmakit benchmark)")
     text = envdata.area_path("shelf-break").read_text()
     data = envdata.area_path("shelf-break").parent / "data"
     text = text.replace('bathymetry = "data/shelf-break_gebco_15s.nc"', f'bathymetry = "{relief}"')
@@ -129,12 +109,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--no-convergence", action="store_true", help="skip the 5 m step build")
     args = parser.parse_args(argv)
-    results: dict = {}
+    session = Session("radials")
+    say = session.say
     exe = find_bellhop().path
     area = envdata.load_area("shelf-break")
-    say("cores", os.cpu_count() or 1, "", results)
+    say("cores", os.cpu_count() or 1)
     runs = raw_runs(area)
-    say("shelf_break_runs", len(runs), "BELLHOP runs", results)
+    say("shelf_break_runs", len(runs), "BELLHOP runs")
     times: dict[str, list[float]] = {"w1": [], "w2": [], "raw": [], "raw2": [], "w2_bellhop": []}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "g.nc"
@@ -153,27 +134,27 @@ def main(argv: list[str] | None = None) -> None:
                     if which == "w2":
                         times["w2_bellhop"].append(info["bellhop_seconds"])
         for key, values in times.items():
-            results[f"shelf_break_{key}_each_s"] = {"value": values, "unit": "s"}
+            session.figures[f"shelf_break_{key}_each_s"] = {"value": values, "unit": "s"}
         w1, w2, raw = (statistics.median(times[k]) for k in ("w1", "w2", "raw"))
-        say("shelf_break_build_1_worker_median", w1, "s", results)
-        say("shelf_break_build_2_workers_median", w2, "s", results)
-        say("shelf_break_raw_bellhop_sum_median", raw, "s", results)
-        say("shelf_break_2_workers_over_half_raw", w2 / (raw / 2.0), "(target <= 1.10)", results)
-        say("shelf_break_1_worker_over_raw", w1 / raw, "", results)
-        say("shelf_break_speedup_2_vs_1", w1 / w2, "x (target >= 1.8)", results)
+        say("shelf_break_build_1_worker_median", w1, "s")
+        say("shelf_break_build_2_workers_median", w2, "s")
+        say("shelf_break_raw_bellhop_sum_median", raw, "s")
+        say("shelf_break_2_workers_over_half_raw", w2 / (raw / 2.0), "(target <= 1.10)")
+        say("shelf_break_1_worker_over_raw", w1 / raw)
+        say("shelf_break_speedup_2_vs_1", w1 / w2, "x (target >= 1.8)")
         # what the ratios are made of: the command's fixed cost (start-up, reading the data
         # files, writing the netCDF: w1 - raw, the same on any number of workers), and what two
         # BELLHOP processes running at once lose to each other (their summed process time on 2
         # workers over the raw sum, one at a time)
-        say("shelf_break_fixed_cost_w1_minus_raw", w1 - raw, "s", results)
+        say("shelf_break_fixed_cost_w1_minus_raw", w1 - raw, "s")
         say("shelf_break_2_workers_bellhop_sum_over_raw", statistics.median(times["w2_bellhop"]) / raw,
-            "", results)
+            "")
         # the machine's own limit: the raw runs two at a time, against half their serial sum, and
         # the build on 2 workers against that
         raw2 = statistics.median(times["raw2"])
-        say("shelf_break_raw_two_at_a_time_wall", raw2, "s", results)
-        say("shelf_break_raw_two_at_a_time_over_half_raw", raw2 / (raw / 2.0), "", results)
-        say("shelf_break_2_workers_over_raw_two_at_a_time", w2 / raw2, "", results)
+        say("shelf_break_raw_two_at_a_time_wall", raw2, "s")
+        say("shelf_break_raw_two_at_a_time_over_half_raw", raw2 / (raw / 2.0))
+        say("shelf_break_2_workers_over_raw_two_at_a_time", w2 / raw2)
 
         if not args.no_convergence:
             fine = Path(tmp) / "fine.toml"
@@ -185,8 +166,8 @@ def main(argv: list[str] | None = None) -> None:
             a = acoustics.open_grid(out)["k_db"].values
             b = acoustics.open_grid(ref)["k_db"].values
             d = np.abs(a - b)[np.isfinite(a) & np.isfinite(b)]
-            say("step_25m_vs_5m_k_median_abs_diff", float(np.median(d)), "dB", results)
-            say("step_25m_vs_5m_k_p95_abs_diff", float(np.percentile(d, 95)), "dB", results)
+            say("step_25m_vs_5m_k_median_abs_diff", float(np.median(d)), "dB")
+            say("step_25m_vs_5m_k_p95_abs_diff", float(np.percentile(d, 95)), "dB")
 
         wide = wide_area(Path(tmp), step_deg=10.0, range_max_m=50_000.0)
         wide_runs = raw_runs(envdata.load_area(wide))
@@ -202,26 +183,21 @@ def main(argv: list[str] | None = None) -> None:
                     wall, rss, info = cli_with_rusage(wide_build)
                     walls.append(wall)
                     rss_all.append(rss)
-        results["wide_36_radials_w2_each_s"] = {"value": walls, "unit": "s"}
-        results["wide_36_radials_raw_each_s"] = {"value": raws, "unit": "s"}
-        results["wide_36_radials_raw2_each_s"] = {"value": raws2, "unit": "s"}
-        say("wide_36_radials_dims", json.dumps(info["dims"]), "", results)
-        say("wide_36_radials_runs", len(wide_runs), "BELLHOP runs", results)
-        say("wide_36_radials_build_2_workers", statistics.median(walls), "s", results)
-        say("wide_36_radials_raw_bellhop_sum", statistics.median(raws), "s", results)
+        session.figures["wide_36_radials_w2_each_s"] = {"value": walls, "unit": "s"}
+        session.figures["wide_36_radials_raw_each_s"] = {"value": raws, "unit": "s"}
+        session.figures["wide_36_radials_raw2_each_s"] = {"value": raws2, "unit": "s"}
+        say("wide_36_radials_dims", json.dumps(info["dims"]))
+        say("wide_36_radials_runs", len(wide_runs), "BELLHOP runs")
+        say("wide_36_radials_build_2_workers", statistics.median(walls), "s")
+        say("wide_36_radials_raw_bellhop_sum", statistics.median(raws), "s")
         say("wide_36_radials_2_workers_over_half_raw", statistics.median(walls) / (statistics.median(raws) / 2.0),
-            "(target <= 1.10)", results)
+            "(target <= 1.10)")
         say("wide_36_radials_raw_two_at_a_time_over_half_raw",
-            statistics.median(raws2) / (statistics.median(raws) / 2.0), "", results)
+            statistics.median(raws2) / (statistics.median(raws) / 2.0))
         say("wide_36_radials_2_workers_over_raw_two_at_a_time", statistics.median(walls) / statistics.median(raws2),
-            "", results)
-        say("wide_36_radials_peak_rss", max(rss_all), "MiB (target < 1024)", results)
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"bench": "bench/bench_radials.py", "repeats": args.repeats,
-                                   "load_average_at_start": LOAD_AT_START,
-                                   "load_average_at_end": os.getloadavg()[0], "results": results},
-                                  indent=1) + "\n")
-    print(f"# wrote {RESULTS.relative_to(REPO)}")
+            "")
+        say("wide_36_radials_peak_rss", max(rss_all), "MiB (target < 1024)")
+    session.write(repeats=args.repeats)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Benchmarks of the regularized particle filter (Iglesis & de Montella): speed and memory.
 
-    make bench, or: python bench/bench_rpf.py [--quick]
+    make bench, or: python -m bench.bench_rpf [--quick]
 
 Prints one line per figure, ``name: value unit``, all measured in this one run:
 
@@ -32,10 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import say, write  # noqa: E402
+from bench.harness import REPO, Session
+
+session = Session("rpf")
 
 STONESOUP_STEPS = 30
 
@@ -92,8 +91,8 @@ print(json.dumps({"elapsed_s": elapsed, "steps": steps, "n": n, "resampled": res
 
 
 def _scenario():
+    from tools.studies.idm_scenarios import get_scenario
     from tracker import rpf
-    from tracker.studies.idm_scenarios import get_scenario
 
     sc = get_scenario("idm-static")
     t = sc.t_s
@@ -124,7 +123,7 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
                             threads=threads)
         best = max(best, runs * t.size * n / (time.perf_counter() - start))
     if runs == 1 and repeat > 1:
-        say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
+        session.say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
             float(res.resampled[:, 1:].mean()))
     return best
 
@@ -147,14 +146,14 @@ def bench_stonesoup(python: str, n: int = 5000) -> float | None:
         print(proc.stderr[-2000:], file=sys.stderr)
         return None
     out = json.loads(proc.stdout.strip().splitlines()[-1])
-    say("stonesoup_resampled_fraction_first_30_cycles", out["resampled"] / out["steps"])
+    session.say("stonesoup_resampled_fraction_first_30_cycles", out["resampled"] / out["steps"])
     return out["steps"] * out["n"] / out["elapsed_s"]
 
 
 def bench_full(runs: int = 1000, workers: int = 2) -> tuple[float, float, float]:
     """Wall time (s), peak memory (GiB, largest process) and particle-steps/s of a full study."""
-    code = (f"import sys; sys.path.insert(0, {str(REPO)!r}); from pathlib import Path; "
-            f"from tracker.studies import idm as e; import json; "
+    code = ("import sys; from pathlib import Path; "
+            f"from tools.studies import idm as e; import json; "
             f"d = e.run('idm-static', runs={runs}, out_dir=Path(sys.argv[1]), seed=1, "
             f"workers={workers}, grid=sys.argv[2]); "
             f"print(json.dumps({{'elapsed_s': d['elapsed_s'], "
@@ -185,7 +184,7 @@ def main(argv=None) -> None:
 
     start = time.perf_counter()
     bench_tmakit(1, cycles=5)  # warm-up (imports, numba's compile or cache load), not timed
-    say("rpf_kernel_first_call_incl_compile_or_cache_load", time.perf_counter() - start, "s")
+    session.say("rpf_kernel_first_call_incl_compile_or_cache_load", time.perf_counter() - start, "s")
     bench_tmakit(1, cycles=5, engine="numpy")
     one = bench_tmakit(1, repeat=3)
     # the same cycles as Stone Soup is timed on (the first ones, where it resamples more)
@@ -194,30 +193,30 @@ def main(argv=None) -> None:
     threaded = bench_tmakit(40, threads=2, repeat=2)
     one_np = bench_tmakit(1, repeat=2, engine="numpy")
     batched_np = bench_tmakit(40, engine="numpy")
-    say("rpf_one_filter_n5000", one / 1e6, "M particle-steps/s")
-    say("rpf_one_filter_n5000_first_31_cycles", one_30 / 1e6, "M particle-steps/s")
-    say("rpf_batched_40_runs_n5000", batched / 1e6, "M particle-steps/s")
-    say("rpf_batched_40_runs_n5000_2_threads", threaded / 1e6, "M particle-steps/s")
-    say("rpf_numpy_reference_one_filter_n5000", one_np / 1e6, "M particle-steps/s")
-    say("rpf_numpy_reference_batched_40_runs_n5000", batched_np / 1e6, "M particle-steps/s")
-    say("speedup_kernel_vs_numpy_one_filter", one / one_np, "x")
-    say("speedup_kernel_vs_numpy_batched", batched / batched_np, "x")
+    session.say("rpf_one_filter_n5000", one / 1e6, "M particle-steps/s")
+    session.say("rpf_one_filter_n5000_first_31_cycles", one_30 / 1e6, "M particle-steps/s")
+    session.say("rpf_batched_40_runs_n5000", batched / 1e6, "M particle-steps/s")
+    session.say("rpf_batched_40_runs_n5000_2_threads", threaded / 1e6, "M particle-steps/s")
+    session.say("rpf_numpy_reference_one_filter_n5000", one_np / 1e6, "M particle-steps/s")
+    session.say("rpf_numpy_reference_batched_40_runs_n5000", batched_np / 1e6, "M particle-steps/s")
+    session.say("speedup_kernel_vs_numpy_one_filter", one / one_np, "x")
+    session.say("speedup_kernel_vs_numpy_batched", batched / batched_np, "x")
     ss = bench_stonesoup(args.stonesoup_python)
     if ss is None:
-        say("stonesoup", "not available", f"(no {args.stonesoup_python})")
+        session.say("stonesoup", "not available", f"(no {args.stonesoup_python})")
     else:
-        say("stonesoup_particle_filter_n5000", ss / 1e6, "M particle-steps/s")
-        say("speedup_one_filter_vs_stonesoup", one / ss, "x")
-        say("speedup_one_filter_same_cycles_vs_stonesoup", one_30 / ss, "x")
-        say("speedup_batched_vs_stonesoup", batched / ss, "x")
-        say("speedup_batched_2_threads_vs_stonesoup", threaded / ss, "x")
+        session.say("stonesoup_particle_filter_n5000", ss / 1e6, "M particle-steps/s")
+        session.say("speedup_one_filter_vs_stonesoup", one / ss, "x")
+        session.say("speedup_one_filter_same_cycles_vs_stonesoup", one_30 / ss, "x")
+        session.say("speedup_batched_vs_stonesoup", batched / ss, "x")
+        session.say("speedup_batched_2_threads_vs_stonesoup", threaded / ss, "x")
     if not args.quick:
         wall, peak_gib, rate = bench_full()
-        say("idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", wall, "s")
-        say("idm_static_1000runs_peak_memory_largest_process", peak_gib, "GiB")
-        say("idm_static_1000runs_rate", rate / 1e6, "M particle-steps/s")
+        session.say("idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", wall, "s")
+        session.say("idm_static_1000runs_peak_memory_largest_process", peak_gib, "GiB")
+        session.say("idm_static_1000runs_rate", rate / 1e6, "M particle-steps/s")
 
 
 if __name__ == "__main__":
     main()
-    write("rpf")
+    session.write()

@@ -14,9 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -24,16 +22,15 @@ import acoustics
 import envdata
 from acoustics import sensitivity as sens
 from acoustics.sensitivity.perturbspec import default_perturbations
+from bench.harness import Session, median
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import median, say, write  # noqa: E402
+session = Session("sensitivity")
 
 MEMBERS = 16
 
 
-
-
 def study(area, workers: int):
+    """A study of the area's default perturbations on ``workers``: dataset, stats, wall time, s."""
     stats = sens.StudyStats()
     start = time.perf_counter()
     ds = sens.run_study(area, default_perturbations(area), members=MEMBERS, seed=0, workers=workers, stats=stats)
@@ -45,8 +42,7 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args(argv)
     area = envdata.load_area(envdata.DEFAULT_AREA)
-    say("cores", os.cpu_count() or 1)
-    say("load_average_1min_at_start", os.getloadavg()[0])
+    session.say("cores", os.cpu_count() or 1)
 
     # -- reciprocity vs direct K on the nominal area ---------------------------------------------
     s_direct, s_recip = acoustics.BuildStats(), acoustics.BuildStats()
@@ -55,10 +51,10 @@ def main(argv=None) -> None:
     t_direct, t_recip = s_direct.bellhop_seconds, s_recip.bellhop_seconds
     for ic, cls in enumerate(area.classes):
         d = np.abs(recip[ic] - direct[ic]).ravel()
-        say(f"reciprocity_vs_direct_{cls.name}_{cls.depth_m:g}m_median", float(np.median(d)), "dB")
-        say(f"reciprocity_vs_direct_{cls.name}_{cls.depth_m:g}m_p95", float(np.percentile(d, 95)), "dB")
-    say("k_bellhop_seconds_direct_all_classes", t_direct, "s")
-    say("k_bellhop_seconds_reciprocity_all_classes", t_recip, "s")
+        session.say(f"reciprocity_vs_direct_{cls.name}_{cls.depth_m:g}m_median", float(np.median(d)), "dB")
+        session.say(f"reciprocity_vs_direct_{cls.name}_{cls.depth_m:g}m_p95", float(np.percentile(d, 95)), "dB")
+    session.say("k_bellhop_seconds_direct_all_classes", t_direct, "s")
+    session.say("k_bellhop_seconds_reciprocity_all_classes", t_recip, "s")
 
     # -- 1 worker vs 2 workers, same study -----------------------------------------------------------
     walls = {1: [], 2: []}
@@ -75,31 +71,30 @@ def main(argv=None) -> None:
                 ds2 = ds
                 same = same and bool(np.array_equal(ds1["k_db"].values, ds2["k_db"].values))
     wall1, wall2 = median(walls[1]), median(walls[2])
-    say("study_members", MEMBERS)
-    say("repeats", args.repeats)
-    say("study_1_worker_wall", wall1, "s (median)", runs=walls[1])
-    say("study_1_worker_bellhop_sum", median(bellhop[1]), "s (median)", runs=bellhop[1])
-    say("study_2_workers_wall", wall2, "s (median)", runs=walls[2])
-    say("study_2_workers_bellhop_sum", median(bellhop[2]), "s (median)", runs=bellhop[2])
-    say("speedup_2_vs_1_workers", median([a / b for a, b in zip(walls[1], walls[2])]), "x (median of pairs)")
-    say("overhead_1_worker_wall_over_bellhop_sum",
+    session.say("study_members", MEMBERS)
+    session.say("repeats", args.repeats)
+    session.say("study_1_worker_wall", wall1, "s (median)", runs=walls[1])
+    session.say("study_1_worker_bellhop_sum", median(bellhop[1]), "s (median)", runs=bellhop[1])
+    session.say("study_2_workers_wall", wall2, "s (median)", runs=walls[2])
+    session.say("study_2_workers_bellhop_sum", median(bellhop[2]), "s (median)", runs=bellhop[2])
+    session.say("speedup_2_vs_1_workers", median([a / b for a, b in zip(walls[1], walls[2])]), "x (median of pairs)")
+    session.say("overhead_1_worker_wall_over_bellhop_sum",
         median([100.0 * (w / b - 1.0) for w, b in zip(walls[1], bellhop[1])]), "%")
-    say("overhead_2_workers_wall_x2_over_bellhop_sum",
+    session.say("overhead_2_workers_wall_x2_over_bellhop_sum",
         median([100.0 * (2.0 * w / b - 1.0) for w, b in zip(walls[2], bellhop[2])]), "%")
-    say("results_identical_1_vs_2_workers", same)
-    say("load_average_1min_at_end", os.getloadavg()[0])
+    session.say("results_identical_1_vs_2_workers", same)
 
     # -- what the study measures -------------------------------------------------------------------
     summary = sens.summarize(ds2)
     for cls_name in summary["class"].values:
         for band in summary["band"].values:
             sel = {"class": cls_name, "band": band}
-            say(f"k_rms_error_{cls_name}_{band}", float(summary["k_rms_error_db"].sel(sel)), "dB")
-            say(f"k_offset_sd_{cls_name}_{band}", float(summary["k_offset_sd_db"].sel(sel)), "dB")
-            say(f"k_constant_fraction_{cls_name}_{band}", float(summary["k_constant_fraction"].sel(sel)))
-        say(f"k_error_sd_measured_{cls_name}", float(summary["k_error_sd_db"].sel({"class": cls_name})), "dB")
+            session.say(f"k_rms_error_{cls_name}_{band}", float(summary["k_rms_error_db"].sel(sel)), "dB")
+            session.say(f"k_offset_sd_{cls_name}_{band}", float(summary["k_offset_sd_db"].sel(sel)), "dB")
+            session.say(f"k_constant_fraction_{cls_name}_{band}", float(summary["k_constant_fraction"].sel(sel)))
+        session.say(f"k_error_sd_measured_{cls_name}", float(summary["k_error_sd_db"].sel({"class": cls_name})), "dB")
 
 
 if __name__ == "__main__":
     main()
-    write("sensitivity")
+    session.write()

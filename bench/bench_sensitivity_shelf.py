@@ -11,27 +11,16 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
-import time
-from pathlib import Path
 
 import numpy as np
 
 import envdata
 from acoustics import sensitivity as sens
-from acoustics.sensitivity.perturbspec import default_perturbations
+from bench.bench_sensitivity import MEMBERS, study
+from bench.harness import Session, median
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is not a package
-from benchresults import median, say, write  # noqa: E402
+session = Session("sensitivity-shelf")
 
-MEMBERS = 16
-
-
-def study(area, workers: int):
-    stats = sens.StudyStats()
-    start = time.perf_counter()
-    ds = sens.run_study(area, default_perturbations(area), members=MEMBERS, seed=0, workers=workers, stats=stats)
-    return ds, stats, time.perf_counter() - start
 
 
 def main(argv=None) -> None:
@@ -39,8 +28,7 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args(argv)
     area = envdata.load_area("shelf-break")
-    say("cores", os.cpu_count() or 1)
-    say("load_average_1min_at_start", os.getloadavg()[0])
+    session.say("cores", os.cpu_count() or 1)
     walls = {1: [], 2: []}
     bellhop = {1: [], 2: []}
     first = {}
@@ -51,27 +39,26 @@ def main(argv=None) -> None:
             bellhop[workers].append(stats.bellhop_seconds)
             first.setdefault(workers, ds)
     same = bool(np.array_equal(first[1]["k_db"].values, first[2]["k_db"].values, equal_nan=True))
-    say("study_members", MEMBERS)
-    say("repeats", args.repeats)
-    say("runs_per_member", len(area.bearings.bearing_deg) * len(area.bands))
-    say("study_1_worker_wall", median(walls[1]), "s (median)", runs=walls[1])
-    say("study_1_worker_bellhop_sum", median(bellhop[1]), "s (median)", runs=bellhop[1])
-    say("study_2_workers_wall", median(walls[2]), "s (median)", runs=walls[2])
-    say("study_2_workers_bellhop_sum", median(bellhop[2]), "s (median)", runs=bellhop[2])
-    say("speedup_2_vs_1_workers", median([a / b for a, b in zip(walls[1], walls[2])]), "x (median of pairs)")
-    say("overhead_1_worker_wall_over_bellhop_sum",
+    session.say("study_members", MEMBERS)
+    session.say("repeats", args.repeats)
+    session.say("runs_per_member", len(area.bearings.bearing_deg) * len(area.bands))
+    session.say("study_1_worker_wall", median(walls[1]), "s (median)", runs=walls[1])
+    session.say("study_1_worker_bellhop_sum", median(bellhop[1]), "s (median)", runs=bellhop[1])
+    session.say("study_2_workers_wall", median(walls[2]), "s (median)", runs=walls[2])
+    session.say("study_2_workers_bellhop_sum", median(bellhop[2]), "s (median)", runs=bellhop[2])
+    session.say("speedup_2_vs_1_workers", median([a / b for a, b in zip(walls[1], walls[2])]), "x (median of pairs)")
+    session.say("overhead_1_worker_wall_over_bellhop_sum",
         median([w / b - 1.0 for w, b in zip(walls[1], bellhop[1])]), "(median; target <= 0.10)")
-    say("overhead_2_workers_wall_over_half_bellhop_sum",
+    session.say("overhead_2_workers_wall_over_half_bellhop_sum",
         median([w / (0.5 * b) - 1.0 for w, b in zip(walls[2], bellhop[2])]), "(median; target <= 0.10)")
-    say("results_identical_on_1_and_2_workers", same)
+    session.say("results_identical_on_1_and_2_workers", same)
     summary = sens.summarize(first[2], eval_ranges_m=[5000.0, 10000.0, 20000.0])
     for cls_name, value in sens.k_error_by_class(summary).items():
-        say(f"k_error_sd_db_{cls_name}", value, "dB")
+        session.say(f"k_error_sd_db_{cls_name}", value, "dB")
     sd = summary["k_sd_db"]
     for b in summary["bearing"].values:
-        say(f"k_sd_db_median_bearing_{b:g}", float(np.nanmedian(sd.sel(bearing=b))), "dB (all classes, bands)")
-    say("load_average_1min_at_end", os.getloadavg()[0])
-    write("sensitivity-shelf", area="shelf-break", members=MEMBERS)
+        session.say(f"k_sd_db_median_bearing_{b:g}", float(np.nanmedian(sd.sel(bearing=b))), "dB (all classes, bands)")
+    session.write(area="shelf-break", members=MEMBERS)
 
 
 if __name__ == "__main__":

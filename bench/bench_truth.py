@@ -3,7 +3,7 @@ under 5 minutes): the shelf-cross scenario stretched to 60 minutes on the shelf-
 command timed from start to end, once without a cache and once with it. Written to
 docs/results/truth-bellhop.json.
 
-    python bench/bench_truth.py SHELF_BREAK_GRID.nc
+    python -m bench.bench_truth [SHELF_BREAK_GRID.nc]   (default: built or reused in out/bench/)
 """
 
 from __future__ import annotations
@@ -16,13 +16,13 @@ import time
 from pathlib import Path
 
 from acoustics.grid.formats import RESULT_FORMAT
+from bench.harness import REPO as ROOT
+from bench.harness import Session, bench_grid
 from envdata.areafile import area_path
-
-ROOT = Path(__file__).resolve().parents[1]
-OUT = ROOT / "docs" / "results" / "truth-bellhop.json"
 
 
 def main(grid: str) -> dict:
+    session = Session("truth-bellhop")
     text = (ROOT / "envdata" / "scenarios" / "shelf-cross.toml").read_text()
     text = text.replace("duration_s = 2400.0", "duration_s = 3600.0").replace('name = "shelf-cross"',
                                                                               'name = "shelf-cross-60min"')
@@ -42,9 +42,9 @@ def main(grid: str) -> dict:
             result[label] = {"seconds": round(time.perf_counter() - start, 1), "cycles": report.get("cycles"),
                              "returncode": done.returncode}
     result["target_s"] = 300.0
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    session.write(**result)
     return result
 
 
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1]), indent=1))
+    print(json.dumps(main(sys.argv[1] if len(sys.argv) > 1 else bench_grid("shelf-break")), indent=1))

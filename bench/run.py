@@ -1,26 +1,25 @@
-"""Run every benchmark in this folder (``bench_*.py``), one after the other, each in its own process.
+"""Run every benchmark of this package (``bench_*.py``), one after the other, each in its own process.
 
-Each prints one line per figure, ``name: value unit``. ``python bench/run.py grids`` runs only
-bench_grids.py.
+Each prints one line per figure, ``name: value unit``, and writes its result file. ``python -m
+bench.run grids startup`` runs only bench_grids and bench_startup.
 """
 
 from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+from bench.harness import REPO
 
 
 def main(argv: list[str]) -> int:
-    scripts = sorted(HERE.glob("bench_*.py"))
+    names = sorted(p.stem for p in (REPO / "bench").glob("bench_*.py"))
     if argv:
-        scripts = [s for s in scripts if s.stem.removeprefix("bench_") in argv]
+        names = [n for n in names if n.removeprefix("bench_") in argv]
     status = 0
-    for script in scripts:
-        print(f"# {script.stem}", flush=True)
-        status |= subprocess.run([sys.executable, str(script)], cwd=HERE.parent).returncode
+    for name in names:
+        print(f"# {name}", flush=True)
+        status |= subprocess.run([sys.executable, "-m", f"bench.{name}"], cwd=REPO).returncode
     return status
 
 

@@ -73,9 +73,9 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
     folder = Path(folder) if folder is not None else None
     top = TomlTable(data, "top level", source)
     for key in ("area", "water", "bottom", "noise", "observer", "sonar", "bands", "classes", "grid"):
-        top._get(key, None, True)
+        top.value(key, required=True)
     for key in ("propagation", "origin", "bearings", "atlas"):
-        top._get(key, None, False)
+        top.value(key)
     top.done()
 
     origin = bearings = None
@@ -189,7 +189,7 @@ def _parse_atlas(data: Any, source: str) -> AtlasSpec:
     t = TomlTable(data, "[atlas]", source)
     lat = t.numbers("lat_deg", required=False)
     lon = t.numbers("lon_deg", required=False)
-    positions = t._get("positions", None, False)
+    positions = t.value("positions")
     if positions is not None:
         if not isinstance(positions, list) or not positions:
             raise AreaError(f"{source}: [atlas] positions: must be a non-empty list of [lat_deg, lon_deg], "
@@ -202,7 +202,7 @@ def _parse_atlas(data: Any, source: str) -> AtlasSpec:
                                 f"got {item!r:.80}")
             pairs.append((float(item[0]), float(item[1])))
         positions = tuple(pairs)
-    months = t._get("months", None, False)
+    months = t.value("months")
     if months is not None:
         if not isinstance(months, list):
             raise AreaError(f"{source}: [atlas] months: must be a list of integers 1..12, got {months!r:.80}")
@@ -255,7 +255,7 @@ def _parse_water(t: TomlTable, source: str, folder: Path | None, latitude: float
                  for key in ("climatology", "temperature", "salinity") if t.has(key)}
         climatology = t.wrap(ClimatologySource, file=files.get("climatology"),
                              temperature_file=files.get("temperature"), salinity_file=files.get("salinity"),
-                             month=t._get("month", None, False),
+                             month=t.value("month"),
                              temperature_variable=t.string("temperature_variable", required=False),
                              salinity_variable=t.string("salinity_variable", required=False))
         return t.wrap(Water, depth_m=depth, bathymetry=bathymetry, climatology=climatology), None

@@ -73,6 +73,18 @@ def read_input_bytes(path: str | os.PathLike, what: str, error: type[ValueError]
     return raw
 
 
+def read_csv_text(path: str | os.PathLike, what: str, error: type[ValueError] = InputError) -> str:
+    """The text of a CSV input file (`read_input_bytes`): refused when binary (a NUL byte) or not
+    UTF-8, its byte-order mark dropped. ``error`` names the file."""
+    raw = read_input_bytes(path, what, error)
+    if b"\x00" in raw:
+        raise error(f"{path}: not a text CSV file (binary data, NUL bytes)")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise error(f"{path}: not a text CSV file (not UTF-8: {exc.reason} at byte {exc.start})") from None
+
+
 def _temporary_beside(target: Path) -> Path:
     try:
         target.parent.mkdir(parents=True, exist_ok=True)

@@ -29,7 +29,9 @@ class TomlTable:
     def _fail(self, key: str, message: str) -> AreaError:
         return AreaError(f"{self.source}: {self.where} {key}: {message}")
 
-    def _get(self, key: str, default: Any, required: bool) -> Any:
+    def value(self, key: str, default: Any = None, *, required: bool = False) -> Any:
+        """The key's value as the TOML file gives it (any type), marked as used; ``default`` if
+        absent, or AreaError if it is ``required``."""
         self.used.add(key)
         if key not in self.data:
             if required:
@@ -38,7 +40,7 @@ class TomlTable:
         return self.data[key]
 
     def number(self, key: str, default: float | None = None, *, required: bool = True) -> float | None:
-        value = self._get(key, default, required and default is None)
+        value = self.value(key, default, required=required and default is None)
         if value is None:
             return None
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -49,20 +51,20 @@ class TomlTable:
         return value
 
     def integer(self, key: str, default: int) -> int:
-        value = self._get(key, default, False)
+        value = self.value(key, default)
         if isinstance(value, bool) or not isinstance(value, int):
             raise self._fail(key, f"must be an integer, got {value!r}")
         return value
 
     def boolean(self, key: str, default: bool) -> bool:
-        value = self._get(key, default, False)
+        value = self.value(key, default)
         if not isinstance(value, bool):
             raise self._fail(key, f"must be true or false, got {value!r}")
         return value
 
     def string(self, key: str, default: str | None = None, *, required: bool = True,
                choices: tuple[str, ...] | None = None) -> str | None:
-        value = self._get(key, default, required and default is None)
+        value = self.value(key, default, required=required and default is None)
         if value is None:
             return None
         if not isinstance(value, str):
@@ -72,7 +74,7 @@ class TomlTable:
         return value
 
     def numbers(self, key: str, *, required: bool = True) -> list[float] | None:
-        value = self._get(key, None, required)
+        value = self.value(key, None, required=required)
         if value is None:
             return None
         if not isinstance(value, list) or not value:

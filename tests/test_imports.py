@@ -1,4 +1,6 @@
-"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle.
+"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle;
+inside ``acoustics`` its sub-packages by role, inside ``tools`` the studies (which build tables
+and run the trackers) below the commands that run them, and the tracker never building tables.
 
 Read from the source (every ``import`` statement, those inside functions too), so a lazy import
 that closes a circle is caught as well as one at the top of a module.
@@ -17,6 +19,12 @@ LAYERS = ("envdata", "acoustics", "tracker", "tools")
 #: import its own sub-package and those ranked below it.
 ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plots": 4, "nx2d": 4,
                    "sensitivity": 5}
+#: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
+#: the tracker by the layers) below the command line and its command modules at the root.
+TOOLS_RANKS = {"studies": 0, "": 1}
+#: What builds or computes tables: the tracker takes tables (the grid's face) and never these.
+TABLE_MAKERS = ("acoustics.bellhop", "acoustics.ram", "acoustics.builder", "acoustics.nx2d",
+                "acoustics.sensitivity")
 
 
 def _modules() -> dict[str, Path]:
@@ -28,15 +36,33 @@ def _modules() -> dict[str, Path]:
     return mods
 
 
+def _lazy_tables(mods: dict[str, Path]) -> dict[str, dict[str, str]]:
+    """package -> {name: module} of the re-exports its ``__init__`` declares with
+    ``envdata.lazyexports.lazy_exports`` (imported on first use: arrows all the same)."""
+    tables = {}
+    for name, path in mods.items():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "lazy_exports"
+                    and len(node.args) == 2 and isinstance(node.args[1], ast.Dict)):
+                tables[name] = {ast.literal_eval(n): ast.literal_eval(k)
+                                for k, v in zip(node.args[1].keys, node.args[1].values) for n in v.elts}
+    return tables
+
+
 def _graph(mods: dict[str, Path]) -> dict[str, set[str]]:
-    """module -> the project modules it imports (``from pkg import submodule`` names the submodule)."""
-    graph: dict[str, set[str]] = {name: set() for name in mods}
+    """module -> the project modules it imports (``from pkg import submodule`` names the submodule,
+    ``from pkg import name`` of a lazy re-export the module that defines it; a package's lazy
+    re-export table counts as its imports)."""
+    lazy = _lazy_tables(mods)
+    graph: dict[str, set[str]] = {name: set(lazy.get(name, {}).values()) for name in mods}
     for name, path in mods.items():
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             if isinstance(node, ast.Import):
                 targets = [alias.name for alias in node.names]
             elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                subs = [f"{node.module}.{a.name}" for a in node.names if f"{node.module}.{a.name}" in mods]
+                table = lazy.get(node.module, {})
+                subs = [f"{node.module}.{a.name}" if f"{node.module}.{a.name}" in mods else table[a.name]
+                        for a in node.names if f"{node.module}.{a.name}" in mods or a.name in table]
                 targets = subs if len(subs) == len(node.names) else [node.module, *subs]
             else:
                 continue
@@ -85,13 +111,24 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return out
 
 
-def test_no_layer_imports_a_higher_one():
-    mods = _modules()
-    graph = _graph(mods)
+def upward_layers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from a layer to a higher one (`LAYERS`)."""
     rank = {layer: i for i, layer in enumerate(LAYERS)}
-    upward = sorted((a, b) for a, targets in graph.items() for b in targets
-                    if rank[b.split(".")[0]] > rank[a.split(".")[0]])
-    assert upward == []
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if rank[b.split(".")[0]] > rank[a.split(".")[0]])
+
+
+def test_no_layer_imports_a_higher_one():
+    assert upward_layers(_graph(_modules())) == []
+
+
+def test_the_layer_check_finds_an_upward_arrow():
+    # planted: the tracker importing a study (the studies rank above it, in tools/) and the
+    # formulas importing the tracker; the studies' own downward arrows stay unflagged
+    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.tables"},
+             "acoustics.kcurve": {"tracker.ranging"},
+             "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"}}
+    assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"), ("tracker.track", "tools.studies.gm")]
 
 
 def acoustics_rank(module: str) -> int:
@@ -127,6 +164,50 @@ def test_the_rank_check_finds_an_upward_arrow():
                                           ("acoustics.kcurve", "acoustics.plots.figures")]
 
 
+def tools_rank(module: str) -> int:
+    """Rank of a ``tools`` module (`TOOLS_RANKS`; a module at the root is a command's)."""
+    parts = module.split(".")
+    return TOOLS_RANKS[parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in TOOLS_RANKS) else ""]
+
+
+def upward_in_tools(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from a study up to the command line."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.startswith("tools") and b.startswith("tools") and tools_rank(b) > tools_rank(a))
+
+
+def tracker_table_makers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from the tracker to a module that builds or computes tables."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.split(".")[0] == "tracker" and b.startswith(TABLE_MAKERS))
+
+
+def test_the_studies_rank_below_the_commands():
+    assert upward_in_tools(_graph(_modules())) == []
+
+
+def test_the_tracker_never_builds_tables():
+    assert tracker_table_makers(_graph(_modules())) == []
+
+
+def test_the_studies_stand_above_the_tracker():
+    # the studies build tables and run the trackers: they live in tools/, above both
+    mods = _modules()
+    assert not any(name.startswith("tracker.studies") for name in mods)
+    assert "tools.studies.gm" in mods and "tools.studies.follow" in mods
+
+
+def test_the_tools_and_tracker_checks_find_their_arrows():
+    # planted: a study importing a command module, the tracker importing a builder (the arrow
+    # the studies used to draw from tracker/), and allowed arrows that must stay unflagged
+    graph = {"tools.studies.shelf": {"tools.experiment_cmd", "tools.studies.shelf_plot", "tracker.track"},
+             "tools.experiment_cmd": {"tools.studies.shelf", "tools.report"},
+             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.tables"},
+             "tracker.simulate": {"acoustics.grid.tables", "acoustics.levelrange"}}
+    assert upward_in_tools(graph) == [("tools.studies.shelf", "tools.experiment_cmd")]
+    assert tracker_table_makers(graph) == [("tracker.studies.depth", "acoustics.builder.gridfile")]
+
+
 def test_the_import_graph_has_no_circle():
     assert _cycles(_graph(_modules())) == []
 
@@ -135,3 +216,29 @@ def test_the_cycle_finder_finds_a_circle():
     # the check above could pass by finding nothing at all: show it finds a planted circle
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
     assert _cycles(graph) == [["a", "b", "c"]]
+
+
+def bench_problems(sources: dict[str, str]) -> list[str]:
+    """A benchmark importing from tests/ or editing sys.path (bench/ is a package run with -m)."""
+    out = []
+    for name, text in sources.items():
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.Import) and any(a.name.split(".")[0] == "tests" for a in node.names):
+                out.append(f"{name}: imports tests")
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "tests":
+                out.append(f"{name}: imports tests")
+            elif isinstance(node, ast.Attribute) and node.attr == "path" and getattr(node.value, "id", "") == "sys":
+                out.append(f"{name}: sys.path")
+        out += [f"{name}: sys.path in code it runs" for line in text.splitlines()
+                if "sys.path" in line and not line.lstrip().startswith("#")
+                and ("insert(" in line or "[:0]" in line or "append(" in line)]
+    return sorted(set(out))
+
+
+def test_the_benchmarks_import_no_tests_and_edit_no_path():
+    sources = {p.name: p.read_text() for p in (REPO / "bench").glob("*.py")}
+    assert bench_problems(sources) == []
+    planted = {"a.py": "import sys\nsys.path.insert(0, 'bench')\n", "b.py": "from tests.x import y\n",
+               "c.py": "CHILD = '''\nsys.path[:0] = ['x']\n'''\n"}
+    assert bench_problems(planted) == ["a.py: sys.path", "a.py: sys.path in code it runs", "b.py: imports tests",
+                                       "c.py: sys.path in code it runs"]

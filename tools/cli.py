@@ -15,7 +15,6 @@ import signal
 import sys
 from collections.abc import Sequence
 
-from acoustics.bellhop.runner import kill_running
 from acoustics.errors import BellhopError, WorkerLostError
 from acoustics.ram.errors import RamRunError
 from envdata.errors import InputError
@@ -125,7 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(report.summary)
         sys.stdout.flush()
     except KeyboardInterrupt as exc:
-        kill_running()
+        _kill_running_models()
         signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
         print("error: interrupted; finished work is kept and a rerun resumes it", file=sys.stderr)
         return 128 + int(signum)
@@ -150,6 +149,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return 0
+
+
+def _kill_running_models() -> None:
+    """Kill the BELLHOP runs under way; a command that never ran BELLHOP never imported its runner
+    (commands import what they need when they run), and then there is nothing to kill."""
+    runner = sys.modules.get("acoustics.bellhop.runner")
+    if runner is not None:
+        runner.kill_running()
 
 
 def _main_thread() -> bool:

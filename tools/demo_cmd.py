@@ -6,9 +6,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import acoustics
-import envdata
-from acoustics.builder.gridfile import build_grid_file
 from tools.grids_cmd import grid_file_data
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report, want_progress
@@ -30,6 +27,10 @@ def register(sub, common) -> None:
 
 
 def run(args) -> Report:
+    import acoustics
+    import envdata
+    from acoustics.builder.gridfile import build_grid_file
+
     check_output_dir(args.out)
     grid_path = args.out / f"{envdata.DEFAULT_AREA}-bellhop.nc"
     check_output_file(grid_path, Kind.NETCDF, force=args.force)

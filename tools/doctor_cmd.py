@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from acoustics.bellhop.exe import find_bellhop
-from acoustics.bellhop.selftest import self_test
 from tools.report import Report
 
 
@@ -13,6 +11,9 @@ def register(sub, common) -> None:
 
 
 def run(args) -> Report:
+    from acoustics.bellhop.exe import find_bellhop
+    from acoustics.bellhop.selftest import self_test
+
     exe = find_bellhop()
     test = self_test(exe.path)
     data = {"bellhop": exe.describe(), "self_test": test}

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from acoustics.builder.gridfile import build_grid_file as build_file
 from envdata.errors import InputError
 from envdata.limits import check_memory
 from tools.outputs import check_output_dir
@@ -20,14 +19,19 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
                     "idm: the Iglesis & de Montella scenarios; shelf: tracking in the shelf-break "
                     "area with its bearing-dependent grid and with the origin's column over a "
                     "flat bottom (docs/shelf.md); depth: a submarine off its class's table depth, "
-                    "tracked with the class's depth, the true depth and the depth unknown (docs/depth.md).")
-    p.add_argument("study", choices=("gm", "idm", "shelf", "depth", "follow"))
+                    "tracked with the class's depth, the true depth and the depth unknown (docs/depth.md); "
+                    "follow: an atlas following the observer against one grid (docs/atlas-tracking.md); "
+                    "kerror: tracking with the K error a sensitivity study measured (docs/sensitivity.md).")
+    p.add_argument("study", choices=("gm", "idm", "shelf", "depth", "follow", "kerror"))
     p.add_argument("scenario", help="scenario name or TOML file")
     p.add_argument("--runs", type=int, default=None,
                    help="gm: number of runs n^3 (default 1331 = 11^3); idm: runs (1000); "
-                        "shelf: runs (100); depth: runs (24)")
+                        "shelf: runs (100); depth: runs (24); follow: runs (10); kerror: runs (48)")
     p.add_argument("--grid", metavar="FILE",
-                   help="propagation grid of the scenario's area (idm: built from munk-1000 if not given)")
+                   help="propagation grid of the scenario's area (idm: built from munk-1000 if not given; "
+                        "kerror: the grid a sensitivity study wrote its k_error_sd_db into)")
+    p.add_argument("--study", dest="sensitivity_study", metavar="FILE",
+                   help="kerror: the sensitivity study file (tmakit sensitivity)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
@@ -72,15 +76,19 @@ def run_experiment(args) -> Report:
     if args.workers < 1:
         raise InputError(f"--workers: must be >= 1, got {args.workers}")
     check_output_dir(args.out)
+    if args.study != "kerror" and args.sensitivity_study is not None:
+        raise InputError(f"--study: only the kerror study reads a sensitivity study, not {args.study}")
+    if args.study == "kerror":
+        return _run_kerror(args)
     if args.study == "depth":
-        from tracker.studies import depth
+        from tools.studies import depth
 
         runs = _self_built_study_runs(args, depth, 24, 8.0 * 60, "its own grid")
         res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args))
         return Report(res["summary"], res)
     if args.study == "follow":
-        from tracker.studies import follow
+        from tools.studies import follow
 
         runs = _self_built_study_runs(args, follow, 10, 8.0 * 80, "its own grid and atlases")
         res = follow.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers)
@@ -88,14 +96,14 @@ def run_experiment(args) -> Report:
                 "\n".join(f"  {k:>28}: {v:8.0f}" for k, v in res["mean_rmse_after_10min_m"].items()))
         return Report(text, res)
     if args.study == "shelf":
-        from tracker.studies import shelf
+        from tools.studies import shelf
 
         runs = _self_built_study_runs(args, shelf, 100, 8.0 * 40, "its own two grids")
         res = shelf.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args))
         return Report(res["summary"], res)
     if args.study == "idm":
-        from tracker.studies import idm as idm_experiment
+        from tools.studies import idm as idm_experiment
 
         if args.manoeuvre_tests is not None:
             raise InputError("--manoeuvre-tests: only the gm study has it, not idm")
@@ -106,6 +114,8 @@ def run_experiment(args) -> Report:
         _check_runs(runs, idm_experiment.get_scenario(args.scenario).t_s.size, 8.0 * 40, "idm")
         grid = args.grid
         if grid is None:  # build (or reuse) the appendix environment's grid beside the results
+            from acoustics.builder.gridfile import build_grid_file as build_file
+
             grid = build_file(idm_experiment.AREA, Path(args.out) / f"{idm_experiment.AREA}.nc",
                               workers=args.workers, progress=want_progress(args)).file
         res = idm_experiment.run(args.scenario, runs=runs,
@@ -115,7 +125,7 @@ def run_experiment(args) -> Report:
                                                  if args.level_sigma_db is None
                                                  else args.level_sigma_db))
         return Report(res.get("summary", ""), res)
-    from tracker.studies import gm as gm_experiment
+    from tools.studies import gm as gm_experiment
 
     if args.level_sigma_db is not None:
         raise InputError("--level-sigma-db: only the idm study has it (the gm tracker takes "
@@ -140,3 +150,23 @@ def run_experiment(args) -> Report:
                             params=params)
     res["manoeuvre_tests"] = args.manoeuvre_tests or "paper"
     return Report(res["summary"], res)
+
+
+def _run_kerror(args) -> Report:
+    from tools.studies import kerror
+
+    if args.level_sigma_db is not None:
+        raise InputError("--level-sigma-db: the kerror study takes sigma_l from eq. 11 and the K error")
+    if args.grid is None or args.sensitivity_study is None:
+        raise InputError("--grid, --study: the kerror study needs the grid a sensitivity study wrote its "
+                         "k_error_sd_db into (tmakit sensitivity shelf-break --into GRID) and that study's file")
+    if args.scenario != kerror.SCENARIO:
+        raise InputError(f"kerror: the study is written for scenario {kerror.SCENARIO!r}, got {args.scenario!r}")
+    from tracker.scenario import load_scenario
+
+    runs = 48 if args.runs is None else args.runs
+    _check_runs(runs, load_scenario(kerror.SCENARIO).times_s().size, 8.0 * 40, "kerror")
+    res = kerror.run(grid=args.grid, study=args.sensitivity_study, out_dir=args.out, runs=runs, seed=args.seed)
+    text = (f"kerror study: {runs} runs of {res['scenario']}; mean position RMSE after 5 min, m:\n" +
+            "\n".join(f"  {k:>12}: {v:8.0f}" for k, v in res["mean_rmse_after_5min_m"].items()))
+    return Report(text, res)

@@ -3,17 +3,17 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from pathlib import Path
 
-import numpy as np
-
-import acoustics
-import envdata
-from acoustics.builder.gridfile import build_grid_file
-from acoustics.plots.style import What
+from acoustics.plots.what import What
 from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
+
+#: The values of ``acoustics.Model`` (the builders' enum, which imports xarray: the parser lists
+#: them without it; tests/tools/test_startup.py checks they are the enum's).
+MODELS = ("bellhop", "urick", "ram", "auto")
 
 
 def register(sub, common) -> None:
@@ -23,7 +23,7 @@ def register(sub, common) -> None:
     b = gsub.add_parser("build", parents=[common], help="build the grid file of an area")
     b.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
     b.add_argument("--out", type=Path, help="grid file to write (default: AREA-MODEL.nc)")
-    b.add_argument("--model", choices=[m.value for m in acoustics.Model], default="bellhop",
+    b.add_argument("--model", choices=MODELS, default="bellhop",
                    help="bellhop (default), urick, ram (the parabolic equation; bands from coherent "
                         "runs) or auto (RAM below the crossover frequency, BELLHOP above)")
     b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
@@ -75,6 +75,9 @@ def register(sub, common) -> None:
 
 
 def run_build(args) -> Report:
+    import envdata
+    from acoustics.builder.gridfile import build_grid_file
+
     area = envdata.load_area(args.area)
     out = args.out if args.out is not None else Path(f"{area.name}-{args.model}.nc")
     check_output_file(out, Kind.NETCDF, force=args.force)
@@ -103,6 +106,9 @@ def grid_file_data(info) -> dict:
 
 
 def run_show(args) -> Report:
+    import numpy as np
+
+    import acoustics
     from acoustics.grid.summary import grid_summary
 
     s = grid_summary(acoustics.open_grid(args.file))
@@ -135,6 +141,7 @@ def run_show(args) -> Report:
 
 
 def run_plot(args) -> Report:
+    import acoustics
     from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 
     tables = acoustics.open_grid(args.file)
@@ -166,6 +173,7 @@ def run_plot(args) -> Report:
 
 
 def run_compare(args) -> Report:
+    import acoustics
     from acoustics.grid.compare import compare_grids
 
     if args.plot is not None:
@@ -191,8 +199,8 @@ def run_compare(args) -> Report:
 
 
 def _num(x: float) -> str:
-    return "-" if not np.isfinite(x) else f"{x:+.2f}"
+    return "-" if not math.isfinite(x) else f"{x:+.2f}"
 
 
 def _pair(median: float, p90: float) -> str:
-    return "-" if not np.isfinite(median) else f"{median:.2f} / {p90:.2f}"
+    return "-" if not math.isfinite(median) else f"{median:.2f} / {p90:.2f}"

@@ -13,13 +13,11 @@ import argparse
 import dataclasses
 import math
 
-import numpy as np
-
 from envdata.files import atomic_paths
 from tools.outputs import Kind, check_output_file
 from tools.report import Report
-from tracker import locate as loc
 from tracker.errors import LocateError
+from tracker.locate.choices import DEFAULT_MAX_U, CourseRule, FixMethod, Side
 
 DEFAULT_TRIALS_WITH_PLOT = 1000
 
@@ -35,11 +33,11 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
                     "'tmakit locate plan ...' plans the observer's route (eq. 17 or 23).")
     p.add_argument("--bearings", metavar="CSV",
                    help="bearings CSV: t_s, obs_x_m, obs_y_m, bearing_deg (extra columns ignored)")
-    p.add_argument("--method", choices=[m.value for m in loc.Method], default=loc.Method.LSQ.value,
+    p.add_argument("--method", choices=[m.value for m in FixMethod], default=FixMethod.LSQ.value,
                    help="crossing: last two bearings (eqs. 6-8); lsq: least squares over all; "
                         "mean: mean of consecutive pairwise fixes (eq. 29); default lsq")
     _add_region_options(p)
-    p.add_argument("--max-u", type=float, default=loc.DEFAULT_MAX_U,
+    p.add_argument("--max-u", type=float, default=DEFAULT_MAX_U,
                    help="largest conditioning number u accepted (default %(default)g)")
     p.set_defaults(func=run_locate)
 
@@ -58,14 +56,14 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     q.add_argument("--leg-s", type=float, default=600.0,
                    help="time between bearings, s (600; leg VT = speed * time)")
     q.add_argument("--legs", type=int, default=10, help="number of legs K (10)")
-    q.add_argument("--rule", choices=[r.value for r in loc.CourseRule],
-                   default=loc.CourseRule.EQ23.value,
+    q.add_argument("--rule", choices=[r.value for r in CourseRule],
+                   default=CourseRule.EQ23.value,
                    help="eq17: perpendicular to the current bearing; eq23: perpendicular to the "
                         "anticipated next bearing (default)")
-    q.add_argument("--first-leg", choices=[r.value for r in loc.CourseRule], default=None,
+    q.add_argument("--first-leg", choices=[r.value for r in CourseRule], default=None,
                    help="rule for the first leg only (default: --rule); the paper's text uses "
                         "eq17 for it, its Fig. 8 numbers come from eq23 with R1 known")
-    q.add_argument("--side", choices=[s.value for s in loc.Side], default=loc.Side.PORT.value,
+    q.add_argument("--side", choices=[s.value for s in Side], default=Side.PORT.value,
                    help="keep the target to port (course = bearing + 90, default) or starboard")
     q.add_argument("--min-range-m", type=float, default=None,
                    help="eq23 stops closing and circles below this range (default VT/sqrt 2)")
@@ -106,7 +104,9 @@ def _check_d_alpha(args) -> None:
 def _region_data(region) -> dict | None:
     if region is None:
         return None
-    if isinstance(region, loc.ErrorRegion):
+    from tracker.locate.regions import ErrorRegion
+
+    if isinstance(region, ErrorRegion):
         return {"kind": "quadrilateral", "vertices_m": region.vertices_m.tolist(),
                 "d13_m": region.d13_m, "d13_eq25_m": region.d13_eq25_m, "d24_m": region.d24_m,
                 "d24_eq26_m": region.d24_eq26_m, "d24_eq27_m": region.d24_eq27_m,
@@ -120,7 +120,9 @@ def _region_data(region) -> dict | None:
 
 
 def _region_lines(region, note: str) -> list[str]:
-    if isinstance(region, loc.ErrorRegion):
+    from tracker.locate.regions import ErrorRegion
+
+    if isinstance(region, ErrorRegion):
         verts = " ".join(f"({x:.1f}, {y:.1f})" for x, y in region.vertices_m)
         return [
             f"error region, D_alpha = {region.d_alpha_deg:g} deg ({note}; bearings differ by "
@@ -165,8 +167,12 @@ def run_locate(args) -> Report:
     n_trials = _trials(args)
     if args.plot:
         check_output_file(args.plot, Kind.PNG, force=args.force)
-    bearings = loc.read_bearings_csv(args.bearings)
+    import numpy as np
+
+    from tracker.locate.bearings import read_bearings_csv
     from tracker.locate.study import locate_study
+
+    bearings = read_bearings_csv(args.bearings)
 
     study = locate_study(bearings, method=args.method, max_u=args.max_u, d_alpha_deg=args.d_alpha_deg,
                          n_trials=n_trials, rng=np.random.default_rng(args.seed))
@@ -189,15 +195,15 @@ def run_locate(args) -> Report:
         "region": _region_data(region), "region_problem": region_problem,
         "monte_carlo": mc_data, "plot": args.plot,
     }
-    det_note = {loc.Method.CROSSING: "|P| (eq. 10)", loc.Method.LSQ: "sqrt(det P^T P)",
-                loc.Method.MEAN: "smallest pair |P| (eq. 10)"}[result.method]
+    det_note = {FixMethod.CROSSING: "|P| (eq. 10)", FixMethod.LSQ: "sqrt(det P^T P)",
+                FixMethod.MEAN: "smallest pair |P| (eq. 10)"}[result.method]
     lines = [
         f"{args.bearings}: {n} bearings, method {result.method.value}",
         f"estimate: x = {result.x_m:.1f} m, y = {result.y_m:.1f} m",
         f"conditioning number u = {result.u:.4g} (eq. 11), {det_note} = "
         f"{result.determinant:.4g}; bearing residual rms {result.residual_rms_deg:.3g} deg",
     ]
-    if result.method is loc.Method.MEAN:
+    if result.method is FixMethod.MEAN:
         lines.append(f"pairs used {len(result.pair_rows)}, left out {result.pairs_skipped}")
     if region is not None:
         lines += _region_lines(region, region_note)
@@ -218,6 +224,8 @@ def run_plan(args) -> Report:
         outputs.append(check_output_file(args.out, Kind.ROUTE_CSV, force=args.force))
     if args.plot:
         outputs.append(check_output_file(args.plot, Kind.PNG, force=args.force))
+    import numpy as np
+
     from tracker.locate.study import plan_study
 
     plan = plan_study(target_x_m=args.target_x_m, target_y_m=args.target_y_m, start_x_m=args.start_x_m,

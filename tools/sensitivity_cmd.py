@@ -14,10 +14,14 @@ import math
 import os
 from pathlib import Path
 
-import envdata
-from acoustics import sensitivity as sens
+from envdata.errors import InputError
 from tools.outputs import Kind, check_output_file
 from tools.report import Report, want_progress
+
+#: ``acoustics.builder.plan.RECIPROCITY_MIN_DEPTH_M`` as the help shows it (the module imports
+#: xarray; tests/tools/test_startup.py checks the two agree). The option's default is None: the
+#: library's own value.
+RECIPROCITY_MIN_DEPTH_M_SHOWN = 50.0
 
 
 def register(sub, common) -> None:
@@ -52,8 +56,9 @@ def register(sub, common) -> None:
                    help="true ranges for the level-ranging error, km (default %(default)s)")
     p.add_argument("--range-min-km", type=float, help="summary window start, km (default: first range)")
     p.add_argument("--range-max-km", type=float, help="summary window end, km (default: last range)")
-    p.add_argument("--reciprocity-min-depth-m", type=float, default=sens.RECIPROCITY_MIN_DEPTH_M,
-                   help="classes at least this deep get K by reciprocity (default %(default)g m)")
+    p.add_argument("--reciprocity-min-depth-m", type=float, default=None, metavar="M",
+                   help="classes at least this deep get K by reciprocity (default: the grids' "
+                        f"threshold, {RECIPROCITY_MIN_DEPTH_M_SHOWN:g} m)")
     p.add_argument("--force", action="store_true",
                    help="replace outputs even if they are not tmakit's kind of file")
     p.set_defaults(func=run_sensitivity)
@@ -72,13 +77,16 @@ def _ranges_km(text: str) -> tuple[float, ...]:
     try:
         values = tuple(float(v) for v in text.split(",") if v.strip())
     except ValueError:
-        raise envdata.InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
+        raise InputError(f"--ranges-km: expected comma-separated numbers, got {text!r}") from None
     if not values or any(not (math.isfinite(v) and v > 0) for v in values):
-        raise envdata.InputError(f"--ranges-km: need positive ranges, got {text!r}")
+        raise InputError(f"--ranges-km: need positive ranges, got {text!r}")
     return values
 
 
 def run_sensitivity(args) -> Report:
+    import envdata
+    from acoustics import sensitivity as sens
+
     out = args.out if args.out is not None else Path(f"{envdata.load_area(args.area).name}-sensitivity.nc")
     kinds = {"study": Kind.NETCDF, "plot": Kind.PNG, "sd_map": Kind.PNG, "spread": Kind.PNG,
              "area_with_k_error": Kind.AREA_TOML, "grid_with_k_error": Kind.NETCDF}
@@ -92,15 +100,17 @@ def run_sensitivity(args) -> Report:
                                    ("--seed", args.seed, 0 <= args.seed < 2 ** 63, "in [0, 2^63)"),
                                    ("--workers", args.workers, args.workers >= 1, ">= 1")):
         if not ok:
-            raise envdata.InputError(f"{flag}: must be {bound}, got {value}")
+            raise InputError(f"{flag}: must be {bound}, got {value}")
     ranges_km = _ranges_km(args.ranges_km)
+    reciprocity_min_depth_m = (sens.RECIPROCITY_MIN_DEPTH_M if args.reciprocity_min_depth_m is None
+                               else args.reciprocity_min_depth_m)
     perturbations = ([p for text in args.perturb for p in sens.parse_spec(text, f"--perturb {text.strip()}")]
                      if args.perturb else None)
     info = sens.run_study_file(args.area, members=args.members, perturbations=perturbations, seed=args.seed,
                           scheduler=args.scheduler, workers=args.workers, out=out, tl=args.tl,
                           plot=args.plot, write_k_error=args.write_k_error, ranges_km=ranges_km,
                           range_min_km=args.range_min_km, range_max_km=args.range_max_km,
-                          reciprocity_min_depth_m=args.reciprocity_min_depth_m, progress=want_progress(args),
+                          reciprocity_min_depth_m=reciprocity_min_depth_m, progress=want_progress(args),
                           into=args.into)
     lines = [f"wrote {info['files']['study']}: area {info['area']}, {info['members']} members "
              f"(seed {info['seed']}, {info['members_reused']} reused), {info['workers']} workers, "

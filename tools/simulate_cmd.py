@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 from tools.outputs import Kind, check_output_dir, check_output_file
 from tools.report import Report
 
@@ -32,6 +30,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 
 def run_simulate(args) -> Report:
+    import numpy as np
+
     from acoustics.grid.opentables import open_tables
     from tracker.scenario import load_scenario
     from tracker.simulate import simulate, write_simulation

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 from envdata.errors import InputError
 from envdata.files import atomic_paths
 from tools.outputs import Kind, check_output_file
 from tools.report import Report
+from tracker.methods import Method
 
 
 def register(subparsers, common: argparse.ArgumentParser) -> None:
@@ -22,7 +21,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--month", type=int, metavar="M", help="the atlas's month (needed when it has several)")
     p.add_argument("--measurements", required=True, metavar="CSV", help="measurement CSV")
     p.add_argument("--out", required=True, metavar="CSV", help="track CSV to write")
-    p.add_argument("--method", choices=("ml", "rpf", "rpf-bot", "rpf-vp"), default="ml",
+    p.add_argument("--method", choices=[m.value for m in Method], default=Method.ML.value,
                    help="tracker (default ml)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the particle filters")
     p.add_argument("--class", dest="cls_name", metavar="NAME", help="only this class hypothesis")
@@ -40,6 +39,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 
 def run_track(args) -> Report:
+    import numpy as np
+
     from acoustics.grid.opentables import open_tables
     from tracker.measurements import read_measurements
     from tracker.track import track

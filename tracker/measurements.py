@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envdata.files import atomic_path, read_input_bytes
+from envdata.files import atomic_path, read_csv_text
 from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from tracker.errors import MeasurementFileError
 
@@ -169,17 +169,6 @@ def check_bounds(source: str, *, t_s, obs_x_m, obs_y_m) -> None:
                                        f"{_UNITS[name]} is {text}")
 
 
-def _read_text(src: str, path) -> str:
-    raw = read_input_bytes(path, "measurement CSV", MeasurementFileError)
-    if b"\x00" in raw:
-        raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise MeasurementFileError(f"{src}: not UTF-8 text ({exc.reason} at byte "
-                                   f"{exc.start})") from None
-
-
 def parse_number(cell: str, where: str, unit: str, *, blank_ok: bool = False) -> float:
     """One CSV cell as a finite number; blank (or NaN) gives NaN when ``blank_ok``.
 
@@ -231,7 +220,7 @@ def read_measurements(path: str | os.PathLike, grid_band_names: Sequence[str] | 
         column and value.
     """
     src = str(path)
-    text = _read_text(src, path)
+    text = read_csv_text(path, "measurement CSV", MeasurementFileError)
     reader = csv.reader(io.StringIO(text))
     header = None
     for row in reader:

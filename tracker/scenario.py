@@ -49,7 +49,8 @@ from envdata.tomlfile import TomlTable, read_toml
 
 
 class ScenarioError(AreaError):
-    """A malformed scenario file."""
+    """A malformed scenario file, an unknown scenario name, or settings a scenario's experiment
+    refuses (runs, grid)."""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -88,7 +89,7 @@ class Scenario:
         return self.cycle_s * np.arange(n + 1, dtype=float)
 
 
-def _path_of(tacks: tuple[Tack, ...], x0: float, y0: float, t_s: np.ndarray):
+def tack_path(tacks: tuple[Tack, ...], x0: float, y0: float, t_s: np.ndarray):
     """Positions, course, speed and tack number (1-based) of a tack path at times t_s."""
     t_s = np.asarray(t_s, dtype=float)
     x = np.full(t_s.shape, x0)
@@ -117,13 +118,13 @@ def _path_of(tacks: tuple[Tack, ...], x0: float, y0: float, t_s: np.ndarray):
 
 def observer_track(sc: Scenario, t_s):
     """Observer x, y (m), course (deg), speed (m/s) at times t_s."""
-    x, y, c, v, _ = _path_of(sc.obs_tacks, sc.obs_x_m, sc.obs_y_m, t_s)
+    x, y, c, v, _ = tack_path(sc.obs_tacks, sc.obs_x_m, sc.obs_y_m, t_s)
     return x, y, c, v
 
 
 def target_track(sc: Scenario, t_s):
     """Target x, y (m), course (deg), speed (m/s), P0 (dB) and tack number at times t_s."""
-    x, y, c, v, tack = _path_of(sc.target_tacks, sc.target_x_m, sc.target_y_m, t_s)
+    x, y, c, v, tack = tack_path(sc.target_tacks, sc.target_x_m, sc.target_y_m, t_s)
     noise = np.array([sc.target_tacks[k - 1].noise_db for k in tack], dtype=float)
     return x, y, c, v, noise, tack
 
@@ -156,7 +157,7 @@ def load_scenario(name_or_path) -> Scenario:
 
 
 def _tacks(t: TomlTable, key: str, source: str, where: str, *, noise: bool) -> tuple[Tack, ...]:
-    raw = t._get(key, None, True)
+    raw = t.value(key, required=True)
     if not isinstance(raw, list) or not raw:
         raise ScenarioError(f"{source}: {where}: need at least one [[{where[1:-1]}.{key}]] entry")
     out = []
@@ -186,7 +187,7 @@ def _tacks(t: TomlTable, key: str, source: str, where: str, *, noise: bool) -> t
 def parse_scenario(data: dict, source: str = "<scenario>") -> Scenario:
     top = TomlTable(data, "top level", source)
     for key in ("scenario", "observer", "target"):
-        top._get(key, None, True)
+        top.value(key, required=True)
     top.done()
 
     t = TomlTable(data["scenario"], "[scenario]", source)

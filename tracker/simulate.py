@@ -27,7 +27,7 @@ from envdata.limits import check_memory
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, write_measurements
 from tracker.ranging import bearing_sd_deg, level_sd_db
-from tracker.scenario import Scenario, ScenarioError, _path_of, observer_track
+from tracker.scenario import Scenario, ScenarioError, observer_track, tack_path
 
 #: A target within this of its class's depth is heard with the class's K as built, m.
 TARGET_DEPTH_TOLERANCE_M = 0.01
@@ -157,7 +157,7 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
         tacks = tuple(type(tk)(course_deg=tk.course_deg, speed_mps=max(tk.speed_mps + dv[j], 0.0),
                                duration_s=tk.duration_s, noise_db=tk.noise_db + dp[j])
                       for tk in sc.target_tacks)
-        x, y, c, v, tack = _path_of(tacks, sc.target_x_m, sc.target_y_m, t)
+        x, y, c, v, tack = tack_path(tacks, sc.target_x_m, sc.target_y_m, t)
         xs.append(x), ys.append(y), cs.append(c), vs.append(v)
         ps.append(np.array([tacks[k - 1].noise_db for k in tack]))
     x, y, c, v, p0 = map(np.array, (xs, ys, cs, vs, ps))
@@ -196,7 +196,7 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
     q_b = np.maximum(np.take_along_axis(q_ind, idx[..., None], axis=-1)[..., 0], 1.0)
     sd_p = np.maximum(bearing_sd_deg(sonar.beamwidth_deg, q_b), sc.bearing_sd_min_deg)
     bearing = np.mod(b_true + rng.standard_normal(b_true.shape) * sd_p, 360.0) % 360.0
-    tack = _path_of(sc.target_tacks, sc.target_x_m, sc.target_y_m, t)[4]
+    tack = tack_path(sc.target_tacks, sc.target_x_m, sc.target_y_m, t)[4]
     return SimBatch(t_s=t, obs_x_m=ox, obs_y_m=oy, obs_depth_m=sc.obs_depth_m, x_m=x, y_m=y,
                     course_deg=c, speed_mps=v, noise_db=p0, tack=tack, range_m=r,
                     bearing_true_deg=b_true, bearing_deg=bearing, bearing_sigma_deg=sd_p,

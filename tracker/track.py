@@ -19,13 +19,7 @@ from acoustics.grid.tables import OBSERVER_DEPTH_TOLERANCE_M, GridTables
 from envdata.errors import InputError
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
-
-
-class Method(StrEnum):
-    ML = "ml"
-    RPF = "rpf"
-    RPF_BOT = "rpf-bot"
-    RPF_VP = "rpf-vp"
+from tracker.methods import Method
 
 
 class TargetDepth(StrEnum):

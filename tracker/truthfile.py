@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envdata.files import read_input_bytes
+from envdata.files import read_csv_text
 from envdata.limits import check_position, check_time
 from tracker.errors import MeasurementFileError
 
@@ -50,13 +50,7 @@ def read_truth(path: str | os.PathLike) -> Truth:
         naming the file, row and column.
     """
     src = str(path)
-    raw = read_input_bytes(path, "truth CSV", MeasurementFileError)
-    if b"\x00" in raw:
-        raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise MeasurementFileError(f"{src}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    text = read_csv_text(path, "truth CSV", MeasurementFileError)
     rows = [r for r in csv.reader(io.StringIO(text)) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise MeasurementFileError(f"{src}: empty truth CSV (no header row)")

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from acoustics.grid.tables import FlatTables, GridTables, RadialTables
 from acoustics.plots.bathymetry import BathymetryChoice, find_bathymetry, load_around_origin
-from acoustics.plots.style import What, check_plot_options
+from acoustics.plots.style import check_plot_options
+from acoustics.plots.what import What
 from envdata.errors import InputError
 
 

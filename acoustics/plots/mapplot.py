@@ -29,7 +29,6 @@ from acoustics.plots.style import (
     DEG,
     LAND_COLOR,
     ORIGIN_STYLE,
-    What,
     band_label,
     check_plot_options,
     class_label,
@@ -37,6 +36,7 @@ from acoustics.plots.style import (
     label_depth,
     origin_label,
 )
+from acoustics.plots.what import What
 from envdata.bathymetry import ElevationGrid
 from envdata.radials import geodesic_points
 

@@ -19,7 +19,8 @@ from acoustics.plots.bottomplot import bottom_figure
 from acoustics.plots.figures import save_figure
 from acoustics.plots.mapplot import map_figure
 from acoustics.plots.sectionplot import section_figure
-from acoustics.plots.style import DPI, What, check_plot_options
+from acoustics.plots.style import DPI, check_plot_options
+from acoustics.plots.what import What
 from envdata.bathymetry import ElevationGrid
 from envdata.files import atomic_paths
 

@@ -8,7 +8,6 @@ trackers use, values linear in bearing (``acoustics.grid.radialinterp``).
 from __future__ import annotations
 
 import math
-from enum import StrEnum
 
 import numpy as np
 import xarray as xr
@@ -24,16 +23,6 @@ LAND_COLOR = "#c8b28a"
 ORIGIN_STYLE = dict(marker="*", color="crimson", mec="k", mew=0.5, ls="none")
 DPI = 110
 DEG = "\N{DEGREE SIGN}"
-
-
-class What(StrEnum):
-    """What to draw: a bearing-dependent grid's map of K(r) in one band or of the detection range
-    per band, or K against target depth and range on one bearing (any grid that holds TL from
-    the observer: ``acoustics.plots.depthplot``)."""
-
-    K = "k"
-    DETECTION = "detection"
-    DEPTH = "depth"
 
 
 def check_plot_options(tables: GridTables, *, cls_name: str | None = None, band: str | None = None,

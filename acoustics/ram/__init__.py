@@ -1,9 +1,11 @@
 """RAM, the split-step Pade parabolic equation (easypyram), beside BELLHOP: coherent TL of one
 2-D environment on a receiver grid."""
 
-from acoustics.ram.environment import RamEnvironment
-from acoustics.ram.errors import RamInputError, RamRunError
-from acoustics.ram.run import ram_run_bytes, ram_tl_db
-from acoustics.ram.settings import RamSettings
+from envdata.lazyexports import lazy_exports
 
-__all__ = ["RamEnvironment", "RamInputError", "RamRunError", "RamSettings", "ram_run_bytes", "ram_tl_db"]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "acoustics.ram.environment": ["RamEnvironment"],
+    "acoustics.ram.errors": ["RamInputError", "RamRunError"],
+    "acoustics.ram.run": ["ram_run_bytes", "ram_tl_db"],
+    "acoustics.ram.settings": ["RamSettings"],
+})

@@ -7,16 +7,17 @@ area file), ``plot`` and ``studyfile`` (a study's files from the command line's 
 or none).
 """
 
-from acoustics.sensitivity.files import StudyFileError, open_study, write_study
-from acoustics.sensitivity.members import MemberResult, compute_member
-from acoustics.sensitivity.perturbspec import PerturbationError, parse_spec
-from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
-from acoustics.sensitivity.study import StudyStats, run_study
-from acoustics.sensitivity.studyfile import output_files, run_study_file
-from acoustics.sensitivity.summaries import DEFAULT_EVAL_RANGES_M, k_error_by_class, level_range_m, summarize
-from acoustics.sensitivity.writeback import write_k_error
+from envdata.lazyexports import lazy_exports
 
-__all__ = ["DEFAULT_EVAL_RANGES_M", "MemberResult", "PerturbationError", "parse_spec", "RECIPROCITY_MIN_DEPTH_M",
-           "StudyFileError", "StudySpec", "StudyStats", "compute_member", "k_error_by_class",
-           "level_range_m", "open_study", "output_files", "run_study", "run_study_file", "summarize",
-           "write_k_error", "write_study"]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "acoustics.sensitivity.files": ["StudyFileError", "open_study", "write_study"],
+    "acoustics.sensitivity.members": ["MemberResult", "compute_member"],
+    "acoustics.sensitivity.perturbspec": ["PerturbationError", "parse_spec"],
+    "acoustics.sensitivity.spec": ["RECIPROCITY_MIN_DEPTH_M", "StudySpec"],
+    "acoustics.sensitivity.study": ["StudyStats", "run_study"],
+    "acoustics.sensitivity.studyfile": ["output_files", "run_study_file"],
+    "acoustics.sensitivity.summaries": [
+        "DEFAULT_EVAL_RANGES_M", "k_error_by_class", "level_range_m", "summarize",
+    ],
+    "acoustics.sensitivity.writeback": ["write_k_error"],
+})

@@ -11,7 +11,14 @@ import pytest
 
 import envdata
 from tests.conftest import DATA
-from tools.sample_layouts import EMODNET_PER_DEGREE, WOA_LEVELS_M, gebco_axis_deg, write_emodnet, write_gebco, write_woa
+from tests.fixtures.layouts import (
+    EMODNET_PER_DEGREE,
+    WOA_LEVELS_M,
+    gebco_axis_deg,
+    write_emodnet,
+    write_gebco,
+    write_woa,
+)
 
 AREAS = Path(envdata.__file__).parent / "areas"
 SAMPLE = AREAS / "data"

@@ -11,7 +11,7 @@ import envdata
 from envdata.bathymetry import open_bathymetry
 from envdata.datafiles import BathymetrySource, DataFile
 from tests.envdata.conftest import SAMPLE, write_dtm, write_relief
-from tools.sample_layouts import EMODNET_FILL, gebco_axis_deg
+from tests.fixtures.layouts import EMODNET_FILL, gebco_axis_deg
 
 
 def source(path, variable=None) -> BathymetrySource:

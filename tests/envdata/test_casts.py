@@ -15,8 +15,8 @@ from numpy.testing import assert_allclose
 import envdata
 from envdata.casts import MAX_CAST_TOP_M, read_cast
 from tests.conftest import DATA
-from tools import make_sample_data
-from tools.sample_layouts import SEABIRD_BAD_FLAG
+from tests.fixtures import sample_data
+from tests.fixtures.layouts import SEABIRD_BAD_FLAG
 
 CASTS = DATA / "casts"
 
@@ -94,7 +94,7 @@ SHELF_CSV = CASTS / "shelf-ctd.csv"
 
 
 def _scans(**changes) -> dict:
-    return {name: np.array(values) for name, values in {**make_sample_data.cast_scans(), **changes}.items()}
+    return {name: np.array(values) for name, values in {**sample_data.cast_scans(), **changes}.items()}
 
 
 def _without(columns: dict, rows) -> dict:
@@ -104,7 +104,7 @@ def _without(columns: dict, rows) -> dict:
 
 
 def test_the_generator_writes_the_shipped_cast(tmp_path):
-    assert make_sample_data.main(["--cast", str(tmp_path)]) == 0
+    assert sample_data.main(["--cast", str(tmp_path)]) == 0
     for path in (SHELF_CNV, SHELF_CSV):
         assert (tmp_path / path.name).read_bytes() == path.read_bytes()
 
@@ -133,7 +133,7 @@ def test_cnv_and_its_csv_twin_give_the_same_profile():
     assert cnv == read_cast(SHELF_CSV, latitude_deg=43.0)
     assert cnv.kind == "cast"
     assert cnv.depth_m == (0.0, *(5.0 * k for k in range(1, 101)))  # depSM, not prDM, continued up to 0 m
-    t, s = make_sample_data.cast_ts(np.array(cnv.depth_m[1:]))
+    t, s = sample_data.cast_ts(np.array(cnv.depth_m[1:]))
     assert_allclose(cnv.temperature_c[1:], t, rtol=0, atol=5e-5)  # written to 4 decimals
     assert_allclose(cnv.salinity_psu[1:], s, rtol=0, atol=5e-5)
 
@@ -148,7 +148,7 @@ def test_cnv_pressure_is_converted_to_depth_with_teos10_at_the_latitude(tmp_path
     del columns["depSM"]
     columns = _without(columns, [])
     binned = {name: columns[name][10:400:40] for name in ("prDM", "t090C", "sal00")}  # increasing: used as they are
-    path = make_sample_data.write_scans(tmp_path / "pressure.cnv", binned)
+    path = sample_data.write_scans(tmp_path / "pressure.cnv", binned)
     pressure = np.round(binned["prDM"], 3)  # as written
     ts = read_cast(path, latitude_deg=43.0)
     assert_allclose(ts.depth_m[1:], -gsw.z_from_p(pressure, 43.0), rtol=0, atol=1e-9)
@@ -157,8 +157,8 @@ def test_cnv_pressure_is_converted_to_depth_with_teos10_at_the_latitude(tmp_path
 
 def test_ipts68_temperature_is_converted_to_its90(tmp_path):
     depth = np.array([2.0, 50.0, 300.0])
-    t90, s = make_sample_data.cast_ts(depth)
-    path = make_sample_data.write_scans(tmp_path / "t68.cnv", {"depSM": depth, "t068C": t90 * 1.00024, "sal00": s})
+    t90, s = sample_data.cast_ts(depth)
+    path = sample_data.write_scans(tmp_path / "t68.cnv", {"depSM": depth, "t068C": t90 * 1.00024, "sal00": s})
     ts = read_cast(path, latitude_deg=43.0)
     assert_allclose(ts.temperature_c[1:], t90, rtol=0, atol=1e-4)
     assert_allclose(ts.temperature_c[1:], gsw.t90_from_t68(np.round(t90 * 1.00024, 4)), rtol=0, atol=1e-12)
@@ -167,13 +167,13 @@ def test_ipts68_temperature_is_converted_to_its90(tmp_path):
 def test_scans_are_binned_to_1_m_within_the_binning(tmp_path):
     columns = _scans()
     assert np.any(np.diff(columns["depSM"][8:2000]) < 0.0)  # the heave takes the CTD back up
-    ts = read_cast(make_sample_data.write_scans(tmp_path / "scans.cnv", columns), latitude_deg=43.0)
+    ts = read_cast(sample_data.write_scans(tmp_path / "scans.cnv", columns), latitude_deg=43.0)
     z = np.array(ts.depth_m)
     assert z[0] == 0.0 and z[1] == 2.0 and z[-1] == np.round(columns["depSM"].max())
     assert np.all(np.diff(z[1:]) == 1.0)  # every whole metre from 2 m down
     # each bin's mean lies between the extremes of the water over its metre (+ the 4 decimals)
     fine = z[1:, None] + np.linspace(-0.5, 0.5, 201)[None, :]
-    t, s = make_sample_data.cast_ts(fine.ravel())
+    t, s = sample_data.cast_ts(fine.ravel())
     t, s = t.reshape(fine.shape), s.reshape(fine.shape)
     for got, model in ((ts.temperature_c[1:], t), (ts.salinity_psu[1:], s)):
         assert np.all(got >= model.min(axis=1) - 1e-4) and np.all(got <= model.max(axis=1) + 1e-4)
@@ -189,13 +189,13 @@ def test_scans_are_binned_to_1_m_within_the_binning(tmp_path):
 def test_the_upcast_and_the_scans_on_deck_are_ignored(tmp_path):
     columns = _scans()
     bottom = int(np.argmax(columns["depSM"]))
-    whole = read_cast(make_sample_data.write_scans(tmp_path / "whole.cnv", columns), latitude_deg=43.0)
-    down = read_cast(make_sample_data.write_scans(tmp_path / "down.cnv", _without(columns, slice(bottom + 1, None))),
+    whole = read_cast(sample_data.write_scans(tmp_path / "whole.cnv", columns), latitude_deg=43.0)
+    down = read_cast(sample_data.write_scans(tmp_path / "down.cnv", _without(columns, slice(bottom + 1, None))),
                      latitude_deg=43.0)
-    wet = read_cast(make_sample_data.write_scans(tmp_path / "wet.cnv", _without(columns, slice(0, 8))),
+    wet = read_cast(sample_data.write_scans(tmp_path / "wet.cnv", _without(columns, slice(0, 8))),
                     latitude_deg=43.0)
     assert whole == down == wet
-    assert whole.temperature_c[-1] < make_sample_data.cast_ts([whole.depth_m[-1]])[0][0] + 1e-3  # not 0.3 warmer
+    assert whole.temperature_c[-1] < sample_data.cast_ts([whole.depth_m[-1]])[0][0] + 1e-3  # not 0.3 warmer
 
 
 def test_flagged_scans_and_bad_values_are_dropped(tmp_path):
@@ -207,12 +207,12 @@ def test_flagged_scans_and_bad_values_are_dropped(tmp_path):
     missing = [900, 1700]
     columns["sal00"][missing[0]] = SEABIRD_BAD_FLAG  # no value: the sensor dropped out
     columns["t090C"][missing[1]] = SEABIRD_BAD_FLAG
-    path = make_sample_data.write_scans(tmp_path / "flagged.cnv", columns)
+    path = sample_data.write_scans(tmp_path / "flagged.cnv", columns)
     assert " -9.990e-29" in path.read_text()
-    clean = make_sample_data.write_scans(tmp_path / "clean.cnv", _without(columns, spikes + missing))
+    clean = sample_data.write_scans(tmp_path / "clean.cnv", _without(columns, spikes + missing))
     assert read_cast(path, latitude_deg=43.0) == read_cast(clean, latitude_deg=43.0)
     # a binned file: its flagged bin is left out
-    binned = make_sample_data.write_cast(tmp_path)[0]
+    binned = sample_data.write_cast(tmp_path)[0]
     lines = binned.read_text().splitlines()
     row = lines.index("*END*") + 50
     lines[row] = lines[row][:-11] + f"{SEABIRD_BAD_FLAG:11.3e}"
@@ -248,12 +248,12 @@ def _header_only() -> bytes:
 
 
 BAD_CNV = {
-    "no-temperature": (lambda p: make_sample_data.write_scans(p, _drop("t090C")),
+    "no-temperature": (lambda p: sample_data.write_scans(p, _drop("t090C")),
                        r"no-temperature\.cnv: no temperature column \(t090C or t068C\) "
                        r"among prDM, depSM, sal00, timeS, flag$"),
-    "no-salinity": (lambda p: make_sample_data.write_scans(p, _drop("sal00")),
+    "no-salinity": (lambda p: sample_data.write_scans(p, _drop("sal00")),
                     r"no salinity column \(sal00\) among prDM, depSM, t090C, timeS, flag$"),
-    "no-depth": (lambda p: make_sample_data.write_scans(p, _drop("depSM", "prDM")),
+    "no-depth": (lambda p: sample_data.write_scans(p, _drop("depSM", "prDM")),
                  r"no depth or pressure column \(depSM or prDM\) among t090C, sal00, timeS, flag$"),
     "garbage": (lambda p: p.write_bytes(bytes(range(256)) * 8), r"garbage\.cnv: binary file, not a Sea-Bird \.cnv cast$"),
     "latin-text": (lambda p: p.write_bytes(b"\xe9t\xe9 \xff\xfe junk\r\n" * 20),
@@ -269,14 +269,14 @@ BAD_CNV = {
                r"line 44: has 4 values, the header names 5 columns$"),
     "hot": (lambda p: p.write_bytes(_replace_value(2, 2, "45.0000")),
             r"line 42: t090C: must be in \[-2\.5, 40\] degC, got 45\.0$"),
-    "deep-start": (lambda p: make_sample_data.write_scans(p, {"depSM": [40.0, 400.0], "t090C": [20.0, 13.0],
+    "deep-start": (lambda p: sample_data.write_scans(p, {"depSM": [40.0, 400.0], "t090C": [20.0, 13.0],
                                                               "sal00": [38.0, 38.5]}),
                    rf"line 31: the cast starts at 40\.0 m, deeper than {MAX_CAST_TOP_M:g} m"),
-    "one-metre": (lambda p: make_sample_data.write_scans(p, {"depSM": [3.0, 2.9, 3.2, 3.1], "t090C": [20.0] * 4,
+    "one-metre": (lambda p: sample_data.write_scans(p, {"depSM": [3.0, 2.9, 3.2, 3.1], "t090C": [20.0] * 4,
                                                              "sal00": [38.0] * 4}),
                   r"a cast needs at least 2 depths of good scans on the down-cast, got 1$"),
     # a column ctd converts to int and cannot: its error, on one line
-    "bpos": (lambda p: make_sample_data.write_scans(p, _scans(), names={"timeS": "bpos"}),
+    "bpos": (lambda p: sample_data.write_scans(p, _scans(), names={"timeS": "bpos"}),
              r"bpos\.cnv: ctd could not read the \.cnv table: invalid literal for int\(\) .*'\d+\.\d+'$"),
 }
 

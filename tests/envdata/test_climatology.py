@@ -11,7 +11,7 @@ import envdata
 from envdata.climatology import fill_down, open_climatology
 from envdata.datafiles import ClimatologySource, DataFile
 from tests.envdata.conftest import SAMPLE, write_ts
-from tools.make_sample_data import write_monthly
+from tests.fixtures.sample_data import write_monthly
 
 T08 = SAMPLE / "shelf-break_woa_t08_04.nc"
 S08 = SAMPLE / "shelf-break_woa_s08_04.nc"
@@ -194,7 +194,7 @@ def test_a_box_with_no_water_is_refused(tmp_path):
 
 
 def test_woa_standard_deviations_are_read_beside_the_means(tmp_path):
-    from tools.sample_layouts import WOA_LEVELS_M, write_woa
+    from tests.fixtures.layouts import WOA_LEVELS_M, write_woa
 
     with open_climatology(split(T08, S08)) as clim:  # the sample files have none
         field = clim.load_box([43.0], [5.0])

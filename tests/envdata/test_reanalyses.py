@@ -17,7 +17,7 @@ from envdata.radials import area_radials, geodesic_points
 from envdata.seawater import SalinityKind, TemperatureKind, in_situ_ts
 from tests.conftest import DATA
 from tests.envdata.conftest import make_area, write_dtm
-from tools.sample_reanalyses import GLORYS_LEVELS_M, monthly_times, write_cmems, write_hycom
+from tests.fixtures.reanalyses import GLORYS_LEVELS_M, monthly_times, write_cmems, write_hycom
 
 LAT = 42.5 + np.arange(13) / 12.0  # GLORYS's 1/12-deg centres
 LON = 4.5 + np.arange(13) / 12.0

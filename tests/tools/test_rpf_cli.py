@@ -13,11 +13,11 @@ from numpy.testing import assert_allclose
 import acoustics
 import envdata
 from acoustics.errors import GridFileError
+from tools.studies.idm import simulate
+from tools.studies.idm_scenarios import get_scenario
 from tracker import rpf
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements, read_measurements, write_measurements
-from tracker.studies.idm import simulate
-from tracker.studies.idm_scenarios import get_scenario
 from tracker.track import track
 from tracker.trackfile import TRACK_COLUMNS, write_track
 

@@ -44,7 +44,7 @@ def test_prior_covariance_north_bearing():
 def test_observer_maneuver_collapses_the_bound():
     # bearings-only needs an observer maneuver: with zero process noise the bound of the
     # maneuvering scenario falls by more than 10 times across the turn (13-17 min)
-    from tracker.studies.idm_scenarios import get_scenario
+    from tools.studies.idm_scenarios import get_scenario
 
     sc = get_scenario("idm-maneuvering")
     t = sc.t_s

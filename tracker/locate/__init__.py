@@ -26,58 +26,19 @@ A. Schmidt, J. Marszal, R. Salamon, A. Jedel, Z. Ostrowski, "Bearing errors in p
 stationary target location".
 """
 
-from tracker.locate.bearings import BEARING_COLUMNS, Bearings, read_bearings_csv
-from tracker.locate.fixes import LocateResult, Method, crossing_fix, locate, lsq_fix, mean_fix
-from tracker.locate.geometry import (
-    DEFAULT_MAX_U,
-    SAME_POSITION_M,
-    bearing_system,
-    bearing_to_deg,
-    conditioning_number,
-    crossing_point,
-    pair_conditioning,
-    wrap_deg,
-)
-from tracker.locate.montecarlo import MonteCarlo, monte_carlo_first_leg, monte_carlo_locate
-from tracker.locate.regions import ErrorPolygon, ErrorRegion, error_polygon, error_region
-from tracker.locate.route import (
-    CourseRule,
-    Route,
-    Side,
-    conditioning_vs_course,
-    course_offset_deg,
-    plan_route,
-)
+from envdata.lazyexports import lazy_exports
 
-__all__ = [
-    "BEARING_COLUMNS",
-    "DEFAULT_MAX_U",
-    "SAME_POSITION_M",
-    "Bearings",
-    "CourseRule",
-    "ErrorPolygon",
-    "ErrorRegion",
-    "LocateResult",
-    "Method",
-    "MonteCarlo",
-    "Route",
-    "Side",
-    "bearing_system",
-    "bearing_to_deg",
-    "conditioning_number",
-    "conditioning_vs_course",
-    "course_offset_deg",
-    "crossing_fix",
-    "crossing_point",
-    "error_polygon",
-    "error_region",
-    "locate",
-    "lsq_fix",
-    "mean_fix",
-    "monte_carlo_first_leg",
-    "monte_carlo_locate",
-    "pair_conditioning",
-    "plan_route",
-    "read_bearings_csv",
-    "wrap_deg",
-]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "tracker.locate.bearings": ["BEARING_COLUMNS", "Bearings", "read_bearings_csv"],
+    "tracker.locate.choices": ["DEFAULT_MAX_U", "CourseRule", "FixMethod", "Side"],
+    "tracker.locate.fixes": ["LocateResult", "crossing_fix", "locate", "lsq_fix", "mean_fix"],
+    "tracker.locate.geometry": [
+        "SAME_POSITION_M", "bearing_system", "bearing_to_deg", "conditioning_number",
+        "crossing_point", "pair_conditioning", "wrap_deg",
+    ],
+    "tracker.locate.montecarlo": ["MonteCarlo", "monte_carlo_first_leg", "monte_carlo_locate"],
+    "tracker.locate.regions": ["ErrorPolygon", "ErrorRegion", "error_polygon", "error_region"],
+    "tracker.locate.route": [
+        "CourseRule", "Route", "Side", "conditioning_vs_course", "course_offset_deg", "plan_route",
+    ],
+})

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envdata.files import read_input_bytes
+from envdata.files import read_csv_text
 from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from tracker.errors import LocateError, MeasurementFileError
 from tracker.measurements import parse_number
@@ -128,14 +128,7 @@ def read_bearings_csv(path: str | os.PathLike) -> Bearings:
         row and the file's line number), the column and the value with its unit.
     """
     src = str(path)
-    raw = read_input_bytes(path, "bearings file", MeasurementFileError)
-    if b"\x00" in raw:
-        raise MeasurementFileError(f"{src}: not a text CSV file (binary data, NUL bytes)")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise MeasurementFileError(f"{src}: not a text CSV file (not UTF-8 at byte "
-                                   f"{exc.start})") from None
+    text = read_csv_text(path, "bearings file", MeasurementFileError)
     if not text.strip():
         raise MeasurementFileError(f"{src}: the file is empty; expected a header with columns "
                                    f"{', '.join(BEARING_COLUMNS)}")

@@ -11,14 +11,13 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from enum import StrEnum
 
 import numpy as np
 
 from tracker.errors import LocateError
 from tracker.locate.bearings import Bearings
+from tracker.locate.choices import DEFAULT_MAX_U, FixMethod
 from tracker.locate.geometry import (
-    DEFAULT_MAX_U,
     SAME_POSITION_M,
     bearing_system,
     bearing_to_deg,
@@ -28,14 +27,6 @@ from tracker.locate.geometry import (
 )
 
 log = logging.getLogger(__name__)
-
-
-class Method(StrEnum):
-    """How a position is estimated from the bearings."""
-
-    CROSSING = "crossing"  # the last two bearings, eqs. 6-8
-    LSQ = "lsq"            # least squares over all n equations (4)
-    MEAN = "mean"          # mean of the fixes of consecutive pairs, eq. 29
 
 
 def _empty() -> np.ndarray:
@@ -50,7 +41,7 @@ class LocateResult:
     ----------
     x_m, y_m : float
         Estimated target position, m.
-    method : Method
+    method : FixMethod
         The estimator used.
     u : float
         Conditioning number (eq. 11) of the system solved: P of the two bearings (crossing),
@@ -74,7 +65,7 @@ class LocateResult:
 
     x_m: float
     y_m: float
-    method: Method
+    method: FixMethod
     u: float
     determinant: float
     n_bearings: int
@@ -176,7 +167,7 @@ def crossing_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateR
                                float(u[0]), max_u, delta)
     x_m, y_m = float(fx[0]), float(fy[0])
     _check_ahead(bearings, x_m, y_m, "crossing", rows=np.array([i, j]), min_behind=1)
-    return LocateResult(x_m=x_m, y_m=y_m, method=Method.CROSSING, u=float(u[0]),
+    return LocateResult(x_m=x_m, y_m=y_m, method=FixMethod.CROSSING, u=float(u[0]),
                         determinant=float(det[0]), n_bearings=n, pair_rows=((i, j),),
                         pair_x_m=fx, pair_y_m=fy, pair_u=u, pair_determinant=det,
                         residual_deg=_residuals(bearings, x_m, y_m))
@@ -224,7 +215,7 @@ def lsq_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateResult
     n = len(bearings)
     _check_ahead(bearings, x_m, y_m, "least-squares", rows=np.arange(n),
                  min_behind=(n + 1) // 2)
-    return LocateResult(x_m=x_m, y_m=y_m, method=Method.LSQ, u=u,
+    return LocateResult(x_m=x_m, y_m=y_m, method=FixMethod.LSQ, u=u,
                         determinant=float(sv[0] * sv[1]), n_bearings=len(bearings),
                         residual_deg=_residuals(bearings, x_m, y_m))
 
@@ -278,14 +269,14 @@ def mean_fix(bearings: Bearings, *, max_u: float = DEFAULT_MAX_U) -> LocateResul
     x_m, y_m = float(np.mean(fx[keep])), float(np.mean(fy[keep]))  # eq. 29
     dk = det[keep]
     return LocateResult(
-        x_m=x_m, y_m=y_m, method=Method.MEAN, u=float(np.max(u[keep])),
+        x_m=x_m, y_m=y_m, method=FixMethod.MEAN, u=float(np.max(u[keep])),
         determinant=float(dk[np.argmin(np.abs(dk))]), n_bearings=n,
         pair_rows=tuple((int(i), int(j)) for i, j in zip(rows_i[keep], rows_j[keep])),
         pair_x_m=fx[keep], pair_y_m=fy[keep], pair_u=u[keep], pair_determinant=dk,
         pairs_skipped=skipped, residual_deg=_residuals(bearings, x_m, y_m))
 
 
-def locate(bearings: Bearings, *, method: Method | str = Method.LSQ,
+def locate(bearings: Bearings, *, method: FixMethod | str = FixMethod.LSQ,
            max_u: float = DEFAULT_MAX_U) -> LocateResult:
     """Estimate a stationary target's position from bearings.
 
@@ -293,7 +284,7 @@ def locate(bearings: Bearings, *, method: Method | str = Method.LSQ,
     ----------
     bearings : Bearings
         Two or more bearings at distinct observer positions.
-    method : Method or str
+    method : FixMethod or str
         ``crossing`` (last two bearings, eqs. 6-8), ``lsq`` (all bearings) or ``mean``
         (mean of consecutive pairwise fixes, eq. 29).
     max_u : float
@@ -309,12 +300,12 @@ def locate(bearings: Bearings, *, method: Method | str = Method.LSQ,
         See `crossing_fix`, `lsq_fix`, `mean_fix`.
     """
     try:
-        method = Method(method)
+        method = FixMethod(method)
     except ValueError:
-        raise LocateError(f"method: must be one of {', '.join(m.value for m in Method)}, "
+        raise LocateError(f"method: must be one of {', '.join(m.value for m in FixMethod)}, "
                           f"got {method!r}") from None
     if not (math.isfinite(max_u) and max_u >= 1.0):
         raise LocateError(f"max_u: the conditioning limit must be a finite number >= 1, "
                           f"got {max_u}")
-    return {Method.CROSSING: crossing_fix, Method.LSQ: lsq_fix,
-            Method.MEAN: mean_fix}[method](bearings, max_u=max_u)
+    return {FixMethod.CROSSING: crossing_fix, FixMethod.LSQ: lsq_fix,
+            FixMethod.MEAN: mean_fix}[method](bearings, max_u=max_u)

@@ -19,10 +19,6 @@ import math
 
 import numpy as np
 
-#: Largest conditioning number u (eq. 11) accepted for a fix; u = 1000 means bearing lines
-#: about 0.11 deg apart. Above it the fix is reported as ill-conditioned instead of computed.
-DEFAULT_MAX_U = 1000.0
-
 #: Observer positions that agree when rounded to this step count as the same position, m.
 SAME_POSITION_M = 1e-3
 

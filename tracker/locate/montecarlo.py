@@ -14,15 +14,14 @@ import numpy as np
 
 from tracker.errors import LocateError
 from tracker.locate.bearings import Bearings
-from tracker.locate.fixes import Method
+from tracker.locate.choices import DEFAULT_MAX_U, CourseRule, FixMethod, Side
 from tracker.locate.geometry import (
-    DEFAULT_MAX_U,
     bearing_to_deg,
     crossing_point,
     pair_conditioning,
 )
 from tracker.locate.regions import check_d_alpha
-from tracker.locate.route import CourseRule, Side, course_offset_deg
+from tracker.locate.route import course_offset_deg
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -120,7 +119,7 @@ def monte_carlo_first_leg(*, target_x_m: float, target_y_m: float, leg_m: float,
 
 def monte_carlo_locate(bearings: Bearings, x_m: float, y_m: float, *, d_alpha_deg: float,
                        n_trials: int, rng: np.random.Generator,
-                       method: Method | str = Method.LSQ,
+                       method: FixMethod | str = FixMethod.LSQ,
                        max_u: float = DEFAULT_MAX_U) -> MonteCarlo:
     """Fixes from the bearings seen at (x_m, y_m) plus uniform errors in [-D_alpha, D_alpha].
 
@@ -131,11 +130,11 @@ def monte_carlo_locate(bearings: Bearings, x_m: float, y_m: float, *, d_alpha_de
     check_d_alpha(d_alpha_deg)
     if int(n_trials) != n_trials or n_trials < 1:
         raise LocateError(f"n_trials: must be an integer >= 1, got {n_trials}")
-    method = Method(method)
+    method = FixMethod(method)
     ox, oy = bearings.obs_x_m, bearings.obs_y_m
     exact = bearing_to_deg(ox, oy, x_m, y_m)
     a = exact[None, :] + rng.uniform(-d_alpha_deg, d_alpha_deg, (int(n_trials), len(ox)))
-    if method is Method.LSQ:
+    if method is FixMethod.LSQ:
         ar = np.radians(a)
         c, s = np.cos(ar), np.sin(ar)
         xr, yr = float(np.mean(ox)), float(np.mean(oy))
@@ -152,7 +151,7 @@ def monte_carlo_locate(bearings: Bearings, x_m: float, y_m: float, *, d_alpha_de
             fy = (pcc * qs - pcs * qc) / det + yr
         ok = u <= max_u
     else:
-        if method is Method.CROSSING:
+        if method is FixMethod.CROSSING:
             i, j = np.array([len(ox) - 2]), np.array([len(ox) - 1])
         else:
             i, j = np.arange(len(ox) - 1), np.arange(1, len(ox))

@@ -10,38 +10,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import StrEnum
 
 import numpy as np
 
 from tracker.errors import LocateError
 from tracker.locate.bearings import Bearings
+from tracker.locate.choices import DEFAULT_MAX_U, CourseRule, Side
 from tracker.locate.geometry import (
-    DEFAULT_MAX_U,
     SAME_POSITION_M,
     bearing_to_deg,
     crossing_point,
     pair_conditioning,
 )
 from tracker.locate.regions import check_d_alpha
-
-
-class CourseRule(StrEnum):
-    """How the observer's course is chosen for the next leg."""
-
-    EQ17 = "eq17"  # perpendicular to the current bearing
-    EQ23 = "eq23"  # perpendicular to the anticipated next bearing (modified algorithm)
-
-
-class Side(StrEnum):
-    """Which side of the observer the target is kept on while steering."""
-
-    PORT = "port"            # course = bearing + 90 deg; bearings decrease (the paper's eq. 23)
-    STARBOARD = "starboard"  # course = bearing - 90 deg; bearings increase
-
-    @property
-    def sign(self) -> float:
-        return 1.0 if self is Side.PORT else -1.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -14,7 +14,8 @@ import pandas as pd
 
 from tracker.errors import LocateError
 from tracker.locate.bearings import Bearings
-from tracker.locate.fixes import Method, locate
+from tracker.locate.choices import FixMethod
+from tracker.locate.fixes import locate
 from tracker.locate.montecarlo import monte_carlo_first_leg, monte_carlo_locate
 from tracker.locate.regions import error_polygon, error_region
 from tracker.locate.route import plan_route
@@ -148,7 +149,7 @@ def locate_study(bearings: Bearings, *, method, max_u: float, d_alpha_deg: float
     n = len(bearings)
     region, region_note, region_problem = None, "", None
     try:
-        if n == 2 or result.method is Method.CROSSING:
+        if n == 2 or result.method is FixMethod.CROSSING:
             region_note = f"quadrilateral of rows {n - 1} and {n}"
             region = error_region(bearings.obs_x_m[-2:], bearings.obs_y_m[-2:], result.x_m,
                                   result.y_m, d_alpha_deg=d_alpha_deg)

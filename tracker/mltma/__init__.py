@@ -8,11 +8,12 @@ curvature, section 4 step 8), course (eqs. 7, 8), eq. 25 by bearing_form + searc
 params: MLParams.
 """
 
-from tracker.mltma.batch import MLBatch
-from tracker.mltma.course import course_from_relative_deg, relative_course_deg, wrap180
-from tracker.mltma.params import MLParams
-from tracker.mltma.smoothing import trimmed_mean
-from tracker.mltma.tracker import MLTracker, track_measurements
+from envdata.lazyexports import lazy_exports
 
-__all__ = ["MLBatch", "MLParams", "MLTracker", "course_from_relative_deg", "relative_course_deg",
-           "track_measurements", "trimmed_mean", "wrap180"]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "tracker.mltma.batch": ["MLBatch"],
+    "tracker.mltma.course": ["course_from_relative_deg", "relative_course_deg", "wrap180"],
+    "tracker.mltma.params": ["MLParams"],
+    "tracker.mltma.smoothing": ["trimmed_mean"],
+    "tracker.mltma.tracker": ["MLTracker", "track_measurements"],
+})

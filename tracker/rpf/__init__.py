@@ -6,8 +6,8 @@ jointly; see `RpfConfig.sl_offset_sd_db`), which is not in the paper.
 
 Modules, one part of the filter each:
 
-- `config`: `RpfConfig` (its ``engine``: the compiled kernel or the numpy reference), `Method`,
-  `Engine`;
+- `config`: `RpfConfig` (its ``engine``: the compiled kernel or the numpy reference) and
+  `Engine` (the filter's methods are `tracker.methods.Method`);
 - `prior`: initial particles from the first bearing;
 - `motion`: prediction, eqs. 4-6; `normals`: the normal draws it and the kernel use;
 - `likelihood`: bearings and levels, eqs. 9, 12, 16, 31-33;
@@ -26,23 +26,20 @@ regularised particle filters" (2001). B. Ristic, S. Arulampalam, N. Gordon, "Bey
 filter" (2003), sec. 6.4.1.1 (initialization).
 """
 
-from tracker.rpf.batch import BatchResult, run_batch
-from tracker.rpf.config import BLOCK_PARTICLES, KNOT_MPS, Engine, Method, RpfConfig
-from tracker.rpf.estimate import estimate, particle_sds, weighted_covariance
-from tracker.rpf.likelihood import bearing_loglik, bearing_rad, level_loglik, predicted_level_db, wrap_rad
-from tracker.rpf.motion import predict
-from tracker.rpf.normals import standard_normal_pairs
-from tracker.rpf.prior import initial_particles
-from tracker.rpf.regularise import epanechnikov_sample, optimal_bandwidth, regularise, unit_ball_volume
-from tracker.rpf.resample import multinomial_resample
-from tracker.rpf.track import track_measurements
-from tracker.rpf.weights import n_eff, normalise, normalise_exp
+from envdata.lazyexports import lazy_exports
 
-__all__ = [
-    "BLOCK_PARTICLES", "KNOT_MPS", "BatchResult", "Engine", "Method", "RpfConfig", "bearing_loglik",
-    "bearing_rad", "epanechnikov_sample", "estimate", "initial_particles", "level_loglik",
-    "multinomial_resample", "n_eff", "normalise", "normalise_exp", "optimal_bandwidth",
-    "particle_sds", "predict", "predicted_level_db", "regularise", "run_batch",
-    "standard_normal_pairs", "track_measurements", "unit_ball_volume", "weighted_covariance",
-    "wrap_rad",
-]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "tracker.rpf.batch": ["BatchResult", "run_batch"],
+    "tracker.rpf.config": ["BLOCK_PARTICLES", "KNOT_MPS", "Engine", "RpfConfig"],
+    "tracker.rpf.estimate": ["estimate", "particle_sds", "weighted_covariance"],
+    "tracker.rpf.likelihood": [
+        "bearing_loglik", "bearing_rad", "level_loglik", "predicted_level_db", "wrap_rad",
+    ],
+    "tracker.rpf.motion": ["predict"],
+    "tracker.rpf.normals": ["standard_normal_pairs"],
+    "tracker.rpf.prior": ["initial_particles"],
+    "tracker.rpf.regularise": ["epanechnikov_sample", "optimal_bandwidth", "regularise", "unit_ball_volume"],
+    "tracker.rpf.resample": ["multinomial_resample"],
+    "tracker.rpf.track": ["track_measurements"],
+    "tracker.rpf.weights": ["n_eff", "normalise", "normalise_exp"],
+})

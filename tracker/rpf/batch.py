@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from envdata.classes import SourceLevelModel
 from tracker.rpf.config import BLOCK_PARTICLES, Engine, RpfConfig
 from tracker.rpf.estimate import estimate, particle_sds
 from tracker.rpf.likelihood import bearing_loglik, level_loglik
@@ -64,7 +65,7 @@ class BatchResult:
 
 def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.ndarray,
               level_db_meas: np.ndarray | None, k_profiles, cfg: RpfConfig,
-              rng: np.random.Generator, source_level_model: str = "ross",
+              rng: np.random.Generator, source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
               p0_db: float = math.nan, p0_sd_db: float = 0.0,
               summaries: bool = False, threads: int = 1) -> BatchResult:
     """Run the RPF over K cycles for a batch of runs sharing one observer track.
@@ -83,8 +84,8 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
         K(r) at the observer depth of each cycle (`LevelProfile`); unused without levels.
     cfg : RpfConfig
     rng : numpy.random.Generator
-    source_level_model : str
-        "ross" (eq. 12) or "p0" (constant ``p0_db``, its sd ``p0_sd_db`` added to sigma_l).
+    source_level_model : SourceLevelModel
+        ``ROSS`` (eq. 12) or ``P0`` (constant ``p0_db``, its sd ``p0_sd_db`` added to sigma_l).
     summaries : bool
         Also return per-cycle particle sd of range, course and target speed (for track CSVs).
     threads : int
@@ -97,6 +98,7 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
     -------
     BatchResult
     """
+    source_level_model = SourceLevelModel(source_level_model)
     runs = bearing_rad_meas.shape[0]
     block = max(1, BLOCK_PARTICLES // cfg.n_particles)
     starts = list(range(0, runs, block))
@@ -135,17 +137,17 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
         from tracker.rpf.kernel import run as run_kernel  # numba loads only here
 
         sigma_l = math.hypot(cfg.level_sigma_db,
-                             p0_sd_db if source_level_model != "ross" else 0.0)
+                             p0_sd_db if source_level_model is not SourceLevelModel.ROSS else 0.0)
         means, covs, resampled, sds = run_kernel(
             t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
             level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
-            ross=source_level_model == "ross", p0_db=p0_db, sigma_l_db=sigma_l,
+            ross=source_level_model is SourceLevelModel.ROSS, p0_db=p0_db, sigma_l_db=sigma_l,
             bandwidth=optimal_bandwidth(cfg.n_particles, cfg.n_dim), summaries=summaries)
         return BatchResult(mean=means, cov=covs, resampled=resampled,
                            extra={"sd": sds} if summaries else {})
     runs, n_cycles = bearing_rad_meas.shape
     sigma_theta = math.radians(cfg.bearing_sigma_deg)
-    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model != "ross" else 0.0)
+    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model is not SourceLevelModel.ROSS else 0.0)
     n_thr = cfg.neff_fraction * cfg.n_particles
     d = cfg.n_dim
     means = np.empty((runs, n_cycles, d))

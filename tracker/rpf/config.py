@@ -1,4 +1,4 @@
-"""Settings of the regularized particle filter: `RpfConfig`, `Method` and `Engine`.
+"""Settings of the regularized particle filter: `RpfConfig` and `Engine`.
 
 References
 ----------
@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+#: One knot, m/s (the papers give speeds in knots).
 KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
@@ -25,14 +26,6 @@ class Engine(StrEnum):
 
     KERNEL = "kernel"
     NUMPY = "numpy"
-
-
-class Method(StrEnum):
-    """Which measurements the filter uses."""
-
-    RPF = "rpf"          # bearings and SPL (eq. 31)
-    RPF_BOT = "rpf-bot"  # bearings only (eq. 32)
-    RPF_VP = "rpf-vp"    # bearings and SPL, variance-preserving regularization (not in the paper)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from envdata.classes import SourceLevelModel
 from tracker.rpf.batch import BatchResult
 from tracker.rpf.config import BLOCK_PARTICLES, RpfConfig
 from tracker.rpf.regularise import optimal_bandwidth
@@ -54,7 +55,8 @@ class DepthConfig:
 
 def run_batch_depth(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.ndarray,
                     level_db_meas: np.ndarray, target_k, cycle_bearing_deg, depth: DepthConfig,
-                    cfg: RpfConfig, rng: np.random.Generator, source_level_model: str = "ross",
+                    cfg: RpfConfig, rng: np.random.Generator,
+                    source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
                     p0_db: float = math.nan, p0_sd_db: float = 0.0, summaries: bool = False,
                     threads: int = 1) -> BatchResult:
     """Run the RPF with a depth state over K cycles for a batch of runs sharing one observer.
@@ -79,7 +81,8 @@ def run_batch_depth(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas:
     block = max(1, BLOCK_PARTICLES // cfg.n_particles)
     starts = list(range(0, runs, block))
     rngs = rng.spawn(len(starts))
-    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model != "ross" else 0.0)
+    ross = SourceLevelModel(source_level_model) is SourceLevelModel.ROSS
+    sigma_l = math.hypot(cfg.level_sigma_db, 0.0 if ross else p0_sd_db)
     h = optimal_bandwidth(cfg.n_particles, cfg.n_dim + 1)
 
     def one(i):
@@ -89,7 +92,7 @@ def run_batch_depth(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas:
             level_db_meas=level_db_meas[rows], target_k=target_k,
             cycle_bearing_deg=cycle_bearing_deg, depth_span_m=(depth.depth_min_m, depth.depth_max_m),
             walk_m_per_sqrt_s=depth.walk_m_per_sqrt_s, cfg=cfg, rng=rngs[i],
-            ross=source_level_model == "ross", p0_db=p0_db, sigma_l_db=sigma_l, bandwidth=h,
+            ross=ross, p0_db=p0_db, sigma_l_db=sigma_l, bandwidth=h,
             summaries=summaries)
         return BatchResult(mean=means, cov=covs, resampled=resampled,
                            extra={"sd": sds} if summaries else {})

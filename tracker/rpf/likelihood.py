@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from envdata.classes import ross_source_level_db
+from envdata.classes import SourceLevelModel, ross_source_level_db
 from tracker.rpf.scratch import scratch
 
 
@@ -64,7 +64,8 @@ def bearing_loglik(state: np.ndarray, bearing_meas_rad, sigma_rad: float,
     return resid
 
 
-def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *, source_level_model="ross",
+def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *,
+                       source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
                        p0_db: float = math.nan) -> np.ndarray:
     """h_l of eq. 16: SL of each particle's target speed plus K(r) = S - TL(r), dB.
 
@@ -77,17 +78,17 @@ def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *, source_leve
         Observer velocity (east, north), m/s.
     k_profile : callable
         K(r) at the observer depth, dB (`tracker.tables.LevelProfile`).
-    source_level_model : str
-        "ross" (eq. 12, the particle's speed) or "p0" (the constant ``p0_db``).
+    source_level_model : SourceLevelModel
+        ``ROSS`` (eq. 12, the particle's speed) or ``P0`` (the constant ``p0_db``).
     p0_db : float
-        Source level of the "p0" model, dB.
+        Source level of the ``P0`` model, dB.
 
     Returns
     -------
     level_db : ndarray, shape of the particle axes
     """
     r = np.hypot(state[0], state[1])
-    if source_level_model == "ross":
+    if SourceLevelModel(source_level_model) is SourceLevelModel.ROSS:
         v = np.hypot(state[2] + float(obs_vel_mps[0]), state[3] + float(obs_vel_mps[1]))
         level = ross_source_level_db(v)
     else:
@@ -99,7 +100,8 @@ def predicted_level_db(state: np.ndarray, obs_vel_mps, k_profile, *, source_leve
 
 
 def level_loglik(state: np.ndarray, level_meas_db, obs_vel_mps, k_profile, sigma_db: float, *,
-                 source_level_model="ross", p0_db: float = math.nan) -> np.ndarray:
+                 source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
+                 p0_db: float = math.nan) -> np.ndarray:
     """Log of eq. 33 up to a constant: -(l - h_l(x))^2 / (2 sigma_l^2).
 
     Parameters as `predicted_level_db`; ``level_meas_db`` is l, dB re 1 uPa, broadcasting

@@ -12,8 +12,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from tracker.methods import Method
 from tracker.rpf.batch import run_batch
-from tracker.rpf.config import Method, RpfConfig
+from tracker.rpf.config import RpfConfig
 from tracker.rpf.likelihood import bearing_rad
 
 log = logging.getLogger(__name__)
@@ -72,11 +73,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     from tracker.errors import MeasurementFileError
 
     m = measurements
-    try:
-        method = Method(method)
-    except ValueError:
-        raise MeasurementFileError(f"method {method!r} is not an RPF method (rpf, rpf-bot, "
-                                   f"rpf-vp)") from None
+    chosen = method
+    method = Method(chosen) if chosen in set(Method) else None
+    if method is None or not method.is_particle_filter:
+        raise MeasurementFileError(f"method {chosen!r} is not an RPF method (rpf, rpf-bot, rpf-vp)")
     spl = method is not Method.RPF_BOT
     cfg = config or RpfConfig()
     if method is Method.RPF_VP:
@@ -123,15 +123,15 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     frames = []
     for name in hypotheses:
         profiles = [None] * t.size
-        model, p0, p0_sd = "ross", math.nan, 0.0
+        model, p0, p0_sd = SourceLevelModel.ROSS, math.nan, 0.0
         if spl:
             ic, ib = tables.class_index(name), tables.band_index(band)
             target = tables.classes[ic]
-            model = str(target.source_level_model)
+            model = target.source_level_model
             if target.source_level_model is SourceLevelModel.P0:
                 if target.noise_mean_db is None:
                     raise GridFileError(f"{tables.source}: class {name!r} has source level "
-                                        f"model {model!r} but no noise_mean_db")
+                                        f"model {str(model)!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
             profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         if depth_unknown:

@@ -1,10 +1,5 @@
-"""The small atlas area the atlas tests build: the shelf-break relief, 12 synthetic months.
-
-A 3 x 3 lattice about the built-in shelf-break origin whose northern row lies on the shelf
-near the coast (water shallower than the observer there: left out), 4 radials to 10 km, one
-band, one class (TV at 8 m), a 50 m TL depth axis and 300 beams: one BELLHOP run per radial,
-about 10-30 ms each.
-"""
+"""The small atlas area the atlas tests build (tests/data/atlas-test.toml): the shelf-break relief,
+12 synthetic months beside it."""
 
 from __future__ import annotations
 
@@ -12,73 +7,16 @@ import shutil
 from pathlib import Path
 
 import envdata
-from tools.make_sample_data import DATA, RELIEF_FILE, write_monthly
+from tests.fixtures.sample_data import DATA, RELIEF_FILE, write_monthly
 
-ATLAS_TOML = """
-[area]
-name = "atlas-test"
-description = "shelf-break relief, 3 x 3 lattice, two months"
+ATLAS_TOML = Path(__file__).resolve().parents[2] / "data" / "atlas-test.toml"
 
-[origin]
-lat_deg = 43.0
-lon_deg = 5.0
 
-[bearings]
-step_deg = 90.0
-
-[atlas]
-lat_deg = [42.975, 43.15]
-lon_deg = [4.90, 5.10]
-spacing_km = {spacing_km}
-months = {months}
-depth_step_m = 50.0
-
-[water]
-bathymetry = "{relief}"
-temperature = "woa_monthly_t.nc"
-salinity = "woa_monthly_s.nc"
-month = 8
-
-[bottom]
-speed_mps = 1600.0
-density_gcc = 1.8
-attenuation_db_per_wavelength = 0.8
-
-[noise]
-spectrum_level_1khz_db = 57.02
-slope_db_per_octave = -5.0
-
-[observer]
-depth_m = 100.0
-
-[sonar]
-beamwidth_deg = 5.0
-directivity_index_db = 42.0
-integration_time_s = 10.0
-detection_threshold = 5.0
-
-[[bands]]
-name = "FB2"
-low_hz = 300.0
-high_hz = 1000.0
-
-[[classes]]
-name = "TV"
-depth_m = 8.0
-speed_mean_mps = 7.5
-speed_sd_mps = 1.0
-noise_mean_db = 133.02
-noise_sd_db = 2.5
-
-[grid]
-range_max_m = 10000.0
-range_step_m = 200.0
-depth_step_m = 25.0
-
-[propagation]
-n_beams = 300
-step_m = 50.0
-"""
+def atlas_area_text(*, months=(2, 8), spacing_km: float = 8.0) -> str:
+    """The test atlas area's TOML with another lattice spacing and other months."""
+    text = ATLAS_TOML.read_text()
+    return text.replace("spacing_km = 8.0", f"spacing_km = {spacing_km}").replace(
+        "months = [2, 8]", f"months = {list(months)}")
 
 
 def write_atlas_area(folder: Path, *, months=(2, 8), spacing_km: float = 8.0) -> Path:
@@ -90,7 +28,7 @@ def write_atlas_area(folder: Path, *, months=(2, 8), spacing_km: float = 8.0) ->
     if not relief.exists():
         shutil.copy(DATA / RELIEF_FILE, relief)
     path = folder / "atlas-test.toml"
-    path.write_text(ATLAS_TOML.format(spacing_km=spacing_km, months=list(months), relief=RELIEF_FILE))
+    path.write_text(atlas_area_text(months=months, spacing_km=spacing_km))
     return path
 
 

@@ -12,7 +12,7 @@ import acoustics
 from acoustics.errors import GridFileError
 from acoustics.plots.depthplot import depth_k_figure
 from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
-from acoustics.plots.style import What
+from acoustics.plots.what import What
 from envdata.errors import InputError
 
 pytestmark = pytest.mark.bellhop

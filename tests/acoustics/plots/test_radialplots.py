@@ -26,7 +26,7 @@ from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 from acoustics.plots.mapplot import map_figure
 from acoustics.plots.radialplots import bearing_plot_paths, plot_bearing_grid
 from acoustics.plots.sectionplot import section_figure
-from acoustics.plots.style import What
+from acoustics.plots.what import What
 from envdata.errors import InputError
 
 pytestmark = pytest.mark.bellhop

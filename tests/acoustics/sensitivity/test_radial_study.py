@@ -16,8 +16,8 @@ from acoustics.sensitivity.perturbspec import PerturbationError, default_perturb
 from acoustics.sensitivity.spec import StudySpec
 from envdata.fieldchange import FieldChange, ReliefChange, SmoothField, WaterChange
 from tests.acoustics.sensitivity.conftest import specs
-from tools.make_sample_data import WOA_LAT_DEG, WOA_LON_DEG, woa_fields, write_monthly
-from tools.sample_layouts import write_woa
+from tests.fixtures.layouts import write_woa
+from tests.fixtures.sample_data import WOA_LAT_DEG, WOA_LON_DEG, woa_fields, write_monthly
 
 pytestmark = pytest.mark.bellhop
 

@@ -17,7 +17,7 @@ from tracker import locate as loc
 from tracker.errors import LocateError
 
 
-@pytest.mark.parametrize("method", list(loc.Method))
+@pytest.mark.parametrize("method", list(loc.FixMethod))
 @pytest.mark.parametrize("n", [2, 3, 7])
 def test_noise_free_bearings_give_the_target_exactly(method, n, rng):
     tx, ty = rng.uniform(-30e3, 30e3, 2)
@@ -81,7 +81,7 @@ def test_mean_leaves_out_an_ill_conditioned_pair():
 
 def test_nearly_parallel_bearings_raise_with_u_instead_of_a_wild_fix():
     b = loc.Bearings.from_arrays([0.0, 100.0], [0.0, 0.0], [10.0, 9.95])
-    for method in loc.Method:
+    for method in loc.FixMethod:
         with pytest.raises(LocateError, match=r"parallel or nearly so.*u = 2292 exceeds"):
             loc.locate(b, method=method)
     fix = loc.locate(b, method="crossing", max_u=5000.0)  # a looser limit gives the fix

@@ -46,7 +46,7 @@ def test_monte_carlo_mean_is_near_the_papers_eq29(rng):
 def test_monte_carlo_locate_is_unbiased_for_noise_free_limit(rng):
     route = paper_route("eq23", n_legs=5)
     b = route.bearings()
-    for method in loc.Method:
+    for method in loc.FixMethod:
         mc = loc.monte_carlo_locate(b, X0, Y0, d_alpha_deg=0.01, n_trials=200, rng=rng,
                                     method=method)
         assert mc.x_m.size == 200
@@ -57,7 +57,7 @@ def test_monte_carlo_locate_is_unbiased_for_noise_free_limit(rng):
     assert np.all(reg.contains(mc.x_m, mc.y_m, tol_m=1e-9))
 
 
-@pytest.mark.parametrize("method", list(loc.Method))
+@pytest.mark.parametrize("method", list(loc.FixMethod))
 def test_vectorised_monte_carlo_applies_the_estimator_to_each_trial(method):
     route = paper_route("eq23", n_legs=4)
     b = route.bearings()

@@ -9,6 +9,7 @@ from numpy.testing import assert_allclose
 import acoustics
 from acoustics.grid.targetdepth import TargetDepthK
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
+from envdata.classes import SourceLevelModel
 from tracker.rpf import RpfConfig
 from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
 from tracker.rpf.kernel.depth import k_at_depth, pass_k_db
@@ -48,7 +49,7 @@ def test_the_depth_state_learns_the_depth_from_the_levels(tiny_depth_grid):
     res = run_batch_depth(t_s=ts, obs_state=obs, bearing_rad_meas=bearing[None],
                           level_db_meas=level[None], target_k=t.target_depth_k(ic, ib),
                           cycle_bearing_deg=np.degrees(bearing), depth=span, cfg=cfg, rng=rng,
-                          source_level_model="p0", p0_db=p0, summaries=True)
+                          source_level_model=SourceLevelModel.P0, p0_db=p0, summaries=True)
     depth, sd = res.mean[0][:, -1], np.sqrt(res.cov[0][:, -1, -1])
     assert res.mean.shape == (1, n, 5)
     assert np.all((depth >= 20.0) & (depth <= 900.0))  # the walls hold the particles
@@ -130,7 +131,7 @@ def test_the_depth_estimates_are_those_of_the_first_kernel(tiny_depth_grid):
     res = run_batch_depth(t_s=ts, obs_state=obs, bearing_rad_meas=bearing, level_db_meas=level,
                           target_k=t.target_depth_k(ic, ib), cycle_bearing_deg=np.degrees(bearing[0]),
                           depth=DepthConfig(depth_min_m=20.0, depth_max_m=900.0), cfg=cfg,
-                          rng=np.random.default_rng(7), source_level_model="p0", p0_db=p0)
+                          rng=np.random.default_rng(7), source_level_model=SourceLevelModel.P0, p0_db=p0)
     depth = res.mean[:, -1, -1]
     posterior_sd = np.sqrt(res.cov[:, -1, -1, -1])
     # two independent samples of 40 runs: the means' difference has sd

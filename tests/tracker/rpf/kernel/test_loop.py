@@ -10,10 +10,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tests.tracker.rpf.kernel.conftest import profile
+from tools.studies.idm import simulate
+from tools.studies.idm_scenarios import get_scenario
 from tracker.rpf.batch import run_batch
 from tracker.rpf.config import Engine, RpfConfig
-from tracker.studies.idm import simulate
-from tracker.studies.idm_scenarios import get_scenario
 
 
 def _batch(engine, monkeypatch, *, runs, n, levels, seed, threads=1, shrink=False):

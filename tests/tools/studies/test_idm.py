@@ -12,9 +12,9 @@ from numpy.testing import assert_allclose
 
 import acoustics
 import envdata
+from tools.studies import idm
+from tools.studies.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
 from tracker import rpf
-from tracker.studies import idm
-from tracker.studies.idm_scenarios import SCENARIOS, ScenarioError, get_scenario
 
 
 @pytest.fixture(scope="module")

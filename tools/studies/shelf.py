@@ -27,15 +27,12 @@ import pandas as pd
 
 from acoustics.builder.gridfile import build_grid_file
 from acoustics.grid.formats import RESULT_FORMAT
-from acoustics.grid.tables import GridTables
 from envdata.area import Area, Water
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
 from envdata.radials import area_radials
 from envdata.ssp import SoundSpeedProfile
-from tracker.mltma import MLBatch
-from tracker.rpf import RpfConfig, run_batch
-from tracker.rpf.track import cycle_profiles
+from tools.studies.trackerrors import ml_errors, rpf_errors
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -75,49 +72,6 @@ def origin_area(area: Area) -> Area:
     return parse_area(doc, f"{area.name}-origin")
 
 
-def _ml_errors(tables: GridTables, sim, cls_index: int) -> np.ndarray:
-    """Position error of the ML tracker, true class, every run and cycle, m (E, T)."""
-    e, t = sim.bearing_deg.shape
-    batch = MLBatch(tables, np.full(e, cls_index), t)
-    vx = np.gradient(sim.obs_x_m, sim.t_s)
-    vy = np.gradient(sim.obs_y_m, sim.t_s)
-    err = np.full((e, t), np.nan)
-    for i in range(t):
-        out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
-                           sim.bearing_deg[:, i], sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :],
-                           sim.snr_db[:, i, :], obs_depth_m=sim.obs_depth_m)
-        err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
-    return err
-
-
-def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.random.Generator,
-                n_particles: int) -> np.ndarray:
-    """Position error of the particle filter (bearings and the band's SPL), m (E, T)."""
-    e, t = sim.bearing_deg.shape
-    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
-                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
-    target = tables.classes[cls_index]
-    # the class's speed statistics and level errors (eq. 11's ~1.1 dB and dK); a range prior
-    # around the first range with 25 % sd, the same whichever grid is tracked with
-    r0 = float(np.mean(sim.range_m[:, 0]))
-    cfg = RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
-                    level_sigma_db=float(np.hypot(1.1, target.k_error_sd_db)),
-                    range_mean_m=r0, range_sd_m=0.25 * r0, speed_mean_mps=target.speed_mean_mps,
-                    speed_sd_mps=target.speed_sd_mps, shrink=True)
-    err = np.empty((e, t))
-    for run in range(e):  # each run its own measured bearings, so its own K profiles
-        bearing = np.radians(sim.bearing_deg[run])
-        profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m),
-                                  sim.bearing_deg[run], sim.obs_x_m, sim.obs_y_m)
-        res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
-                        level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles,
-                        cfg=cfg, rng=rng, source_level_model="p0", p0_db=target.noise_mean_db,
-                        p0_sd_db=target.noise_sd_db)
-        mean = res.mean[0]
-        err[run] = np.hypot(mean[:, 0] + obs[:, 0] - sim.x_m[run], mean[:, 1] + obs[:, 1] - sim.y_m[run])
-    return err
-
-
 def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
         progress: bool = False) -> dict:
     """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs on the
@@ -142,8 +96,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                                                               runs))
     errors = {}
     for name, tab in tables.items():
-        errors[("ml", name)] = _ml_errors(tab, sim, tab.class_index(sc.target_class))
-        errors[("rpf", name)] = _rpf_errors(tab, sim, tab.class_index(sc.target_class), band,
+        errors[("ml", name)] = ml_errors(tab, sim, tab.class_index(sc.target_class))[0]
+        errors[("rpf", name)] = rpf_errors(tab, sim, tab.class_index(sc.target_class), band,
                                             np.random.default_rng([seed, GRIDS.index(name)]), n_particles)
     minutes = (sim.t_s - sim.t_s[0]) / 60.0
     frame = pd.DataFrame({"t_min": minutes})
@@ -162,7 +116,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "k_difference_db": _k_difference(tables, cls_index, band),
                "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "shelf_rmse.csv", out / "shelf.json", out / "shelf_rmse.png"]
-    from tracker.studies.shelf_plot import rmse_figure
+    from tools.studies.shelf_plot import rmse_figure
 
     fig = rmse_figure(frame, summary)
     from acoustics.plots.figures import save_figure

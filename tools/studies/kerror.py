@@ -15,14 +15,13 @@ nominal tables twice:
   over members, bands, bearings and ranges) everywhere, as a constant map and as
   sigma_l = hypot(1.1, number), as the trackers did before.
 
-``python -m tracker.studies.kerror --grid G --study S --out DIR [--runs N]`` writes
+``tmakit experiment kerror shelf-tv --grid G --study S --out DIR [--runs N]`` writes
 ``kerror_rmse.csv`` (``t_min``, ``METHOD_SD_rmse_m``), ``kerror.json`` and ``kerror_rmse.png``
 (all or none).
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import time
 from pathlib import Path
@@ -34,16 +33,13 @@ from acoustics.grid.io import open_grid
 from acoustics.grid.tables import GridTables, as_tables
 from acoustics.sensitivity.files import open_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
+from envdata.errors import InputError
 from envdata.files import atomic_paths
-from tracker.mltma import MLBatch
-from tracker.rpf import RpfConfig, run_batch
-from tracker.rpf.track import cycle_profiles
+from tools.studies.trackerrors import LEVEL_SD_DB, ml_errors, rpf_errors
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
 SCENARIO = "shelf-tv"
-#: eq. 11's level error at the detection threshold, dB (Grinenkov & Mashoshin: "about 1.1 dB").
-LEVEL_SD_DB = 1.1
 REPORT_MIN = (5, 10, 20, 30)
 METHODS = ("ml", "rpf")
 SDS = ("map", "scalar")
@@ -58,40 +54,6 @@ def member_tables(nominal: GridTables, study, member: int) -> GridTables:
     return as_tables(ds, f"{nominal.source} (member {member})")
 
 
-def _ml_errors(tables: GridTables, sim, cls_index: int) -> np.ndarray:
-    e, t = sim.bearing_deg.shape
-    batch = MLBatch(tables, np.full(e, cls_index), t)
-    vx, vy = np.gradient(sim.obs_x_m, sim.t_s), np.gradient(sim.obs_y_m, sim.t_s)
-    err = np.full((e, t), np.nan)
-    for i in range(t):
-        out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i], sim.bearing_deg[:, i],
-                           sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :], sim.snr_db[:, i, :],
-                           obs_depth_m=sim.obs_depth_m)
-        err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
-    return err
-
-
-def _rpf_errors(tables: GridTables, sim, cls_index: int, band: int, level_sigma_db: float,
-                rng: np.random.Generator, n_particles: int) -> np.ndarray:
-    e, t = sim.bearing_deg.shape
-    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
-                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
-    target = tables.classes[cls_index]
-    r0 = float(np.mean(sim.range_m[:, 0]))
-    cfg = RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
-                    level_sigma_db=level_sigma_db, range_mean_m=r0, range_sd_m=0.25 * r0,
-                    speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True)
-    err = np.empty((e, t))
-    for run in range(e):
-        profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
-        res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
-                        level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles, cfg=cfg, rng=rng,
-                        source_level_model="p0", p0_db=target.noise_mean_db, p0_sd_db=target.noise_sd_db)
-        mean = res.mean[0]
-        err[run] = np.hypot(mean[:, 0] + obs[:, 0] - sim.x_m[run], mean[:, 1] + obs[:, 1] - sim.y_m[run])
-    return err
-
-
 def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int = 48, seed: int = 0,
         n_particles: int = 2000) -> dict:
     """The study (see the module); returns its summary and writes its three files."""
@@ -99,7 +61,7 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     out = Path(out_dir)
     with_map = open_grid(grid)
     if not with_map.has_k_error_map:
-        raise ValueError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
+        raise InputError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
     ds = open_study(study)
     summary_k = summarize(ds)
     sc = load_scenario(SCENARIO)
@@ -121,12 +83,12 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
         minutes = (sim.t_s - sim.t_s[0]) / 60.0
         for name, tables, sigma in (("map", with_map, LEVEL_SD_DB),
                                     ("scalar", scalar, float(np.hypot(LEVEL_SD_DB, scalar_db)))):
-            errors[("ml", name)].append(_ml_errors(tables, sim, ic))
+            errors[("ml", name)].append(ml_errors(tables, sim, ic)[0])
             # the scalar filter's sigma_l already holds the K error: its grid gives it no map
             filter_tables = tables if name == "map" else open_grid_without_map(with_map)
-            errors[("rpf", name)].append(_rpf_errors(filter_tables, sim, ic, band, sigma,
-                                                     np.random.default_rng([seed, int(member), SDS.index(name)]),
-                                                     n_particles))
+            errors[("rpf", name)].append(rpf_errors(filter_tables, sim, ic, band,
+                                                    np.random.default_rng([seed, int(member), SDS.index(name)]),
+                                                    n_particles, level_sigma_db=sigma, at_observer=False))
     errors = {k: np.concatenate(v) for k, v in errors.items()}
     frame = pd.DataFrame({"t_min": minutes})
     for (method, name), err in errors.items():
@@ -180,22 +142,3 @@ def _figure(frame: pd.DataFrame, summary: dict):
                  f"member of a {summary['study_members']}-member study", fontsize=9)
     fig.tight_layout()
     return fig
-
-
-def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--grid", required=True)
-    parser.add_argument("--study", required=True)
-    parser.add_argument("--out", required=True)
-    parser.add_argument("--runs", type=int, default=48)
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--particles", type=int, default=2000)
-    args = parser.parse_args(argv)
-    summary = run(grid=args.grid, study=args.study, out_dir=args.out, runs=args.runs, seed=args.seed,
-                  n_particles=args.particles)
-    print(json.dumps({k: summary[k] for k in ("mean_rmse_after_5min_m", "scalar_k_error_sd_db",
-                                              "k_error_sd_db_median_by_bearing", "seconds")}, indent=1))
-
-
-if __name__ == "__main__":
-    main()

@@ -11,7 +11,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from acoustics.plots.figures import new_figure
-from tracker.studies.idm_columns import COLUMN
+from tools.studies.idm_columns import COLUMN
 
 #: Resolution of the PNG files, dots per inch.
 DPI = 110

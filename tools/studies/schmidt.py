@@ -14,7 +14,7 @@ fixes inside the quadrilateral, and writes them as JSON.
 The library works in metres: the example runs at 1 unit = `UNIT_M` m (VT = 5 m/s x 600 s, as in
 docs/locate.md) and the file gives lengths in the paper's units (areas in square units).
 
-``python -m tracker.studies.schmidt --out docs/results/locate.json`` writes the file that
+``python -m tools.studies.schmidt --out docs/results/locate.json`` writes the file that
 docs/locate.md quotes.
 """
 
@@ -95,7 +95,7 @@ def run(out_path, seed: int = 12345, trials: int = 1000,
     """Compute the example for both rules and write it as JSON to ``out_path`` (atomically)."""
     result = {
         "paper": 'Schmidt et al., "Bearing Errors in Passive Sonar Stationary Target Location"',
-        "written_by": f"tracker.studies.schmidt.run(seed={seed}, trials={trials}, "
+        "written_by": f"tools.studies.schmidt.run(seed={seed}, trials={trials}, "
                       f"expectation_trials={expectation_trials})",
         "numpy": np.__version__,
         "inputs": {"unit_m": UNIT_M, "target": list(TARGET), "start": [0.0, 0.0],
@@ -142,7 +142,7 @@ def table(result: dict) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m tracker.studies.schmidt",
+    parser = argparse.ArgumentParser(prog="python -m tools.studies.schmidt",
                                      description=__doc__.splitlines()[0])
     parser.add_argument("--out", required=True, help="JSON file to write")
     args = parser.parse_args(argv)

@@ -10,7 +10,7 @@ import pytest
 import acoustics
 import envdata
 from tools import cli
-from tracker.studies.shelf import origin_area
+from tools.studies.shelf import origin_area
 
 pytestmark = [pytest.mark.bellhop, pytest.mark.slow]
 

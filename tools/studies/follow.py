@@ -32,10 +32,10 @@ from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.opentables import open_tables
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
+from tools.studies.trackerrors import ml_errors, rpf_errors
 from tracker.mltma import MLBatch, MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
-from tracker.studies.shelf import _rpf_errors
 
 AREA, ATLAS_AREA, SCENARIO = "shelf-break", "shelf-break-atlas", "shelf-cross"
 SPACINGS_KM = (10.0, 5.0)
@@ -92,11 +92,11 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         for name, tab in tables.items():
             for label, params in (("ml", MLParams()), ("ml-paper", MLParams(maneuver_curved=False,
                                                                               level_vs_k=False))):
-                err, tk = _ml(tab, sim, ic, params)
+                err, tk = ml_errors(tab, sim, ic, params)
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
                 tacks[f"{label}_{name}_{truth_name}"] = {"mean_manoeuvres": float(np.mean(tk - 1)),
                                                          "runs_with_any": int(np.sum(tk > 1))}
-            err = _rpf_errors(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles)
+            err = rpf_errors(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles)
             frame[f"rpf_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
     for col in frame.columns[1:]:
         rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}

@@ -8,8 +8,8 @@ import math
 import numpy as np
 from numpy.testing import assert_allclose
 
+from tools.studies import schmidt
 from tracker import locate as loc
-from tracker.studies import schmidt
 
 
 def test_run_writes_the_table_and_its_figures_agree_with_the_geometry(tmp_path):

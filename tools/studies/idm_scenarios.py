@@ -20,13 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envdata.errors import InputError
-
-KNOT_MPS = 1852.0 / 3600.0
-
-
-class ScenarioError(InputError):
-    """An unknown scenario name or bad experiment settings (runs, grid)."""
+from tracker.rpf.config import KNOT_MPS
+from tracker.scenario import ScenarioError
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -28,10 +28,11 @@ from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.tables import GridTables
 from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
+from tools.studies.idm_columns import COLUMN
+from tools.studies.idm_scenarios import IdmScenario, get_scenario
 from tracker import rpf
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
-from tracker.studies.idm_columns import COLUMN
-from tracker.studies.idm_scenarios import IdmScenario, ScenarioError, get_scenario
+from tracker.scenario import ScenarioError
 
 log = logging.getLogger(__name__)
 
@@ -229,7 +230,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     with atomic_path(csv_path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.6g")
     from acoustics.plots.figures import save_figure
-    from tracker.studies.idm_plot import DPI, rmse_figure
+    from tools.studies.idm_plot import DPI, rmse_figure
 
     save_figure(rmse_figure(frame, sc, methods, runs=runs), png_path, dpi=DPI)
 

@@ -259,7 +259,7 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
                "steady_state": steady, "later_tacks": later, "manoeuvres": detection,
                "rms_csv": str(out / "rms.csv")}
     try:
-        from tracker.studies.gm_plot import plot_experiment
+        from tools.studies.gm_plot import plot_experiment
 
         # the one-run plot shows the design's centre (class mean speed and noise, dK = 0)
         centre = int(np.argmax(w))

@@ -1,4 +1,6 @@
-"""The papers' Monte Carlo studies, their scenarios and their plots, on top of the trackers.
+"""The experiments ``tmakit experiment`` runs: the papers' Monte Carlo studies, their scenarios and
+plots, and the studies on the built-in areas. They build tables and run the trackers, so they stand
+above both ``acoustics`` and ``tracker`` (tests/test_imports.py).
 
 Modules (import them directly; nothing is imported here, so importing the package loads
 neither the trackers nor matplotlib):
@@ -11,9 +13,15 @@ neither the trackers nor matplotlib):
   figure.
 - `schmidt`: the Schmidt et al. worked example of a stationary target located from bearings
   (first leg, error quadrilateral, Monte Carlo mean), written to ``docs/results/locate.json``
-  by ``python -m tracker.studies.schmidt``.
+  by ``python -m tools.studies.schmidt``.
 - `shelf`: tracking in the shelf-break area with its bearing-dependent grid and with the
   origin's column over a flat bottom (``tmakit experiment shelf``); `shelf_plot` draws it.
+- `depth`: a submarine off its class's table depth, tracked with the class's depth, the true
+  depth and the depth unknown (``tmakit experiment depth``); `depth_plot` draws it.
+- `follow`: tracking with an atlas that follows the observer against one grid
+  (``tmakit experiment follow``).
+- `kerror`: tracking with the K error a sensitivity study measured, per bearing and range or as
+  one number (``tmakit experiment kerror``).
 
 Data flows one way: the plots import the data definitions (scenarios, columns), never the
 experiments; an experiment imports its plot module only where it draws.

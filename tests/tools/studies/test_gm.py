@@ -6,7 +6,7 @@ import pytest
 
 import acoustics
 import envdata
-from tracker.studies.gm import design, run
+from tools.studies.gm import design, run
 
 
 @pytest.fixture(scope="session")
@@ -67,8 +67,8 @@ def test_tv_110km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
 
 def test_design_centre_is_the_class_distribution():
     from envdata import TargetClass
+    from tools.studies.gm import center_offsets
     from tracker.scenario import load_scenario
-    from tracker.studies.gm import center_offsets
 
     cls = TargetClass(name="TV", depth_m=8.0, speed_mean_mps=7.5, speed_sd_mps=1.0,
                       noise_mean_db=133.02, noise_sd_db=2.5, k_error_sd_db=1.5)
@@ -94,7 +94,7 @@ def test_progress_bar_on_stderr(ocean_grid_file, tmp_path, capfd):
 def test_rms_skips_runs_without_an_estimate():
     import numpy as np
 
-    from tracker.studies.gm import weighted_rms
+    from tools.studies.gm import weighted_rms
 
     # 1 class, 3 runs, 2 cycles; run 0 has no range estimate in cycle 0 (not yet detected)
     sq = {"range": np.array([[[np.nan, 4.0], [1.0, 1.0], [9.0, 9.0]]])}
@@ -128,7 +128,7 @@ def test_the_default_manoeuvre_tests_are_as_quick_as_the_papers(ocean_grid_file,
     (Before: the class's K error joined to sigma_dW hid the +4 dB, the turn was never declared
     and the second tack's course RMS was 18 deg against 1.9.)"""
     from tracker.mltma import MLParams
-    from tracker.studies.gm import PAPER_PARAMS
+    from tools.studies.gm import PAPER_PARAMS
 
     res = {name: run("gm-tv-30km", grid_path=ocean_grid_file, n=3, out_dir=tmp_path / name, seed=0, params=p)
            for name, p in (("paper", PAPER_PARAMS), ("default", MLParams()))}

@@ -28,6 +28,7 @@ import pandas as pd
 
 from acoustics.builder.gridfile import build_grid_file
 from envdata.areafile import load_area
+from envdata.classes import SourceLevelModel
 from envdata.files import atomic_paths
 from tracker.mltma import MLBatch, measurement_sd
 from tracker.mltma.depths import depth_hypotheses_m
@@ -85,7 +86,7 @@ def _rpf(tables, sim, ic: int, band: int, variant: str, true_depth_m: float, rng
         bearing = np.radians(sim.bearing_deg[run])
         common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
                       level_db_meas=sim.level_db[run, :, band][None], cfg=cfg, rng=rng,
-                      source_level_model="p0", p0_db=target.noise_mean_db,
+                      source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                       p0_sd_db=0.0 if SL_OFFSET else target.noise_sd_db)
         if variant == "unknown":
             res = run_batch_depth(target_k=tables.target_depth_k(ic, band),
@@ -221,7 +222,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "depth_errors.csv", out / "depth.json", out / "depth.png"]
     from acoustics.plots.figures import save_figure
-    from tracker.studies.depth_plot import depth_figure
+    from tools.studies.depth_plot import depth_figure
 
     fig = depth_figure(frame, summary)
     with atomic_paths(files) as (csv_tmp, json_tmp, png_tmp):

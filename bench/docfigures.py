@@ -1,0 +1,162 @@
+"""The tables in README and docs/ that quote a result file, generated from it: the one script.
+
+A page holds each such table between two markers naming it,
+
+    <!-- docfigures grids -->
+    | figure | measured | target |
+    ...
+    <!-- /docfigures -->
+
+and ``TABLES`` says which result file each name is made from and how. ``python -m
+bench.docfigures`` rewrites every block from its file; ``--check`` changes nothing and exits 1
+naming each block whose committed text differs from what its file gives (the test
+tests/test_docfigures.py runs it in ``make test``). A table's caption names its file; a file
+marked ``rerun_pending`` (bench.record) is quoted as it is, with the mark.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from bench.harness import REPO
+
+PAGES = ("README.md", "docs/*.md")
+BLOCK = re.compile(r"(<!-- docfigures (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- /docfigures -->)", re.S)
+
+
+def _load(root: Path, name: str) -> dict:
+    return json.loads((root / "docs" / "results" / name).read_text())
+
+
+def _fig(data: dict, name: str) -> float:
+    figures = data.get("figures") or data.get("results")
+    return figures[name]["value"]
+
+
+def _source(data: dict, file: str) -> str:
+    prov = data["provenance"]
+    when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"
+    load = prov.get("load_average") or {}
+    before = load.get("before")
+    before = before[0] if isinstance(before, list) else before
+    pending = "; to be made again after the sea-surface change" if prov.get("rerun_pending") else ""
+    shown = f", load average {before:g} at the start" if isinstance(before, (int, float)) else ""
+    return f"*From `docs/results/{file}` (`{prov['command']}`; {when}{shown}{pending}).*\n"
+
+
+def grids(root: Path) -> str:
+    d = _load(root, "grids.json")
+    w1, w2 = _fig(d, "ocean_deep_build_1_worker"), _fig(d, "ocean_deep_build_2_workers")
+    raw = _fig(d, "ocean_deep_raw_bellhop_sum")
+    naive = _fig(d, "naive_loop_estimate")
+    rows = [
+        ("figure", "measured", "target"), ("---", "---", "---"),
+        (f"`grids build`, 2 workers ({_fig(d, 'ocean_deep_runs')} BELLHOP runs)", f"{w2:.1f} s", "< 60 s"),
+        ("`grids build`, 1 worker, over the sum of the raw BELLHOP runs on the same .env files",
+         f"{_fig(d, 'overhead_build_over_raw_bellhop'):.2f} ({w1:.1f} s / {raw:.1f} s)", "<= 1.10"),
+        ("the command's fixed cost (start-up, writing the 12 MB netCDF), the same on any number of workers",
+         f"{_fig(d, 'ocean_deep_fixed_cost_w1_minus_raw'):.1f} s", ""),
+        ("2 workers vs 1", f"{_fig(d, 'parallel_speedup_2_vs_1_workers'):.2f}x", ">= 1.7"),
+        ("peak memory (largest process)", f"{_fig(d, 'ocean_deep_peak_rss'):.0f} MiB", "< 1 GiB"),
+        ("the naive loop (classes x bands x 7 frequencies at BELLHOP's automatic beam count), estimated from "
+         f"BELLHOP's measured cost per beam and receiver ({_fig(d, 'bellhop_cost_per_beam_receiver'):.2f} ns; the "
+         "model predicts a real automatic-beam run to within 15 %)",
+         f"about {naive:.0f} s ({naive / 60:.0f} min), {_fig(d, 'speedup_over_naive_loop'):.0f}x slower",
+         '"well over ten minutes"'),
+    ]
+    return _table(rows) + "\n" + _source(d, "grids.json")
+
+
+def accuracy(root: Path) -> str:
+    d = _load(root, "accuracy.json")
+
+    def pair(key: str, digits: int = 2) -> tuple[str, str]:
+        return (f"{_fig(d, key + '_median'):.{digits}g} dB", f"{_fig(d, key + '_p95'):.{digits}g} dB")
+
+    beams = (250, 500, 1000, 3000)
+    rec = [k for k in (d.get("figures") or d["results"]) if k.startswith("k_error_reciprocity_")
+           and k.endswith("_median")]
+    rows = [("shortcut", "median abs. error", "95th percentile"), ("---", "---", "---"),
+            ("all of the default settings together", *pair("k_error_default_grid_vs_full")),
+            ("fixed fan of 1500 beams (vs up to 72 000)", *pair("k_error_fixed_beam_fan_vs_full")),
+            ("one run per band, other frequencies through absorption",
+             *pair("k_error_frequency_shortcut_vs_full")),
+            (" / ".join(str(b) for b in beams) + " beams",
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_median'):.2g}" for b in beams) + " dB",
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_p95'):.2g}" for b in beams) + " dB")]
+    for key in rec:
+        cls_name, depth = key.removeprefix("k_error_reciprocity_").removesuffix("_median").split("_")
+        what = f"{cls_name} at {depth.removesuffix('m')} m"
+        rows.append((f"reciprocity (source at the observer), {what}", *pair(key.removesuffix("_median"))))
+    tl = "tl_field_error_default_vs_full_NPS_FB1"
+    rows.append(("the whole TL field (NPS, FB1, where TL < 120 dB) with the default settings", *pair(tl)))
+    return _table(rows) + "\n" + _source(d, "accuracy.json")
+
+
+def startup(root: Path) -> str:
+    d = _load(root, "startup.json")
+    figures = d["figures"]
+    rows = [("command", "median, s", "target"), ("---", "---", "---")]
+    for key, value in figures.items():
+        if key.startswith("tmakit_") and key.endswith("_help"):
+            command = "tmakit --help" if key == "tmakit_help" else \
+                f"tmakit {key.removeprefix('tmakit_').removesuffix('_help')} --help"
+            rows.append((f"`{command}`", f"{value['value']:.2f}", f"< {d['target_s']:g}"))
+    heavy = ", ".join(d["import_profile"]["heavy_imported"]) or "none of numpy, xarray, pandas, matplotlib"
+    rows.append(("imports before the parser runs (`-X importtime`)",
+                 f"{d['import_profile']['total_ms']:.0f} ms; {heavy}", ""))
+    return _table(rows) + "\n" + _source(d, "startup.json")
+
+
+#: name -> the function that makes its block from the result files under a root.
+TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup}
+
+
+def _table(rows) -> str:
+    return "".join("| " + " | ".join(row) + " |\n" for row in rows)
+
+
+def pages(root: Path) -> list[Path]:
+    return [p for pattern in PAGES for p in sorted(root.glob(pattern))]
+
+
+def render(text: str, root: Path, where: str) -> tuple[str, list[str]]:
+    """The page with every block made anew, and the names of the blocks that changed."""
+    changed = []
+
+    def one(m: re.Match) -> str:
+        name = m["name"]
+        if name not in TABLES:
+            raise SystemExit(f"{where}: unknown docfigures block {name!r} (known: {', '.join(TABLES)})")
+        body = TABLES[name](root)
+        if body != m["body"]:
+            changed.append(name)
+        return m.group(1) + body + m.group(4)
+
+    return BLOCK.sub(one, text), changed
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="change nothing; exit 1 if a page differs")
+    parser.add_argument("--root", type=Path, default=REPO, help="the checkout whose pages and results to use")
+    args = parser.parse_args(argv)
+    stale = []
+    for page in pages(args.root):
+        text = page.read_text()
+        new, changed = render(text, args.root, str(page))
+        stale += [f"{page.relative_to(args.root)}: {name}" for name in changed]
+        if changed and not args.check:
+            page.write_text(new)
+    for line in stale:
+        print(("differs from its result file: " if args.check else "rewrote ") + line)
+    return 1 if stale and args.check else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,55 @@
+"""The figures quoted from result files: every file in docs/results carries its provenance, and
+every generated table in README and docs/ is what its file gives (``python -m bench.docfigures``)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+RESULTS = REPO / "docs" / "results"
+PROVENANCE_KEYS = {"command", "commit", "tree_clean", "date", "load_average", "machine", "versions"}
+
+
+def _docfigures(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "bench.docfigures", *args], cwd=REPO, capture_output=True,
+                          text=True, timeout=120)
+
+
+def test_every_committed_table_is_what_its_result_file_gives():
+    done = _docfigures("--check")
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_a_table_that_differs_from_its_file_is_found(tmp_path):
+    # the check above could pass by comparing nothing: a page copied with one figure changed fails
+    for part in ("README.md", "docs"):
+        src = REPO / part
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / part)
+    readme = tmp_path / "README.md"
+    text = readme.read_text()
+    start = text.index("<!-- docfigures grids -->")
+    row = text.index("| 2 workers vs 1 |", start)
+    end = text.index("\n", row)
+    readme.write_text(text[:row] + "| 2 workers vs 1 | 9.99x | >= 1.7 |" + text[end:])
+    done = _docfigures("--check", "--root", str(tmp_path))
+    assert done.returncode == 1 and "README.md: grids" in done.stdout, done.stdout + done.stderr
+
+
+@pytest.mark.parametrize("path", sorted(RESULTS.rglob("*.json")), ids=lambda p: str(p.relative_to(RESULTS)))
+def test_every_result_file_says_how_it_was_made(path):
+    data = json.loads(path.read_text())
+    prov = data.get("provenance") if isinstance(data, dict) else None
+    assert isinstance(prov, dict), f"{path}: no provenance"
+    assert PROVENANCE_KEYS <= set(prov), f"{path}: provenance lacks {sorted(PROVENANCE_KEYS - set(prov))}"
+    assert prov["command"], f"{path}: no command"
+    if prov.get("rerun_pending"):
+        assert prov.get("reason"), f"{path}: marked to be made again without a reason"
+    else:  # made by the harness: all of it
+        assert prov["commit"] and prov["date"] and prov["versions"] and prov["machine"]["cores"]
+        assert prov["load_average"]["before"] and prov["load_average"]["after"]
