@@ -18,10 +18,11 @@ its grid and atlases into docs/results/atlas-tracking/grids/ (reused).
 from __future__ import annotations
 
 import argparse
+import json
 import tempfile
 import time
 
-from bench.harness import REPO, Session, bench_grid
+from bench.harness import REPO, Session, bench_grid, command_line, provenance
 from tools.studies import follow, gm
 from tracker.mltma import MLParams
 
@@ -70,6 +71,12 @@ def main(argv=None) -> None:
                         "per run")
             session.say(f"follow_{key}_mean_rmse_after_10min", round(res["mean_rmse_after_10min_m"][key]), "m")
     session.say("follow_seconds", round(time.perf_counter() - start, 1), "s")
+    # the study's own file gets this run's provenance (it quotes figures the pages cite)
+    path = out / "follow.json"
+    data = json.loads(path.read_text())
+    data.pop("provenance", None)
+    path.write_text(json.dumps({"provenance": provenance(command=command_line(), load_before=session.load_before,
+                                                         git=session.git), **data}, indent=1) + "\n")
     session.write(scenario=SCENARIO, gm_runs=n ** 3, follow_runs=args.follow_runs,
                   follow_result=str((out / "follow.json").relative_to(REPO)),
                   gm_later_tacks={k: v["later_tacks"] for k, v in gm_out.items()},
