@@ -127,8 +127,8 @@ def test_the_default_manoeuvre_tests_are_as_quick_as_the_papers(ocean_grid_file,
     paper's, and the true class's figures stay within 5 % of the paper's tests' on both tacks.
     (Before: the class's K error joined to sigma_dW hid the +4 dB, the turn was never declared
     and the second tack's course RMS was 18 deg against 1.9.)"""
-    from tracker.mltma import MLParams
     from tools.studies.gm import PAPER_PARAMS
+    from tracker.mltma import MLParams
 
     res = {name: run("gm-tv-30km", grid_path=ocean_grid_file, n=3, out_dir=tmp_path / name, seed=0, params=p)
            for name, p in (("paper", PAPER_PARAMS), ("default", MLParams()))}
