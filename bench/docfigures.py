@@ -131,9 +131,52 @@ def manoeuvres(root: Path) -> str:
             f"the study took {_fig(d, 'gm_default_seconds'):.0f} s with the default tests, "
             f"{_fig(d, 'gm_paper_seconds'):.0f} s with the paper's.\n\n" + _source(d, "maneuver.json"))
 
+def _pm(s: dict, key: str = "p90_db") -> str:
+    return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
+
+
+def surface(root: Path) -> str:
+    d = _load(root, "surface.json")
+    c = d["cases"]
+    rows = [("case", "semicoherent (the default): median / p90 / mean, dB", "incoherent beams",
+             "bound (median / mean)"), ("---", "---", "---", "---")]
+    pairs = [
+        ("image-source solution, flat grid, 6 m source, 100-300 Hz", "image flat 100-300 Hz", "0.1 median"),
+        ("Munk channel, flat grid TL beyond 5 km, 6 m, 100 Hz tone", "munk flat TL beyond 5 km, 100 Hz tone",
+         "1.5 / 1"),
+        ("the same, 89-112 Hz", "munk flat TL beyond 5 km, 89-112 Hz", ""),
+        ("Munk, table from the 100 m observer, 6 m target, beyond 30 km, 89-112 Hz",
+         "munk from the observer, 6 m to 100 m beyond 30 km, 89-112 Hz", "3.5 / 1.5"),
+        ("the same, 100 Hz tone", "munk from the observer, 6 m to 100 m beyond 30 km, 100 Hz tone", ""),
+        ("200 m shelf, flat grid, 5 m source, 250 Hz, 2-20 km", "shelf 5 m 250 Hz, 2-20 km", "1 / (p90 2.5)"),
+    ]
+    for label, key, bound in pairs:
+        rows.append((label, _pm(c[f"{key}, semicoherent"]), _pm(c[f"{key}, incoherent"]), bound))
+    k = c["image from the observer 100-300 Hz, semicoherent"]["k"]
+    rows.append(("image-source solution, table from the 100 m observer, K of the 6 m target", _pm(k), "", "0.1 median"))
+    for mode in ("semicoherent", "incoherent"):
+        rec = c[f"reciprocity ocean-deep K to 40 km, {mode}"]
+        worst = max(rec.values(), key=lambda x: x["median_db"])
+        c[f"_rec_{mode}"] = worst
+    rows.append(("ocean-deep, K of SW and TV from the observer against the targets' own runs (worst class and band)",
+                 _pm(c["_rec_semicoherent"]), _pm(c["_rec_incoherent"]), "0.5 median"))
+    return _table(rows) + "\n" + _source(d, "surface.json")
+
+
+def surface_cost(root: Path) -> str:
+    d = _load(root, "surface-cost.json")
+    rows = [("build (2 workers)", "incoherent", "semicoherent (the default)", "wall ratio", "BELLHOP ratio"),
+            ("---", "---", "---", "---", "---")]
+    for name, b in d["builds"].items():
+        rows.append((name, f"{b['wall_incoherent_s']:.1f} s ({b['runs_incoherent']} runs)",
+                     f"{b['wall_semicoherent_s']:.1f} s ({b['runs_semicoherent']} runs)",
+                     f"{b['wall_ratio']:.2f}x", f"{b['bellhop_ratio']:.2f}x"))
+    return _table(rows) + "\n" + _source(d, "surface-cost.json")
+
 
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
+                                            "surface": surface, "surface-cost": surface_cost,
                                             "manoeuvres": manoeuvres}
 
 

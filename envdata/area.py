@@ -159,7 +159,7 @@ class GridSpec:
 class Propagation:
     """How BELLHOP is run; the defaults are what the accuracy study in bench/ supports."""
 
-    mode: TlMode = TlMode.INCOHERENT
+    mode: TlMode = TlMode.SEMICOHERENT  # the surface at the target's end (acoustics.surface)
     beam_type: str = "G"  # G: geometric hat beams (Cartesian); B: geometric Gaussian beams
     n_beams: int = 1500  # 0 lets BELLHOP choose (grows with range x frequency)
     angle_min_deg: float = -80.0

@@ -34,6 +34,14 @@ def register(sub, common) -> None:
                    help="rebuild even if the file is up to date; replace --out even if it is not a grid")
     b.set_defaults(func=run_build)
 
+    ck = gsub.add_parser("check", parents=[common], help="how far K moves when the beams, the ray step and "
+                         "the frequencies per band are doubled, on a sample of radials, without building "
+                         "the grid; and the settings a build uses")
+    ck.add_argument("area", metavar="AREA", help="built-in area name or TOML path")
+    ck.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                    help="BELLHOP runs at once (default: the number of cores)")
+    ck.set_defaults(func=run_check)
+
     s = gsub.add_parser("show", parents=[common], help="summarise a grid file")
     s.add_argument("file", type=Path, metavar="FILE")
     s.set_defaults(func=run_show)
@@ -91,7 +99,28 @@ def run_build(args) -> Report:
                    f"  runs: {info.runs} ({info.runs_reused} reused), "
                    f"{info.bellhop_seconds:.1f} s of BELLHOP, {info.ram_seconds:.1f} s of RAM, "
                    f"{info.wall_seconds:.1f} s wall")
+    summary += "".join(f"\nnote: {note}" for note in info.notes)
     return Report(summary, grid_file_data(info))
+
+
+def run_check(args) -> Report:
+    import envdata
+    from acoustics.builder.check import CONVERGED_DB, check_area
+
+    if args.workers < 1:
+        raise envdata.InputError(f"--workers: must be >= 1, got {args.workers}")
+    area = envdata.load_area(args.area)
+    result = check_area(area, workers=args.workers, progress=want_progress(args))
+    settings = ", ".join(f"{k} {v}" for k, v in result.settings.items() if v is not None)
+    lines = [f"area {result.area}: K on {result.sample} ({result.baseline_seconds:.1f} s of BELLHOP)",
+             f"  the build runs with: {settings}"]
+    for v in result.variants:
+        verdict = "converged" if v.converged else f"NOT converged (median > {CONVERGED_DB:g} dB)"
+        lines.append(f"  {v.change}: K moves {v.median_db:.2f} dB median, {v.worst_db:.2f} dB at worst "
+                     f"({v.worst}); {verdict}")
+    data = dataclasses.asdict(result)
+    data["converged"] = result.converged
+    return Report("\n".join(lines), data)
 
 
 def grid_file_data(info) -> dict:

@@ -25,6 +25,28 @@ class RunSpec:
     angle_min_deg: float = -80.0
     angle_max_deg: float = 80.0
     absorption: Absorption = Absorption.THORP
+    #: the source's beam pattern: (angle deg, intensity dB) pairs, angles increasing; BELLHOP
+    #: reads it from a .sbp file beside the .env (run type '*') and interpolates the amplitude
+    source_pattern: tuple[tuple[float, float], ...] | None = None
+    #: an arrivals run (run type 'a': every arrival's amplitude, delay and angles, binary .arr)
+    #: in place of the TL field
+    arrivals: bool = False
+
+    @property
+    def run_type(self) -> str:
+        """BELLHOP's run-type string: mode (or 'a'), beam type, '*' with a source pattern."""
+        letter = "a" if self.arrivals else self.mode.bellhop_letter
+        return f"{letter}{self.beam_type}{'*' if self.source_pattern is not None else ''}"
+
+    def side_files(self) -> dict[str, str]:
+        """Files BELLHOP reads beside the .env for this run: the .sbp of a source pattern."""
+        return {"sbp": sbp_text(self.source_pattern)} if self.source_pattern is not None else {}
+
+
+def sbp_text(pattern) -> str:
+    """A source beam-pattern (.sbp) file: the count, then one 'angle dB' line per point."""
+    lines = [str(len(pattern))] + [f"{a:.6f} {db:.4f}" for a, db in pattern]
+    return "\n".join(lines) + "\n"
 
 
 def fmt_number(value: float) -> str:
@@ -60,7 +82,7 @@ def env_lines(spec: RunSpec, bottom: Bottom, *, depth_m: float, ssp_depth_m, ssp
     lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
     range_km = np.asarray(spec.range_m, dtype=float) / 1000.0  # BELLHOP reads ranges in km
     lines += [str(len(range_km)), fmt_list(range_km)]
-    lines += [f"'{spec.mode.bellhop_letter}{spec.beam_type}'", str(spec.n_beams),
+    lines += [f"'{spec.run_type}'", str(spec.n_beams),
               f"{fmt_number(spec.angle_min_deg)} {fmt_number(spec.angle_max_deg)} /"]
     box_depth_m = depth_max * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
     lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")

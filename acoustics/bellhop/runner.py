@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from acoustics.bellhop.arrfile import Arrivals, read_arr
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import ShadeField, read_shd
 from acoustics.errors import BellhopError
@@ -20,9 +21,10 @@ BASE = "tmakit"
 
 @dataclass(frozen=True)
 class RunResult:
-    field: ShadeField
+    field: ShadeField | None  # the TL field (.shd) of a TL run
     seconds: float  # wall time of the BELLHOP process alone
     prt_text: str
+    arrivals: list[Arrivals] | None = None  # per source, of an arrivals run (.arr)
 
 
 #: Default run limit: this many times BELLHOP's expected time, but at least `MIN_TIMEOUT_S`.
@@ -64,7 +66,8 @@ def _kill(proc: subprocess.Popen) -> None:
 
 def run_env(env: str, *, exe: str | Path | None = None, keep_dir: str | Path | None = None,
             timeout_s: float | None = None, files: dict[str, str] | None = None) -> RunResult:
-    """Run BELLHOP on the .env text ``env`` in a temporary directory and read its .shd file.
+    """Run BELLHOP on the .env text ``env`` in a temporary directory and read its .shd file
+    (or, for an arrivals run, its binary .arr file).
 
     ``files`` maps an extension to the text of a file BELLHOP reads beside the .env (``"bty"``
     bathymetry, ``"ssp"`` range-dependent sound speed). With ``keep_dir`` the files are written
@@ -118,10 +121,12 @@ def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None,
     done = subprocess.CompletedProcess(command, proc.returncode, stdout, stderr)
     prt_path = folder / f"{BASE}.prt"
     prt = prt_path.read_text(errors="replace") if prt_path.exists() else ""
-    shd_path = folder / f"{BASE}.shd"
-    if proc.returncode != 0 or "FATAL ERROR" in prt or not shd_path.exists():
+    shd_path, arr_path = folder / f"{BASE}.shd", folder / f"{BASE}.arr"
+    if proc.returncode != 0 or "FATAL ERROR" in prt or not (shd_path.exists() or arr_path.exists()):
         raise BellhopError(f"BELLHOP failed (exit {proc.returncode}): {bellhop_message(prt, done)}",
                            prt_text=prt, command=command, returncode=proc.returncode)
+    if arr_path.exists():
+        return RunResult(field=None, seconds=seconds, prt_text=prt, arrivals=read_arr(arr_path))
     return RunResult(field=read_shd(shd_path), seconds=seconds, prt_text=prt)
 
 

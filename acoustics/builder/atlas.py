@@ -45,8 +45,9 @@ from acoustics.grid.atlasstore import (
 )
 from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.grid.formats import ATLAS_FORMAT
+from acoustics.surface import with_surface_rows
 from acoustics.urick import k_urick_db
-from envdata.area import Area
+from envdata.area import Area, TlMode
 from envdata.atlasarea import LeftOut, area_for_month, radial_reach, screen_positions, table_area
 from envdata.datafiles import input_file_digests
 from envdata.errors import AreaError, InputError
@@ -120,7 +121,9 @@ def atlas_depth_axis_m(area: Area, deepest_m: float) -> np.ndarray:
         return np.asarray(area.atlas.depth_m, dtype=float)
     step = area.atlas.depth_step_m if area.atlas.depth_step_m is not None else area.grid.depth_step_m
     z = np.arange(0.0, deepest_m, step)
-    return z if z.size and z[-1] >= deepest_m - 1e-9 else np.append(z, deepest_m)
+    z = z if z.size and z[-1] >= deepest_m - 1e-9 else np.append(z, deepest_m)
+    # the near-surface rows of the grids' own axes (acoustics.builder.radial.depth_axis_m)
+    return with_surface_rows(z) if area.propagation.mode is TlMode.SEMICOHERENT else z
 
 
 def plan_atlas(area: Area, model: Model | str = Model.BELLHOP) -> AtlasPlan:

@@ -1,13 +1,22 @@
 """What both grid builders share (the isotropic ``acoustics.builder.flat`` and the radial
 ``acoustics.builder.radial``): the model choice, the build statistics, the frequencies BELLHOP runs
-for a band, a band's TL from those runs, a run's time limit, and the hash of everything that
-determines a grid's numbers.
+for a band and the source pattern of each run (the surface at a target that is the source), a
+band's TL from those runs, a run's time limit, and the hash of everything that determines a
+grid's numbers.
+
+The surface (``acoustics.surface``): in the default semicoherent mode a run whose source is a
+target within the surface's reach carries the band average of the Lloyd factor as its source
+pattern (an incoherent run at the band centre otherwise identical to the others), so one run
+still makes the band: measured against one semicoherent run per quadrature frequency (28 per
+band, ocean-deep, the 6 m class), K differs by 0.06 / 0.17 / 0.20 dB median in FB1 / FB2 / FB3
+(docs/models.md "The sea surface").
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import dataclass, field
 from enum import StrEnum
 
@@ -18,6 +27,7 @@ from acoustics.bellhop.runner import default_timeout_s
 from acoustics.builder.runs import Run, RunStats
 from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
+from acoustics.surface import band_quadrature, incoherent_error_db, lloyd_factor, surface_reach_m
 from envdata.area import Area, TlMode
 
 GRID_FORMAT_VERSION = 1
@@ -50,12 +60,69 @@ class BuildStats(RunStats):
     ram_seconds: float = 0.0  # sum of the RAM runs' times (in their worker processes)
 
 
+def uses_shortcut(area: Area) -> bool:
+    """Whether one run at a band's centre makes the band (incoherent beams, with or without the
+    semicoherent source pattern): frequency then acts only through volume absorption."""
+    prop = area.propagation
+    return prop.mode is not TlMode.COHERENT and prop.frequency_shortcut
+
+
 def run_frequencies_hz(area: Area, band) -> np.ndarray:
     """Frequencies BELLHOP must run for ``band``: the centre (shortcut) or every quadrature point."""
-    prop = area.propagation
-    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
+    if uses_shortcut(area):
         return np.array([band.center_hz])
-    return band_frequencies_hz(band, prop.freqs_per_band)
+    return band_frequencies_hz(band, area.propagation.freqs_per_band)
+
+
+def surface_acts(area: Area, band, depth_m: float, speed_mps: float) -> bool:
+    """Whether a target end at ``depth_m`` gets the surface's interference in ``band``: the
+    semicoherent mode, and the end within the surface's reach (``acoustics.surface``)."""
+    return area.propagation.mode is TlMode.SEMICOHERENT and depth_m < surface_reach_m(band, speed_mps)
+
+
+@dataclass(frozen=True, slots=True)
+class SourcePattern:
+    """A run's source beam pattern: intensity in dB at the fan's beam angles (deg)."""
+
+    angle_deg: tuple[float, ...]
+    level_db: tuple[float, ...]
+
+    @property
+    def pairs(self) -> tuple[tuple[float, float], ...]:
+        return tuple(zip(self.angle_deg, self.level_db))
+
+    @property
+    def key(self) -> str:
+        return hashlib.sha256(json.dumps([self.angle_deg, self.level_db]).encode()).hexdigest()[:16]
+
+
+#: A pattern's floor, dB: BELLHOP reads the pattern in dB (zero intensity has none).
+PATTERN_FLOOR_DB = -300.0
+
+
+def fan_angles_deg(area: Area) -> np.ndarray:
+    """The beam angles of the area's fan, deg (BELLHOP's automatic count: a 0.01 deg grid)."""
+    prop = area.propagation
+    n = prop.n_beams if prop.n_beams > 1 else int(round((prop.angle_max_deg - prop.angle_min_deg) / 0.01)) + 1
+    return np.linspace(prop.angle_min_deg, prop.angle_max_deg, n)
+
+
+def run_pattern(area: Area, cls, band, run_hz: float, depth_m: float, speed_mps: float) -> SourcePattern | None:
+    """The source pattern of the run at ``run_hz`` for ``band`` from a target of ``cls`` at
+    ``depth_m``: the Lloyd factor averaged over the frequencies the run stands for (the band's
+    quadrature for the one-run shortcut, the run's own frequency otherwise); None where the
+    surface does not act (``surface_acts``)."""
+    if not surface_acts(area, band, depth_m, speed_mps):
+        return None
+    if uses_shortcut(area):
+        freqs, weights = band_quadrature(cls, band, depth_m, speed_mps)
+    else:
+        freqs, weights = np.array([run_hz]), np.ones(1)
+    angles = fan_angles_deg(area)
+    g = lloyd_factor(depth_m, speed_mps, freqs, weights, angles)
+    level = np.maximum(10.0 * np.log10(np.maximum(g, 1e-300)), PATTERN_FLOOR_DB)
+    return SourcePattern(angle_deg=tuple(float(a) for a in angles),
+                         level_db=tuple(round(float(v), 4) for v in level))
 
 
 def run_timeout_s(area: Area, n_beams: int, n_receivers: int) -> float:
@@ -71,7 +138,7 @@ def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]
     freqs = band_frequencies_hz(band, prop.freqs_per_band)
     weights = band_weights(cls, freqs)
     range_km = area.grid.range_m() / 1000.0
-    if prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut:
+    if uses_shortcut(area):
         # TL(f_i) = TL(f_c) + (alpha_i - alpha_c) r, so the band intensity factors into the
         # centre intensity times a function of range alone: sum_i w_i 10^(-(alpha_i - alpha_c) r / 10)
         fc = band.center_hz
@@ -102,3 +169,33 @@ def source_hash(area: Area, model: Model, bellhop_sha256: str | None,
     if input_files:
         payload["inputs"] = {role: info["sha256"] for role, info in input_files.items()}
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+#: A near-surface class's incoherent error is noted from this many dB.
+NOTE_MIN_DB = 0.5
+#: Sound speed assumed near the surface where the area's water is not one profile, m/s.
+NOMINAL_SPEED_MPS = 1500.0
+
+
+def incoherent_surface_notes(area: Area) -> list[str]:
+    """One line per class within the surface's reach when the area's beams are incoherent: how
+    much louder the tables make it than the surface lets it be, per band (``acoustics.surface.
+    incoherent_error_db`` over the angles the bottom traps at its depth); none otherwise."""
+    prop = area.propagation
+    if prop.mode is not TlMode.INCOHERENT:
+        return []
+    notes = []
+    for cls in area.classes:
+        speed = float(area.water.ssp.speed_at(cls.depth_m)) if area.water.ssp is not None else NOMINAL_SPEED_MPS
+        if not any(cls.depth_m < surface_reach_m(band, speed) for band in area.bands):
+            continue
+        trapped = math.degrees(math.acos(min(1.0, speed / area.bottom.speed_mps)))
+        widest = min(trapped, max(abs(prop.angle_min_deg), abs(prop.angle_max_deg)))
+        loud = [(band.name, -incoherent_error_db(cls, band, cls.depth_m, speed, widest))
+                for band in area.bands if cls.depth_m < surface_reach_m(band, speed)]
+        loud = [f"{db:.1f} dB in {name}" for name, db in loud if db >= NOTE_MIN_DB]
+        if loud:
+            notes.append(f"incoherent beams: class {cls.name} at {cls.depth_m:g} m comes out about "
+                         f"{', '.join(loud)} too loud (the surface's interference, Lloyd's mirror; "
+                         f"[propagation] mode = \"semicoherent\", the default, puts it in)")
+    return notes

@@ -18,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.absorption import absorption_db_per_km
+from acoustics.bellhop.envfile import env_text
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.builder.bandruns import (
@@ -26,7 +27,9 @@ from acoustics.builder.bandruns import (
     band_tl_from_runs,
     freq_key,
     run_frequencies_hz,
+    run_pattern,
 )
+from acoustics.builder.imageruns import plan_image_run, with_image_rows
 from acoustics.builder.modelchoice import (
     band_plans,
     bellhop_run_hz,
@@ -36,13 +39,14 @@ from acoustics.builder.modelchoice import (
     with_ram_attrs,
 )
 from acoustics.builder.modelruns import check_model_memory, run_sources
-from acoustics.builder.plan import plan_runs, receiver_depths_m
+from acoustics.builder.plan import plan_runs, receiver_depths_m, source_speed_mps
 from acoustics.builder.radial import build_radial_grid
 from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
 from acoustics.grid.dataset import flat_dataset
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
+from acoustics.surface import SURFACE_ROW_M, with_surface_rows
 from acoustics.urick import k_urick_db, spherical_tl_db
 from envdata.area import Area, TlMode
 from envdata.limits import check_memory
@@ -65,29 +69,41 @@ def _tl_by_freq(area: Area, runs: list[Run], fields: dict[str, np.ndarray], rows
     return {f: combined_tl_db(parts, prop.mode, prop.tl_max_db) for f, parts in groups.items()}
 
 
-def _assemble(area: Area, runs: list[Run], fill, *, observer_end: bool, **run_options) -> None:
+def _assemble(area: Area, runs: list[Run], fill, *, observer_end: bool, image=None, **run_options) -> None:
     """Run ``runs`` and call ``fill(end, ic, ib, band_tl)`` for each (class, band) as soon as its
     runs are in, ``end`` "source" for the runs from the class's depth and "observer" for those
-    from the observer's, dropping each run's field once nothing pending needs it."""
+    from the observer's, dropping each run's field once nothing pending needs it.
+
+    ``image`` is the arrivals run from the observer, (receiver rows, run)
+    (``acoustics.builder.imageruns``): the "observer" end's band TL waits for it and takes those
+    rows from it (the surface at the target's end)."""
     pending = {}
-    sources = {"source": lambda cls: cls.depth_m}
-    if observer_end:
-        sources["observer"] = lambda cls: area.observer.depth_m
-    for end, source_of in sources.items():
+    ends = ["source"] + (["observer"] if observer_end else [])
+    for end in ends:
         for ic, cls in enumerate(area.classes):
+            sd = cls.depth_m if end == "source" else area.observer.depth_m
             for ib, band in enumerate(area.bands):
-                freqs = {freq_key(f) for f in run_frequencies_hz(area, band)}
-                pending[(end, ic, ib)] = {run.key for run in runs
-                                          if run.source_depth_m == source_of(cls)
-                                          and freq_key(run.freq_hz) in freqs}
+                wanted = set()
+                for f in map(freq_key, run_frequencies_hz(area, band)):
+                    pattern = (run_pattern(area, cls, band, f, sd, source_speed_mps(area, sd))
+                               if end == "source" else None)
+                    wanted.add((f, pattern.key if pattern is not None else ""))
+                keys = {run.key for run in runs if run.source_depth_m == sd
+                        and (freq_key(run.freq_hz), run.pattern_key) in wanted}
+                if end == "observer" and image is not None:
+                    keys.add(image[1].key)
+                pending[(end, ic, ib)] = keys
     fields: dict[str, np.ndarray] = {}
     by_key = {run.key: run for run in runs}
-    for run, pressure in iter_runs(runs, **run_options):
-        fields[run.key] = pressure
+    for run, result in iter_runs(list(runs) + ([image[1]] if image is not None else []), **run_options):
+        fields[run.key] = result
         for (end, ic, ib), keys in list(pending.items()):
             if keys <= fields.keys():
-                by_freq = _tl_by_freq(area, [by_key[key] for key in keys], fields)
-                fill(end, ic, ib, band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq))
+                by_freq = _tl_by_freq(area, [by_key[key] for key in keys if key in by_key], fields)
+                band_tl = band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq)
+                if end == "observer" and image is not None:
+                    band_tl = with_image_rows(band_tl, image[0], fields[image[1].key], ic, ib)
+                fill(end, ic, ib, band_tl)
                 del pending[(end, ic, ib)]
         needed = set().union(*pending.values()) if pending else set()
         for key in list(fields):
@@ -156,6 +172,11 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
                                progress=progress, stats=stats)
     check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     depth = area.depth_m()
+    # TL from the observer in the semicoherent mode: near-surface rows, and the 0 m row holding
+    # the loss 1 m down (acoustics.surface)
+    surface = needs_observer_tl(area) and area.propagation.mode is TlMode.SEMICOHERENT
+    if surface:
+        depth = with_surface_rows(depth)
     rng = area.grid.range_m()
     prop = area.propagation
     exe = find_bellhop() if model is Model.BELLHOP else None
@@ -173,23 +194,31 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
             k_urick[ic, ib] = k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
 
     if model is Model.BELLHOP:
-        rz = receiver_depths_m(area)
+        rz = np.unique(np.concatenate([depth, [area.observer.depth_m], [SURFACE_ROW_M] if surface else []]))
         on_grid = np.searchsorted(rz, depth)
         obs_row = int(np.searchsorted(rz, area.observer.depth_m))
+        surface_row = int(np.searchsorted(rz, SURFACE_ROW_M))
         source_depths = sorted({cls.depth_m for cls in area.classes}
                                | ({area.observer.depth_m} if tl_obs is not None else set()))
         runs = plan_runs(area, source_depths, receiver_depths=rz)
-        stats.runs = runs
+        # TL from the observer: the surface at the target's end of its near-surface rows
+        image = plan_image_run(area, rz, lambda z: area.water.ssp.speed_at(z),
+                               lambda spec: {"env": env_text(area, spec), **spec.side_files()},
+                               title=f"tmakit {area.name}") if tl_obs is not None else None
+        stats.runs = runs + ([image[1]] if image is not None else [])
 
         def fill(end: str, ic: int, ib: int, band_tl: np.ndarray) -> None:
             if end == "observer":
                 tl_obs[ic, ib] = band_tl[on_grid]
+                if surface:
+                    tl_obs[ic, ib, 0] = band_tl[surface_row]
                 return
             cls, band = area.classes[ic], area.bands[ib]
             tl[ic, ib] = band_tl[on_grid]
             k[ic, ib] = spectral_term_db(cls, band) - band_tl[obs_row]
 
-        _assemble(area, runs, fill, observer_end=tl_obs is not None, workers=workers, scheduler=scheduler,
+        _assemble(area, runs, fill, observer_end=tl_obs is not None, image=image,
+                  workers=workers, scheduler=scheduler,
                   cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                   exe=str(exe.path), stats=stats)
     else:

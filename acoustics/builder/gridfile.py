@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import envdata
+from acoustics.builder.bandruns import incoherent_surface_notes
 from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
 from acoustics.errors import GridFileError
 from acoustics.grid.io import open_grid, write_grid
@@ -36,6 +37,9 @@ class GridFileResult:
         BELLHOP's and RAM's time of the runs done now, and the build's wall time, s.
     dims : dict
         The grid's dimension sizes ({} when the file was reused).
+    notes : list of str
+        What the user should know of the grid's physics: a near-surface class in incoherent
+        beams, and how far off its levels are (``bandruns.incoherent_surface_notes``).
     """
 
     file: Path
@@ -49,6 +53,7 @@ class GridFileResult:
     ram_seconds: float = 0.0
     wall_seconds: float = 0.0
     dims: dict[str, int] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
 
 def resume_dir(out: str | os.PathLike, digest: str) -> Path:
@@ -94,6 +99,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
     area = area if isinstance(area, envdata.Area) else envdata.load_area(area)
     out = Path(out) if out is not None else Path(f"{area.name}-{model}.nc")
     digest = expected_source_hash(area, model)
+    notes = incoherent_surface_notes(area) if model.runs_bellhop else []
     if out.exists() and not force:
         try:
             existing = open_grid(out)
@@ -101,7 +107,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
             existing = None  # unreadable: rebuilt below
         if existing is not None and existing.dataset.attrs.get("source_hash") == digest:
             return GridFileResult(file=out, area=area.name, model=model, up_to_date=True,
-                                  source_hash=digest)
+                                  source_hash=digest, notes=notes)
     cache_dir = resume_dir(out, digest)
     stats = BuildStats()
     start = time.perf_counter()
@@ -113,4 +119,4 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
                           runs=stats.runs_total, runs_reused=stats.runs_reused,
                           bellhop_seconds=stats.bellhop_seconds, ram_seconds=stats.ram_seconds,
                           wall_seconds=time.perf_counter() - start,
-                          dims={str(k): int(v) for k, v in ds.sizes.items()})
+                          dims={str(k): int(v) for k, v in ds.sizes.items()}, notes=notes)

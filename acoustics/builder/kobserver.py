@@ -1,7 +1,8 @@
 """K(r) at the observer depth alone, with or without reciprocity: far fewer receivers than a grid.
 
-The runs are ``acoustics.builder.plan.plan_k_runs`` (one per run frequency, every source in it)
-and go through the executor like a grid's (threads or a Dask cluster, optionally a resume
+The runs are ``acoustics.builder.plan.plan_k_runs`` (one per run frequency with every source in
+it, and one per class within the surface's reach, whose run carries its source pattern) and go
+through the executor like a grid's (threads or a Dask cluster, optionally a resume
 folder); the sensitivity members call this too, one member's runs on the worker that computes
 the member. Band TL as in the grid builders (``acoustics.builder.bandruns``) and
 K = spectral term - band TL (Grinenkov & Mashoshin eqs. 12-13).
@@ -16,7 +17,7 @@ import xarray as xr
 
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.builder.bandruns import BuildStats, band_tl_from_runs, freq_key
+from acoustics.builder.bandruns import BuildStats, band_tl_from_runs, freq_key, run_frequencies_hz
 from acoustics.builder.plan import RECIPROCITY_MIN_DEPTH_M, k_runs, plan_k_runs
 from acoustics.builder.runs import execute_runs
 from acoustics.kcurve import spectral_term_db
@@ -46,19 +47,22 @@ def k_at_observer_db(area: Area, *, reciprocity_min_depth_m: float = RECIPROCITY
     """
     stats = stats if stats is not None else BuildStats()
     exe = exe if exe is not None else str(find_bellhop().path)
-    _, _, where = k_runs(area, reciprocity_min_depth_m)
-    runs = plan_k_runs(area, reciprocity_min_depth_m)
+    sources, _, where = k_runs(area, reciprocity_min_depth_m)
+    runs, key_of = plan_k_runs(area, reciprocity_min_depth_m)
     stats.runs = runs
     fields = execute_runs(runs, workers=workers, scheduler=scheduler, progress=progress, exe=exe,
                           cache_dir=Path(cache_dir) if cache_dir is not None else None, stats=stats)
     prop = area.propagation
-    tl_by_freq = {freq_key(run.freq_hz): tl_from_pressure(fields[run.key], prop.tl_max_db)
-                  for run in runs}
+    by_key = {run.key: run for run in runs}
     k = np.empty((len(area.classes), len(area.bands), area.grid.range_m().size))
     for ic, cls in enumerate(area.classes):
         isrc, ircv = where[cls.name]
-        tl = {key: field[isrc, ircv][None, :] for key, field in tl_by_freq.items()}
         for ib, band in enumerate(area.bands):
+            tl = {}
+            for f in map(freq_key, run_frequencies_hz(area, band)):
+                key = key_of[(cls.name, band.name, f)]
+                src = 0 if by_key[key].pattern_key else isrc  # a run of its own: the class's source alone
+                tl[f] = tl_from_pressure(fields[key][src, ircv], prop.tl_max_db)[None, :]
             k[ic, ib] = spectral_term_db(cls, band) - band_tl_from_runs(area, cls, band, tl)[0]
     return k
 

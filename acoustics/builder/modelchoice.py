@@ -18,10 +18,17 @@ import numpy as np
 import xarray as xr
 
 from acoustics.absorption import absorption_db_per_km
-from acoustics.builder.bandruns import Model, band_tl_from_runs, freq_key, run_frequencies_hz, source_hash
+from acoustics.builder.bandruns import (
+    Model,
+    band_tl_from_runs,
+    freq_key,
+    run_frequencies_hz,
+    source_hash,
+    uses_shortcut,
+)
 from acoustics.builder.ramruns import ram_settings_description
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
-from envdata.area import Area, TlMode
+from envdata.area import Area
 from envdata.bands import Band
 from envdata.classes import TargetClass
 from envdata.datafiles import input_file_digests
@@ -100,10 +107,9 @@ def ram_run_hz(plans: list[BandPlan]) -> list[float]:
 
 def bellhop_run_hz(area: Area, plans: list[BandPlan]) -> list[float]:
     """The BELLHOP run frequencies the plans need, each once, Hz: a BELLHOP band's own, and for
-    a mixed band its centre (incoherent with the frequency shortcut, TL at the other frequencies
-    follows by absorption) or each of its BELLHOP frequencies."""
-    prop = area.propagation
-    shortcut = prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut
+    a mixed band its centre (incoherent or semicoherent with the frequency shortcut, TL at the
+    other frequencies follows by absorption) or each of its BELLHOP frequencies."""
+    shortcut = uses_shortcut(area)
     out = []
     for p in plans:
         if p.bellhop_only:
@@ -119,13 +125,13 @@ def planned_band_tl_db(area: Area, cls: TargetClass, plan: BandPlan, ram_tl: dic
 
     RAM's fields are TL at their frequency; BELLHOP's at a mixed band's other frequencies come
     from its centre run, TL(f) = TL(f_c) + (alpha(f) - alpha(f_c)) r, when the area runs BELLHOP
-    incoherent with the frequency shortcut, else from the run at f. NaN (below the bottom, beyond
-    land) stays NaN.
+    incoherent or semicoherent with the frequency shortcut, else from the run at f. NaN (below
+    the bottom, beyond land) stays NaN.
     """
     prop = area.propagation
     if plan.bellhop_only:
         return band_tl_from_runs(area, cls, plan.band, bellhop_tl)
-    shortcut = prop.mode is TlMode.INCOHERENT and prop.frequency_shortcut
+    shortcut = uses_shortcut(area)
     range_km = area.grid.range_m() / 1000.0  # alpha in dB/km
     fields = []
     for f in plan.freqs_hz:

@@ -42,6 +42,7 @@ from acoustics.builder.bandruns import (
     run_timeout_s,
     source_hash,
 )
+from acoustics.builder.imageruns import plan_image_run, with_image_rows
 from acoustics.builder.modelchoice import (
     band_plans,
     bellhop_run_hz,
@@ -57,8 +58,9 @@ from acoustics.builder.runs import Run, iter_runs
 from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
+from acoustics.surface import SURFACE_ROW_M, with_surface_rows
 from acoustics.urick import k_urick_db
-from envdata.area import Area
+from envdata.area import Area, TlMode
 from envdata.datafiles import input_file_digests
 from envdata.fieldchange import FieldChange
 from envdata.limits import check_memory
@@ -72,13 +74,16 @@ BOX_MARGIN = (1.01, 10.0)
 
 
 def depth_axis_m(area: Area, radials: list[Radial]) -> np.ndarray:
-    """0 to the deepest bottom on any radial (within the grid's ranges), every depth_step_m."""
+    """0 to the deepest bottom on any radial (within the grid's ranges), every depth_step_m, and
+    in the semicoherent mode the near-surface rows within the first step
+    (``acoustics.surface.with_surface_rows``)."""
     r_max = area.grid.range_max_m
     deepest = max(float(np.max(rad.bottom_depth_m[(rad.range_m >= 0) & (rad.range_m <= r_max)]))
                   for rad in radials)
     step = area.grid.depth_step_m
     z = np.arange(0.0, deepest, step)
-    return z if z.size and z[-1] >= deepest - 1e-9 else np.append(z, deepest)
+    z = z if z.size and z[-1] >= deepest - 1e-9 else np.append(z, deepest)
+    return with_surface_rows(z) if area.propagation.mode is TlMode.SEMICOHERENT else z
 
 
 def bottom_on_grid_m(area: Area, radial: Radial) -> np.ndarray:
@@ -114,6 +119,70 @@ def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray,
             runs.append(run)
             where[run.key] = (j, f)
     return runs, where
+
+
+def origin_speed_of(radial: Radial):
+    """The sound speed at depths at the radial's origin column, m/s (the observer's water)."""
+    col = int(np.argmin(np.abs(np.asarray(radial.ssp_range_m, dtype=float))))
+    z, c = np.asarray(radial.ssp_depth_m, dtype=float), np.asarray(radial.speed_mps, dtype=float)[:, col]
+    return lambda depth: np.interp(np.asarray(depth, dtype=float), z, c)
+
+
+def plan_radial_image_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray
+                           ) -> tuple[list[Run], dict[str, tuple[int, np.ndarray]]]:
+    """The arrivals run of every radial that puts the surface at the target's end
+    (``acoustics.builder.imageruns``), and each run's (radial, receiver rows)."""
+    prop = area.propagation
+    rng = area.grid.range_m()
+    box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
+    step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
+    runs, where = [], {}
+    for j, radial in enumerate(radials):
+        def make_files(spec, radial=radial):
+            return radial_files(area, radial, spec, step_m=step_m, box_range_m=box_range_m)
+
+        planned = plan_image_run(area, receivers_m, origin_speed_of(radial), make_files,
+                                 title=f"tmakit {area.name} bearing={radial.bearing_deg:g}")
+        if planned is not None:
+            rows, run = planned
+            runs.append(run)
+            where[run.key] = (j, rows)
+    return runs, where
+
+
+class _RadialRuns:
+    """Collects the field runs and the arrivals run of each radial as they finish; a radial is
+    complete when all are in. ``band_tl(ic, ib)`` is then its band TL (receivers x range), the
+    near-surface rows from the arrivals run (the surface at the target's end)."""
+
+    def __init__(self, area: Area, field_where: dict, image_where: dict):
+        self.area = area
+        self.field_where, self.image_where = field_where, image_where
+        self.n_freq = len({f for _, f in field_where.values()})
+        self.has_image = {j for j, _ in image_where.values()}
+        self.fields: dict[int, dict[float, np.ndarray]] = {}
+        self.images: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def add(self, run: Run, result: np.ndarray) -> int | None:
+        """Take one finished run; the radial's index when that completes it."""
+        if run.image is not None:
+            j, rows = self.image_where[run.key]
+            self.images[j] = (rows, result)
+        else:
+            j, f = self.field_where[run.key]
+            self.fields.setdefault(j, {})[f] = tl_from_pressure(result, self.area.propagation.tl_max_db)
+        done = len(self.fields.get(j, {})) == self.n_freq and (j in self.images or j not in self.has_image)
+        return j if done else None
+
+    def pop(self, j: int):
+        """The completed radial's band TL function, its runs dropped."""
+        by_freq, image = self.fields.pop(j), self.images.pop(j, None)
+        area = self.area
+
+        def band_tl(ic: int, ib: int) -> np.ndarray:
+            tl = band_tl_from_runs(area, area.classes[ic], area.bands[ib], by_freq)
+            return with_image_rows(tl, image[0], image[1], ic, ib) if image is not None else tl
+        return band_tl
 
 
 def radial_grid_bytes(area: Area, n_depth: int) -> float:
@@ -161,8 +230,10 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
         check_memory(radial_grid_bytes(area, depth.size), f"the grid of area {area.name}")
     rng = area.grid.range_m()
     class_depths = sorted({c.depth_m for c in area.classes})
-    receivers = np.unique(np.concatenate([depth, class_depths]))
+    surface_depth = [SURFACE_ROW_M] if area.propagation.mode is TlMode.SEMICOHERENT and depth[0] == 0.0 else []
+    receivers = np.unique(np.concatenate([depth, class_depths, surface_depth]))
     on_grid = np.searchsorted(receivers, depth)
+    surface_row = int(np.searchsorted(receivers, SURFACE_ROW_M)) if surface_depth else None
     class_row = {z: int(np.searchsorted(receivers, z)) for z in class_depths}
     n_c, n_b, n_n = len(area.classes), len(area.bands), len(radials)
     bottom = np.stack([bottom_on_grid_m(area, rad) for rad in radials])       # (N, R)
@@ -174,13 +245,15 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
                                   for ib, band in enumerate(area.bands)]) for cls in area.classes])
 
     def fill(j: int, band_tl_db) -> None:
-        """Radial ``j``'s cells from ``band_tl_db(cls, ib)``, the band TL on the receivers."""
+        """Radial ``j``'s cells from ``band_tl_db(ic, ib)``, the band TL on the receivers."""
         # below the bottom, and beyond land (NaN bottom), the grid has no value
         below = (depth[:, None] > bottom[j][None, :] + 1e-6) | ~np.isfinite(bottom[j])[None, :]
         for ic, cls in enumerate(area.classes):
             for ib, band in enumerate(area.bands):
-                band_tl = band_tl_db(cls, ib)  # (receivers, R)
+                band_tl = band_tl_db(ic, ib)  # (receivers, R)
                 tl[ic, ib, j] = np.where(below, np.nan, band_tl[on_grid])
+                if surface_row is not None:  # the 0 m row: the loss 1 m down (SURFACE_ROW_M)
+                    tl[ic, ib, j, 0] = np.where(below[0], np.nan, band_tl[surface_row])
                 kk = spectral_term_db(cls, band) - band_tl[class_row[cls.depth_m]]
                 # a target deeper than the water there, or beyond land, has no K
                 k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
@@ -194,27 +267,39 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
         check_model_memory(radial_grid_bytes(area, depth.size), [r for runs in ram_runs.values() for r in runs],
                            1 if scheduler else workers, f"the RAM grid of area {area.name}")
         runs, where = plan_radial_runs(area, radials, receivers, freqs_hz=bh_hz) if bh_hz else ([], {})
-        stats.runs = runs
+        # BELLHOP's bands from the observer take their near-surface rows from the arrivals runs
+        image_runs, image_where = plan_radial_image_runs(area, radials, receivers) if bh_hz else ([], {})
+        stats.runs = runs + image_runs
+        images = {}
+        if image_runs:
+            for run, result in iter_runs(image_runs, workers=workers, scheduler=scheduler,
+                                         cache_dir=Path(cache_dir) if cache_dir is not None else None,
+                                         progress=progress, exe=str(exe.path), stats=stats):
+                images[image_where[run.key][0]] = (image_where[run.key][1], result)
 
         def on_source(j, ram_tl, bh_tl) -> None:
-            fill(j, lambda cls, ib: planned_band_tl_db(area, cls, plans[ib], ram_tl, bh_tl))
+            def band_tl(ic, ib):
+                tl = planned_band_tl_db(area, area.classes[ic], plans[ib], ram_tl, bh_tl)
+                if plans[ib].bellhop_only and j in images:
+                    tl = with_image_rows(tl, images[j][0], images[j][1], ic, ib)
+                return tl
+            fill(j, band_tl)
 
         run_sources(area, range(n_n), ram_runs, runs, where, on_source, workers=workers, scheduler=scheduler,
                     cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                     exe=str(exe.path) if exe else None, stats=stats)
     elif model is Model.BELLHOP:
         runs, where = plan_radial_runs(area, radials, receivers)
-        stats.runs = runs
-        pending: dict[int, dict[float, np.ndarray]] = {}
-        n_freq = len({f for _, f in where.values()})
-        for run, field in iter_runs(runs, workers=workers, scheduler=scheduler,
-                                    cache_dir=Path(cache_dir) if cache_dir is not None else None,
-                                    progress=progress, exe=exe_path or str(exe.path), stats=stats):
-            j, f = where[run.key]
-            pending.setdefault(j, {})[f] = tl_from_pressure(field, prop.tl_max_db)
-            if len(pending[j]) == n_freq:
-                by_freq = pending.pop(j)
-                fill(j, lambda cls, ib, by_freq=by_freq: band_tl_from_runs(area, cls, area.bands[ib], by_freq))
+        image_runs, image_where = plan_radial_image_runs(area, radials, receivers)
+        stats.runs = runs + image_runs
+        collect = _RadialRuns(area, where, image_where)
+        for run, result in iter_runs(runs + image_runs, workers=workers, scheduler=scheduler,
+                                     cache_dir=Path(cache_dir) if cache_dir is not None else None,
+                                     progress=progress, exe=exe_path or str(exe.path), stats=stats):
+            j = collect.add(run, result)
+            if j is not None:
+                band_tl = collect.pop(j)
+                fill(j, band_tl)
     else:  # Urick: spherical spreading and absorption, the same along every radial
         from acoustics.urick import spherical_tl_db
 
@@ -249,18 +334,17 @@ def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int =
     bottom = np.stack([bottom_on_grid_m(area, rad) for rad in radials])
     k = np.full((len(area.classes), len(area.bands), len(radials), rng.size), np.nan)
     runs, where = plan_radial_runs(area, radials, receivers)
-    stats.runs = runs
-    n_freq = len({f for _, f in where.values()})
-    pending: dict[int, dict[float, np.ndarray]] = {}
-    for run, field in iter_runs(runs, workers=workers, exe=exe, stats=stats):
-        j, f = where[run.key]
-        pending.setdefault(j, {})[f] = tl_from_pressure(field, area.propagation.tl_max_db)
-        if len(pending[j]) < n_freq:
+    image_runs, image_where = plan_radial_image_runs(area, radials, receivers)
+    stats.runs = runs + image_runs
+    collect = _RadialRuns(area, where, image_where)
+    for run, result in iter_runs(runs + image_runs, workers=workers, exe=exe, stats=stats):
+        j = collect.add(run, result)
+        if j is None:
             continue
-        tl_by_freq = pending.pop(j)
+        band_tl = collect.pop(j)
         for ic, cls in enumerate(area.classes):
             for ib, band in enumerate(area.bands):
-                kk = spectral_term_db(cls, band) - band_tl_from_runs(area, cls, band, tl_by_freq)[row[cls.depth_m]]
+                kk = spectral_term_db(cls, band) - band_tl(ic, ib)[row[cls.depth_m]]
                 k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
     return k, bottom
 

@@ -1,7 +1,9 @@
 """A grid's BELLHOP runs as tasks of ``acoustics.builder.executor``: what a run is, and running one.
 
 A run is one .env file; its result is the pressure field (receiver depth x range), complex64,
-kept as ``KEY.npy`` in the resume folder when there is one.
+kept as ``KEY.npy`` in the resume folder when there is one. An arrivals run (``image`` set:
+the surface at a target that is the receiver, ``acoustics.builder.surfaceimage``) is reduced
+where it ran to the band TL of its rows, float32 (class, band, receiver depth, range).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 
 from acoustics.bellhop.runner import run_env
 from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
+from acoustics.builder.surfaceimage import SurfaceImage, image_tl_db
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,6 +35,8 @@ class Run:
     files: tuple[tuple[str, str], ...] = ()  # (extension, text) of files beside the .env (.bty, .ssp)
     timeout_s: float | None = None  # the run is killed after this long (None: no limit)
     all_sources: bool = False  # the field keeps a source axis (runs with several source depths)
+    pattern_key: str = ""  # the source pattern's key ("": none; acoustics.builder.bandruns.SourcePattern)
+    image: SurfaceImage | None = None  # an arrivals run, and what its arrivals are reduced to
 
     @property
     def key(self) -> str:
@@ -39,6 +44,8 @@ class Run:
         for suffix, text in self.files:
             h.update(f"\0{suffix}\0".encode())
             h.update(text.encode())
+        if self.image is not None:
+            h.update(b"\0image\0" + self.image.digest.encode())
         return h.hexdigest()[:24]
 
 
@@ -53,8 +60,11 @@ class RunStats:
 def execute_run(run: Run, exe: str | None = None) -> tuple[np.ndarray, float]:
     """Run one environment; return its pressure field, complex64, (receiver depth, range) of its
     one source, or (source, receiver depth, range) of an ``all_sources`` run, and BELLHOP's time.
-    In incoherent and semicoherent modes |p|^2 is the summed beam intensity."""
+    In incoherent and semicoherent modes |p|^2 is the summed beam intensity. An arrivals run
+    returns its receivers' band TL instead (``image_tl_db``)."""
     result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s)
+    if run.image is not None:
+        return image_tl_db(result.arrivals[0], run.image), result.seconds
     pressure = result.field.pressure
     return (pressure if run.all_sources else pressure[0]), result.seconds
 

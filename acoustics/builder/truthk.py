@@ -4,8 +4,9 @@ README "Atlases" (``tmakit simulate --truth bellhop``): each cycle's K is comput
 along the WGS84 geodesic from the target's true position to the observer's, with the area's own
 bathymetry and water sampled along it (``envdata.radials.area_radials`` of a one-radial area
 whose ``[origin]`` is the target and whose bearing points at the observer), the source at the
-target's depth and one receiver at the observer's depth and range. No reciprocity, no grid
-spacing, no interpolation between radials or positions: what the tables approximate.
+target's depth (with its source pattern where the surface acts there: the surface at the target's
+end, as the flat grids) and one receiver at the observer's depth and range. No reciprocity, no
+grid spacing, no interpolation between radials or positions: what the tables approximate.
 
 The band TL is formed from the run frequencies exactly as a grid's (``band_tl_from_runs``,
 the class's spectrum over the band), K = S - TL (eqs. 12-13). Positions are rounded to
@@ -26,9 +27,9 @@ import numpy as np
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.builder.bandruns import band_tl_from_runs, freq_key, run_frequencies_hz, run_timeout_s
+from acoustics.builder.bandruns import band_tl_from_runs, freq_key, run_frequencies_hz, run_pattern, run_timeout_s
 from acoustics.builder.plan import run_spec
-from acoustics.builder.radial import BOX_MARGIN, DEFAULT_STEP_M
+from acoustics.builder.radial import BOX_MARGIN, DEFAULT_STEP_M, origin_speed_of
 from acoustics.builder.runs import Run, RunStats, iter_runs
 from acoustics.kcurve import spectral_term_db
 from envdata.area import Area, GridSpec, Observer
@@ -151,7 +152,6 @@ class BellhopTruth:
         sources = self._sources(geometry.values())
         prop = area.propagation
         step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
-        freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
         runs, where, no_level, path_area = [], {}, set(), {}
         for p, (lat0, lon0, azimuth, distance) in geometry.items():
             area_p = _path_area(area, lat0, lon0, azimuth, distance, p.depth_m)
@@ -161,32 +161,38 @@ class BellhopTruth:
                 no_level.add(p)
                 continue
             box = distance * BOX_MARGIN[0] + BOX_MARGIN[1]
-            for f in freqs:
-                spec = run_spec(area_p, title=f"tmakit truth {area.name} f={f:.3f} Hz", freq_hz=f,
-                                source_depths_m=(p.depth_m,), receiver_depths_m=(p.obs_depth_m,),
-                                ranges_m=(distance,))
-                files = radial_files(area_p, radial, spec, step_m=step_m, box_range_m=box)
-                run = Run(env=files["env"], files=(("bty", files["bty"]), ("ssp", files["ssp"])), freq_hz=f,
-                          source_depth_m=p.depth_m, n_beams=prop.n_beams,
-                          timeout_s=run_timeout_s(area, prop.n_beams, 1))
-                runs.append(run)
-                where.setdefault(run.key, []).append((p, f))
+            speed = float(origin_speed_of(radial)(p.depth_m))  # the water at the target
+            for ib, band in enumerate(area.bands):
+                for f in map(freq_key, run_frequencies_hz(area, band)):
+                    # the source is the target: the surface at its end is its source pattern
+                    pattern = run_pattern(area, cls, band, f, p.depth_m, speed)
+                    spec = run_spec(area_p, title=f"tmakit truth {area.name} f={f:.3f} Hz", freq_hz=f,
+                                    source_depths_m=(p.depth_m,), receiver_depths_m=(p.obs_depth_m,),
+                                    ranges_m=(distance,), pattern=pattern)
+                    files = radial_files(area_p, radial, spec, step_m=step_m, box_range_m=box)
+                    run = Run(env=files["env"], files=(("bty", files["bty"]), ("ssp", files["ssp"]),
+                                                       *spec.side_files().items()),
+                              freq_hz=f, source_depth_m=p.depth_m, n_beams=prop.n_beams,
+                              pattern_key=pattern.key if pattern is not None else "",
+                              timeout_s=run_timeout_s(area, prop.n_beams, 1))
+                    runs.append(run)
+                    where.setdefault(run.key, []).append((p, ib, f))
         exe = find_bellhop()
         stats = RunStats()
-        tl_by_path: dict[_Path, dict[float, np.ndarray]] = {}
+        tl_by_path: dict[tuple[_Path, int], dict[float, np.ndarray]] = {}
         for run, pressure in iter_runs(runs, workers=self.workers, scheduler=self.scheduler,
                                        cache_dir=Path(self.cache_dir) if self.cache_dir is not None else None,
                                        progress=self.progress, exe=str(exe.path), stats=stats):
-            for p, f in where[run.key]:
-                tl_by_path.setdefault(p, {})[f] = tl_from_pressure(pressure, prop.tl_max_db)
+            for p, ib, f in where[run.key]:
+                tl_by_path.setdefault((p, ib), {})[f] = tl_from_pressure(pressure, prop.tl_max_db)
         out = {}
         for p in unique:
             if p in no_level:
                 out[p] = np.full(len(area.bands), np.nan)
                 continue
             out[p] = np.array([spectral_term_db(cls, band)
-                               - float(band_tl_from_runs(path_area[p], cls, band, tl_by_path[p])[0, 0])
-                               for band in area.bands])
+                               - float(band_tl_from_runs(path_area[p], cls, band, tl_by_path[(p, ib)])[0, 0])
+                               for ib, band in enumerate(area.bands)])
         self.stats.paths += len(unique)
         self.stats.runs += stats.runs_total
         self.stats.cached += stats.runs_reused

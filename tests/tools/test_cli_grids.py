@@ -179,3 +179,33 @@ def test_grids_compare_through_the_command_line(tiny_grid_file, tmp_path, capsys
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "area 'tiny-munk' against 'munk-1000'" in err[0] and err[0].startswith("error:")
     assert not bad_png.exists()
+
+
+@pytest.mark.bellhop
+def test_grids_check_reports_each_doubling_and_the_build_settings(capsys, tmp_path):
+    from tests.conftest import DATA
+
+    assert main(["grids", "check", str(DATA / "tiny-munk.toml"), "--workers", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    names = [v["name"] for v in out["variants"]]
+    assert names == ["beams", "ray_step", "freqs_per_band", "one_run_per_band"]
+    assert out["settings"]["n_beams"] == 300 and out["settings"]["mode"] == "semicoherent"
+    assert out["settings"]["surface_image_beams"] == 1200
+    for v in out["variants"]:
+        assert v["median_db"] >= 0.0 and v["worst_db"] >= v["median_db"] - 1e-9
+        assert v["converged"] == (v["median_db"] <= 0.2)
+    # the tiny area (5 km, 1000 m) is converged with 300 beams (0.05 dB at worst, measured);
+    # with 40 the doubling moves K by far more than 0.2 dB
+    assert out["converged"]
+    few = tmp_path / "few-beams.toml"
+    few.write_text((DATA / "tiny-munk.toml").read_text().replace("n_beams = 300", "n_beams = 40"))
+    assert main(["grids", "check", str(few)]) == 0
+    text = capsys.readouterr().out
+    assert "n_beams 40 -> 80: K moves" in text and "NOT converged" in text
+
+
+def test_grids_check_of_a_missing_area_is_one_error_line(capsys, tmp_path):
+    assert main(["grids", "check", str(tmp_path / "nope.toml")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:")
+    assert main(["grids", "check", str(tmp_path / "nope.toml"), "--workers", "0"]) == 2

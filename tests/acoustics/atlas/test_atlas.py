@@ -47,7 +47,9 @@ def test_each_table_is_exactly_the_grid_of_its_position_and_month(built):
     area, out, info = built
     # 3 x 3 lattice, its northern row on the shelf under the 100 m observer: 6 positions x 2 months
     assert info["positions"] == 6 and len(info["left_out"]) == 3 and info["tables"] == 12
-    assert info["runs"] == 12 * 4  # 4 radials x 1 run frequency per table
+    # 4 radials x 1 run frequency per table, each a TL run and the arrivals run of the surface at
+    # the target's end (its near-surface rows)
+    assert info["runs"] == 12 * 4 * 2
     atlas = open_atlas(out)
     assert atlas.done.all()
     table = atlas.sel(month=2, origin=4)
@@ -110,7 +112,7 @@ def test_a_rebuild_recomputes_only_missing_damaged_or_changed_tables(built, tmp_
     with pytest.raises(AtlasFileError, match=r"not built or is damaged; tmakit atlas build"):
         atlas.sel(month=2, origin=2)
     info = build_atlas_file(area, copy, workers=2)
-    assert info["tables_built"] == 3 and info["runs"] == 12
+    assert info["tables_built"] == 3 and info["runs"] == 12 * 2
     assert _same(_tables(copy), before)
 
 

@@ -74,7 +74,8 @@ def test_classes_at_the_same_depth_share_runs(tiny_area):
 
 
 def test_frequency_shortcut_costs_little_accuracy(tiny_area):
-    """One run per band vs a run per quadrature frequency (incoherent, fixed beam fan)."""
+    """One run per band vs a run per quadrature frequency (incoherent beams, fixed fan; the 5 m
+    ship's runs with the band-averaged Lloyd pattern against each frequency's own)."""
     full = dataclasses.replace(tiny_area, propagation=dataclasses.replace(tiny_area.propagation,
                                                                           frequency_shortcut=False))
     assert len(plan_runs(full)) == 2 * (7 + 1) and len(plan_runs(tiny_area)) == 2 * 2
@@ -103,7 +104,8 @@ def test_source_hash_changes_with_anything_that_changes_the_numbers(tiny_area):
 def test_k_alone_direct_equals_the_grid_k(tiny_grid, tiny_area):
     stats = acoustics.BuildStats()
     k = acoustics.build_k(tiny_area, reciprocity_min_depth_m=math.inf, stats=stats)
-    assert stats.runs_total == 2 and k.attrs["reciprocity_min_depth_m"] == math.inf  # a run per frequency
+    # a run per frequency for the submarine and one for the ship (its own source pattern)
+    assert stats.runs_total == 4 and k.attrs["reciprocity_min_depth_m"] == math.inf
     # one receiver depth instead of 21, same rays: the same K to float32 rounding of tl_db
     assert_allclose(k.values, tiny_grid["k_db"].values, rtol=0, atol=1e-4)
 
@@ -116,13 +118,30 @@ def test_k_by_reciprocity_holds_for_the_submerged_class(tiny_grid, tiny_area):
     assert np.median(diff) < 0.3
 
 
-@pytest.mark.parametrize("mode", ["coherent", "semicoherent"])
-def test_coherent_modes_run_every_quadrature_frequency(tiny_area, mode):
+def test_coherent_mode_runs_every_quadrature_frequency(tiny_area):
     area = dataclasses.replace(tiny_area, propagation=dataclasses.replace(
-        tiny_area.propagation, mode=envdata.TlMode(mode)))
+        tiny_area.propagation, mode=envdata.TlMode.COHERENT))
     runs = plan_runs(area)
     assert len(runs) == 2 * (7 + 1)  # 2 depths x (7 frequencies of FB1 + the single F500)
-    assert all(f"'{mode[0].upper()}G'" in r.env for r in runs)
+    assert all("'CG'" in r.env for r in runs)
+
+
+def test_semicoherent_mode_gives_the_near_surface_source_a_pattern(tiny_area):
+    """One run per band; the 5 m ship's runs carry the band-averaged Lloyd pattern (a .sbp file,
+    run type 'IG*'), the 150 m submarine's are plain incoherent runs (beyond the surface's reach:
+    5 wavelengths at 100 Hz is 77 m)."""
+    area = dataclasses.replace(tiny_area, propagation=dataclasses.replace(
+        tiny_area.propagation, mode=envdata.TlMode.SEMICOHERENT))
+    runs = plan_runs(area, balance=False)
+    assert len(runs) == 2 * 2
+    ship = [r for r in runs if r.source_depth_m == 5.0]
+    sub = [r for r in runs if r.source_depth_m == 150.0]
+    assert all("'IG*'" in r.env and dict(r.files)["sbp"].startswith("300\n") and r.pattern_key for r in ship)
+    assert all("'IG'" in r.env and not r.files and not r.pattern_key for r in sub)
+    # the pattern is the dipole: 2 (k z theta)^2 at grazing angles (the beams nearest 0 deg, at
+    # +-0.27 deg: -33 dB over 100-300 Hz), the band average of 2 sin^2 (about 0 dB) when steep
+    levels = {float(a): float(v) for a, v in (line.split() for line in dict(ship[0].files)["sbp"].splitlines()[1:])}
+    assert levels[-80.0] > -1.0 and levels[min(levels, key=abs)] < -30.0
 
 
 @pytest.mark.parametrize("mode", ["incoherent", "coherent"])

@@ -13,7 +13,7 @@ from envdata.classes import SourceLevelModel
 from tracker.rpf import RpfConfig
 from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
 from tracker.rpf.kernel.depth import k_at_depth, pass_k_db
-from tracker.rpf.kernel.depthparams import depth_table, regular_step
+from tracker.rpf.kernel.depthparams import depth_table, regular_part, regular_step
 
 pytestmark = pytest.mark.bellhop
 
@@ -74,10 +74,21 @@ def _shifted_last_depth(tk, last_m):
     return TargetDepthK(bearing_deg=tk.bearing_deg, depth_m=depth, range_m=tk.range_m, k_db=tk.k_db)
 
 
+def _without_surface_rows(tk):
+    """``tk`` on its regular rows alone (0, s, 2s, ...: the near-surface rows dropped)."""
+    keep = np.r_[0, np.arange(4, len(tk.depth_m))]
+    return TargetDepthK(bearing_deg=tk.bearing_deg, depth_m=np.asarray(tk.depth_m)[keep], range_m=tk.range_m,
+                        k_db=np.asarray(tk.k_db)[:, keep])
+
+
 def test_the_loops_k_by_index_arithmetic_is_the_search_rule(tiny_depth_grid):
     tk = acoustics.as_tables(tiny_depth_grid).target_depth_k(0, 0)
-    step = float(tk.depth_m[1] - tk.depth_m[0])
-    cases = {"regular": (tk, True),
+    # the table from the observer has its near-surface rows within the first step (6.25, 12.5,
+    # 25 m under 50 m steps), searched; the rest by index arithmetic
+    assert regular_part(tk.depth_m) == (50.0, 4)
+    step = float(tk.depth_m[5] - tk.depth_m[4])
+    cases = {"regular after the surface rows": (tk, True),
+             "regular": (_without_surface_rows(tk), True),
              "shorter last step": (_shifted_last_depth(tk, tk.depth_m[-2] + 0.3 * step), True),
              "longer last step": (_shifted_last_depth(tk, tk.depth_m[-2] + 1.5 * step), False)}
     rng = np.random.default_rng(4)
@@ -99,6 +110,8 @@ def test_the_loops_k_by_index_arithmetic_is_the_search_rule(tiny_depth_grid):
 
 
 def test_regular_step_refuses_uneven_axes():
+    assert regular_part([0.0, 1.25, 2.5, 5.0, 10.0, 20.0, 25.0]) == (10.0, 4)
+    assert regular_part([0.0, 10.0, 20.0]) == (10.0, 0) and regular_part([0.0, 15.0, 20.0, 30.0]) == (None, 0)
     assert regular_step([0.0, 10.0, 20.0, 25.0]) == 10.0
     assert regular_step([0.0, 10.0, 21.0, 30.0]) is None
     assert regular_step([0.0, 10.0, 20.0, 35.0]) is None

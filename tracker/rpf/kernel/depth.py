@@ -48,18 +48,22 @@ def axis_cell(v, axis):
 
 
 @njit(inline="always")
-def regular_cell(v, axis, first, inv_step):
+def regular_cell(v, axis, first, inv_step, start=0):
     """Cell j and weight f of ``v`` on an axis of equal steps whose last step may be shorter (a
     grid's depth axis ends at the deepest bottom), by index arithmetic instead of a search; as
-    `axis_cell`, v = (1 - f) axis[j] + f axis[j + 1], the ends held. ``first`` is axis[0],
-    ``inv_step`` 1 / the step (`tracker.rpf.kernel.depthparams.regular_step`)."""
+    `axis_cell`, v = (1 - f) axis[j] + f axis[j + 1], the ends held. The axis is regular from
+    index ``start`` on (a table from the observer has near-surface rows before: searched),
+    ``first`` is axis[start], ``inv_step`` 1 / the step
+    (`tracker.rpf.kernel.depthparams.regular_part`)."""
     m = axis.size
+    if start > 0 and v < first:
+        return axis_cell(v, axis[:start + 1])
     u = (v - first) * inv_step
     if u <= 0.0:
-        return 0, 0.0
-    j = int(u)
+        return start, 0.0
+    j = int(u) + start
     if j < m - 2:
-        return j, u - j
+        return j, u - (j - start)
     last = axis[m - 1]
     if v >= last:
         return m - 2, 1.0
@@ -130,6 +134,7 @@ def walk_level_pass(state, iz, io, log_w, g, step_sd, lo, hi, level_db, ovx, ovy
     depth_m, range_m, regular = table.depth_m, table.range_m, table.regular
     z0, dz_inv, r0, dr_inv = (table.depth_first_m, table.depth_inv_step, table.range_first_m,
                               table.range_inv_step)
+    z_start = table.depth_regular_from
     r_last = range_m[range_m.size - 1]
     z_row, x_row, y_row, vx_row, vy_row = state[iz], state[0], state[1], state[2], state[3]
     # K by the rule of `k_at_depth`, written out here: a helper taking the slabs and axes,
@@ -144,7 +149,7 @@ def walk_level_pass(state, iz, io, log_w, g, step_sd, lo, hi, level_db, ovx, ovy
         off = state[io, i] if io >= 0 else 0.0
         sl = source_level(vx_row[i], vy_row[i], ovx, ovy, ross, p0_db)
         if regular:
-            jz, fz = regular_cell(z, depth_m, z0, dz_inv)
+            jz, fz = regular_cell(z, depth_m, z0, dz_inv, z_start)
             jr, fr = regular_cell(r, range_m, r0, dr_inv)
         else:
             jz, fz = axis_cell(z, depth_m)

@@ -28,7 +28,8 @@ class DepthTable(NamedTuple):
         particle's cell by index arithmetic (`tracker.rpf.kernel.depth.regular_cell`), else
         by a search.
     depth_first_m, depth_inv_step : float
-        The depth axis's first value, m, and 1 / its step, 1/m (1.0 when not ``regular``).
+        The depth axis's first value of its regular part, m, and 1 / its step, 1/m (1.0 when
+        not ``regular``).
     range_first_m, range_inv_step : float
         The same of the range axis.
     """
@@ -44,6 +45,7 @@ class DepthTable(NamedTuple):
     depth_inv_step: float
     range_first_m: float
     range_inv_step: float
+    depth_regular_from: int = 0  # the depth axis is regular from this index (near-surface rows before)
 
 
 class DepthModel(NamedTuple):
@@ -86,6 +88,21 @@ def regular_step(axis) -> float | None:
     return step
 
 
+def regular_part(axis) -> tuple[float | None, int]:
+    """The step of an axis regular from some index on, and that index: a table from the observer
+    has near-surface rows within its first step (``acoustics.surface.with_surface_rows``: 0,
+    s/8, s/4, s/2, s, 2s, ...), which the kernel searches, the rest by index arithmetic."""
+    a = np.asarray(axis, dtype=float)
+    step = regular_step(a)
+    if step is not None or a.size < 3:
+        return step, 0
+    for start in range(1, min(a.size - 1, 8)):
+        step = regular_step(a[start:])
+        if step is not None and a[start] - a[0] <= step * (1.0 + REGULAR_AXIS_TOLERANCE):
+            return step, start
+    return None, 0
+
+
 def depth_table(target_k, bearing_deg, n_cycles: int) -> DepthTable:
     """The kernel's table from a `acoustics.grid.targetdepth.TargetDepthK` and the bearing of
     each cycle, deg (NaN: the last bearing measured before it; before any, the first one)."""
@@ -102,10 +119,11 @@ def depth_table(target_k, bearing_deg, n_cycles: int) -> DepthTable:
     j0, j1, w1 = target_k.cells(fill[:n_cycles])
     depth_m = np.array(target_k.depth_m, dtype=float, order="C")
     range_m = np.array(target_k.range_m, dtype=float, order="C")
-    dz, dr = regular_step(depth_m), regular_step(range_m)
+    (dz, z_start), dr = regular_part(depth_m), regular_step(range_m)
     regular = dz is not None and dr is not None
     return DepthTable(depth_m=depth_m, range_m=range_m, k_db=target_k.level_table(),
                       j0=np.array(j0, dtype=np.int64), j1=np.array(j1, dtype=np.int64),
                       w1=np.array(w1, dtype=float), regular=bool(regular),
-                      depth_first_m=float(depth_m[0]), depth_inv_step=1.0 / dz if regular else 1.0,
-                      range_first_m=float(range_m[0]), range_inv_step=1.0 / dr if regular else 1.0)
+                      depth_first_m=float(depth_m[z_start]), depth_inv_step=1.0 / dz if regular else 1.0,
+                      range_first_m=float(range_m[0]), range_inv_step=1.0 / dr if regular else 1.0,
+                      depth_regular_from=int(z_start) if regular else 0)

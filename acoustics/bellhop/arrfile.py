@@ -1,0 +1,118 @@
+"""Reading BELLHOP's binary arrivals (.arr) file, written by a run of type 'a'.
+
+A Fortran unformatted sequential file: each record is its payload between two int32 byte counts.
+Records (2-D run): the tag ``'2D'``; float32 frequency; int32 NSz and float32 source depths;
+int32 NRz and float32 receiver depths; int32 NRr and float32 receiver ranges (m); then per
+source, one record with the largest arrival count, and per receiver depth and range (ranges
+fastest) one record with the count ``n`` followed by ``n`` records of eight float32 each:
+amplitude (spreading applied), phase (deg), delay (s, real and imaginary part: volume attenuation
+is the imaginary part, |p| = A exp(omega Im tau)), launch angle and angle at the receiver (deg,
+positive downward), and the numbers of surface and bottom reflections.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from acoustics.errors import BellhopError
+
+#: One arrival's record: byte count, eight float32, byte count.
+_ARRIVAL = np.dtype([("head", "<i4"), ("value", "<f4", 8), ("tail", "<i4")])
+_ARRIVAL_BYTES = 32
+
+
+@dataclass(frozen=True)
+class Arrivals:
+    """The arrivals of one source: receiver (depth, range) -> ``count`` arrivals, stored flat in
+    receiver order (depth-major) in the per-arrival arrays."""
+
+    freq_hz: float
+    source_depth_m: float
+    receiver_depth_m: np.ndarray  # (NRz,)
+    range_m: np.ndarray           # (NRr,)
+    count: np.ndarray             # int (NRz, NRr)
+    amplitude: np.ndarray         # (n,) with spreading, at freq_hz, without volume attenuation
+    phase_rad: np.ndarray         # (n,)
+    delay_s: np.ndarray           # (n,) real part of the delay
+    delay_imag_s: np.ndarray      # (n,) imaginary part (<= 0: volume attenuation)
+    receiver_angle_deg: np.ndarray  # (n,) positive downward
+    surface_bounces: np.ndarray   # (n,)
+
+    @property
+    def receiver_index(self) -> np.ndarray:
+        """Flat receiver number (depth-major) of each arrival."""
+        return np.repeat(np.arange(self.count.size), self.count.ravel())
+
+    def intensity(self) -> np.ndarray:
+        """|p|^2 of each arrival at the run frequency, volume attenuation included."""
+        omega = 2.0 * np.pi * self.freq_hz
+        return self.amplitude ** 2 * np.exp(2.0 * omega * self.delay_imag_s)
+
+
+def read_arr(path: str | Path) -> list[Arrivals]:
+    """The arrivals of every source of a binary 2-D arrivals file.
+
+    Raises
+    ------
+    BellhopError
+        A truncated or inconsistent file.
+    """
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise BellhopError(f"{path}: cannot read the arrivals file: {exc.strerror or exc}") from None
+    pos = 0
+
+    def record() -> bytes:
+        nonlocal pos
+        if pos + 4 > len(raw):
+            raise BellhopError(f"{path}: arrivals file is truncated at byte {pos}")
+        n = int(np.frombuffer(raw, "<i4", 1, pos)[0])
+        if n < 0 or pos + 8 + n > len(raw):
+            raise BellhopError(f"{path}: arrivals file is truncated or damaged at byte {pos}")
+        payload = raw[pos + 4:pos + 4 + n]
+        pos += n + 8
+        return payload
+
+    def axis(payload: bytes, name: str) -> np.ndarray:
+        n = int(np.frombuffer(payload, "<i4", 1)[0]) if len(payload) >= 4 else -1
+        if n < 1 or len(payload) < 4 + 4 * n:
+            raise BellhopError(f"{path}: arrivals file header is inconsistent: {name} = {n}")
+        return np.frombuffer(payload, "<f4", n, 4).astype(float)
+
+    tag = record()
+    if b"2D" not in tag:
+        raise BellhopError(f"{path}: not a 2-D arrivals file (tag {tag!r})")
+    freq = float(np.frombuffer(record(), "<f4", 1)[0])
+    sz = axis(record(), "NSz")
+    rz = axis(record(), "NRz")
+    rr = axis(record(), "NRr")
+    out = []
+    for s in range(sz.size):
+        record()  # the largest count
+        count = np.empty((rz.size, rr.size), dtype=np.int64)
+        blocks = []
+        for i in range(count.size):
+            payload = record()
+            if len(payload) != 4:
+                raise BellhopError(f"{path}: arrivals file is damaged: a count record of {len(payload)} bytes")
+            n = int(np.frombuffer(payload, "<i4", 1)[0])
+            if n < 0 or pos + n * _ARRIVAL.itemsize > len(raw):
+                raise BellhopError(f"{path}: arrivals file is truncated (receiver {i}, {n} arrivals)")
+            count.flat[i] = n
+            if n:
+                block = np.frombuffer(raw, _ARRIVAL, n, pos)
+                if np.any(block["head"] != _ARRIVAL_BYTES) or np.any(block["tail"] != _ARRIVAL_BYTES):
+                    raise BellhopError(f"{path}: arrivals file is damaged (receiver {i})")
+                blocks.append(block["value"])
+                pos += n * _ARRIVAL.itemsize
+        values = np.concatenate(blocks).astype(float) if blocks else np.zeros((0, 8))
+        out.append(Arrivals(freq_hz=freq, source_depth_m=float(sz[s]), receiver_depth_m=rz, range_m=rr,
+                            count=count, amplitude=values[:, 0], phase_rad=np.radians(values[:, 1]),
+                            delay_s=values[:, 2], delay_imag_s=values[:, 3],
+                            receiver_angle_deg=values[:, 5], surface_bounces=values[:, 6]))
+    return out
