@@ -113,6 +113,24 @@ def startup(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "startup.json")
 
 
+def manoeuvres(root: Path) -> str:
+    d = _load(root, "maneuver.json")
+    rows = [("tests", "course, 5-20 min", "speed", "range", "course, 25-40 min", "speed", "range",
+             "turn declared after (mean, max)", "missed", "declared where none"), ("---",) * 10]
+    for label, name in (("paper", "paper (eqs. 26-29)"), ("default", "default")):
+        def f(key: str, label: str = label) -> float:
+            return _fig(d, f"gm_{label}_{key}")
+
+        rows.append((name, f"{f('tack1_course_rms'):.2f} deg", f"{f('tack1_speed_rms'):.2f} m/s",
+                     f"{f('tack1_range_rms'):.0f} m", f"{f('tack2_course_rms'):.2f} deg",
+                     f"{f('tack2_speed_rms'):.2f} m/s", f"{f('tack2_range_rms'):.0f} m",
+                     f"{f('turn_delay_mean'):.0f} s, {f('turn_delay_max'):.0f} s", f"{f('turn_missed_runs'):d}",
+                     f"{f('false_per_run'):.2g} per run"))
+    ratios = [_fig(d, k) for k in (d.get("figures") or {}) if k.startswith("gm_default_over_paper_")]
+    return (_table(rows) + f"\nDefault over paper: {min(ratios):.4f}-{max(ratios):.4f} on the six figures; "
+            f"the study took {_fig(d, 'gm_default_seconds'):.0f} s with the default tests, "
+            f"{_fig(d, 'gm_paper_seconds'):.0f} s with the paper's.\n\n" + _source(d, "maneuver.json"))
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -170,7 +188,7 @@ def grids_check(root: Path) -> str:
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
                                              "surface": surface, "surface-cost": surface_cost,
-                                             "grids-check": grids_check}
+                                             "grids-check": grids_check, "manoeuvres": manoeuvres}
 
 
 def _table(rows) -> str:

@@ -1,5 +1,5 @@
 """``tmakit experiment gm|idm|shelf SCENARIO [--runs N] --out DIR [--seed N] [--workers N]
-[--level-sigma-db DB]``."""
+[--level-sigma-db DB] [--manoeuvre-tests paper|default]``."""
 
 from __future__ import annotations
 
@@ -38,6 +38,9 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--level-sigma-db", type=float, default=None, metavar="DB",
                    help="idm: sigma_l of the filters' SPL likelihood (default the paper's 10 dB; "
                         "the data have 4 dB)")
+    p.add_argument("--manoeuvre-tests", choices=("paper", "default"), default=None,
+                   help="gm: the ML analysis's manoeuvre tests, the paper's eqs. 26-29 as written "
+                        "(the default of the experiment) or those of tmakit track")
     p.set_defaults(func=run_experiment)
 
 
@@ -59,6 +62,8 @@ def _self_built_study_runs(args, study, default_runs: int, bytes_per_run_cycle: 
 
     if args.level_sigma_db is not None or args.grid is not None:
         raise InputError(f"--level-sigma-db, --grid: the {args.study} study builds {builds}")
+    if args.manoeuvre_tests is not None:
+        raise InputError(f"--manoeuvre-tests: only the gm study has it, not {args.study}")
     if args.scenario != study.SCENARIO:
         raise InputError(f"{args.study}: the study is written for scenario {study.SCENARIO!r}, got "
                          f"{args.scenario!r}")
@@ -100,6 +105,8 @@ def run_experiment(args) -> Report:
     if args.study == "idm":
         from tools.studies import idm as idm_experiment
 
+        if args.manoeuvre_tests is not None:
+            raise InputError("--manoeuvre-tests: only the gm study has it, not idm")
         if args.level_sigma_db is not None:  # before a grid is built
             idm_experiment.check_level_sigma(args.level_sigma_db)
         runs = 1000 if args.runs is None else args.runs
@@ -135,8 +142,13 @@ def run_experiment(args) -> Report:
     if args.grid is None:
         raise InputError("--grid: the gm experiment needs the propagation grid of the "
                          "scenario's area (tmakit grids build ocean-deep)")
+    from tracker.mltma import MLParams
+
+    params = MLParams() if args.manoeuvre_tests == "default" else gm_experiment.PAPER_PARAMS
     res = gm_experiment.run(args.scenario, grid_path=args.grid, n=n, out_dir=args.out,
-                            seed=args.seed, workers=args.workers, progress=want_progress(args))
+                            seed=args.seed, workers=args.workers, progress=want_progress(args),
+                            params=params)
+    res["manoeuvre_tests"] = args.manoeuvre_tests or "paper"
     return Report(res["summary"], res)
 
 

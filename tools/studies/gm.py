@@ -96,7 +96,8 @@ PAPER_PARAMS = MLParams(maneuver_curved=False, level_vs_k=False)
 
 
 def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
-    """Simulate and track one chunk of runs; squared errors (C, E, T) of course, speed, range."""
+    """Simulate and track one chunk of runs: squared errors and estimates (C, E, T) of course,
+    speed, range, the simulation, and the tack each row declared at each cycle (C, E, T)."""
     from acoustics import open_grid
 
     tables = open_grid(grid_path)
@@ -111,6 +112,7 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     vy = np.gradient(sim.obs_y_m, sim.t_s)
     err = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     est = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
+    tacks = np.zeros((n_cls, e, t), dtype=int)
     for i in range(t):
         rep = lambda a, i=i: np.repeat(a[:, i], n_cls, axis=0)  # noqa: E731
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
@@ -125,7 +127,52 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
         err["course"][:, :, i] = wrap180(k - sim.course_deg[None, :, i]) ** 2
         err["speed"][:, :, i] = (v - sim.speed_mps[None, :, i]) ** 2
         err["range"][:, :, i] = (r - sim.range_m[None, :, i]) ** 2
-    return err, est, sim
+        tacks[:, :, i] = out["tack"].reshape(e, n_cls).T
+    return err, est, sim, tacks
+
+
+def manoeuvre_detection(tacks, true_tack, t_s, weights) -> list[dict]:
+    """How quickly the tracker declares the target's real manoeuvres, and what else it declares.
+
+    Parameters
+    ----------
+    tacks : ndarray of int, shape (E, T)
+        The tack each run's row declared at each cycle (one class hypothesis).
+    true_tack : ndarray of int, shape (T,)
+        The scenario's tack at each cycle.
+    t_s : ndarray, shape (T,)
+    weights : ndarray, shape (E,)
+        Design weights of the runs (eqs. 32-34).
+
+    Returns
+    -------
+    list of dict
+        One per stretch between real manoeuvres: ``from_s`` (its start: 0 or the manoeuvre's
+        first cycle), and for a manoeuvre ``delay_s`` (weighted mean, median and max over the runs
+        that declared one: the time of the first new tack from ``from_s`` on, less ``from_s``),
+        ``missed_runs``; for every stretch ``false_per_run`` (the weighted mean number of further
+        tacks declared in it).
+    """
+    starts = [0] + [int(i) for i in np.flatnonzero(np.diff(true_tack) > 0) + 1]
+    ends = starts[1:] + [t_s.size]
+    w = np.asarray(weights, dtype=float)
+    out = []
+    for j, (a, b) in enumerate(zip(starts, ends)):
+        before = tacks[:, a - 1] if a > 0 else np.ones(len(tacks), dtype=int)
+        new = tacks[:, b - 1] - before                                  # tacks declared in [a, b)
+        item = {"from_s": float(t_s[a] - t_s[0])}
+        if j > 0:
+            hit = new > 0
+            first = np.argmax(tacks[:, a:b] > before[:, None], axis=1)
+            delay = t_s[a + first] - t_s[a]
+            item["delay_s"] = ({"mean": float(np.average(delay[hit], weights=w[hit])),
+                                "median": float(np.median(delay[hit])), "max": float(delay[hit].max())}
+                               if hit.any() else None)
+            item["missed_runs"] = int((~hit).sum())
+            new = np.maximum(new - 1, 0)
+        item["false_per_run"] = float(np.average(new, weights=w))
+        out.append(item)
+    return out
 
 
 def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, workers: int = 1,
@@ -201,18 +248,23 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     with atomic_path(out / "rms.csv") as tmp:
         df.to_csv(tmp, index=False, float_format="%.6g")
     steady = _steady(df, t_s)
+    later = _later_tacks(df, t_s, sim0.tack)
+    ic = names.index(sc.target_class)
+    tacks = np.concatenate([r[3][ic] for r in results], axis=0)
+    detection = manoeuvre_detection(tacks, sim0.tack, t_s, w)
     elapsed = time.perf_counter() - t_start
     summary = {"scenario": sc.name, "true_class": sc.target_class, "runs": n_runs,
                "center": center,
                "cycles": len(t_s), "classes": names, "elapsed_s": elapsed,
-               "steady_state": steady, "rms_csv": str(out / "rms.csv")}
+               "steady_state": steady, "later_tacks": later, "manoeuvres": detection,
+               "rms_csv": str(out / "rms.csv")}
     try:
         from tools.studies.gm_plot import plot_experiment
 
         # the one-run plot shows the design's centre (class mean speed and noise, dK = 0)
         centre = int(np.argmax(w))
         j = next(j for j, c in enumerate(chunks) if centre in c)
-        summary["plots"] = plot_experiment(df, results[j], sc, names, out,
+        summary["plots"] = plot_experiment(df, results[j][:3], sc, names, out,
                                            run=int(np.flatnonzero(chunks[j] == centre)[0]))
     except ImportError:  # pragma: no cover - matplotlib is a dependency
         summary["plots"] = []
@@ -225,8 +277,39 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
         lines.append(f"  {name}: steady RMS (5-20 min) course {s['course_rms_deg']:.1f} deg, "
                      f"speed {s['speed_rms_mps']:.2f} m/s, range {s['range_rms_m'] / 1000:.2f} km "
                      f"({100 * s['range_rms_rel']:.0f}%)")
+    for k, item in enumerate(later, start=2):
+        s = item[sc.target_class]
+        lines.append(f"  {sc.target_class}, tack {k} ({item['from_s'] / 60 + 5:g}-{item['to_s'] / 60:g} min): course "
+                     f"{s['course_rms_deg']:.1f} deg, speed {s['speed_rms_mps']:.2f} m/s, range "
+                     f"{s['range_rms_m'] / 1000:.2f} km")
+    for item in detection[1:]:
+        d = item["delay_s"]
+        lines.append(f"  {sc.target_class}: manoeuvre at {item['from_s'] / 60:g} min declared after "
+                     + (f"{d['mean']:.0f} s (median {d['median']:.0f}, max {d['max']:.0f})" if d else "-")
+                     + f", missed in {item['missed_runs']} runs")
+    lines.append(f"  {sc.target_class}: manoeuvres declared where there was none, per run: "
+                 f"{sum(item['false_per_run'] for item in detection):.2f}")
     summary["summary"] = "\n".join(lines)
     return summary
+
+
+def _later_tacks(df: pd.DataFrame, t_s, true_tack) -> list[dict]:
+    """Mean RMS per class over each later tack, from 5 min after its start to its end (the
+    second tack of gm-tv-30km: 25-40 min)."""
+    starts = np.flatnonzero(np.diff(true_tack) > 0) + 1
+    ends = list(starts[1:]) + [len(t_s)]
+    out = []
+    for a, b in zip(starts, ends):
+        lo, hi = t_s[a] + 300.0, t_s[b - 1]
+        item = {"from_s": float(t_s[a] - t_s[0]), "to_s": float(hi - t_s[0])}
+        for name, d in df.groupby("class"):
+            sel = d[(d.t_s >= lo) & (d.t_s <= hi)]
+            item[name] = {"course_rms_deg": float(sel.course_rms_deg.mean()),
+                          "speed_rms_mps": float(sel.speed_rms_mps.mean()),
+                          "range_rms_m": float(sel.range_rms_m.mean()),
+                          "range_rms_rel": float((sel.range_rms_m / sel.range_true_m).mean())}
+        out.append(item)
+    return out
 
 
 def _steady(df: pd.DataFrame, t_s) -> dict:

@@ -99,9 +99,9 @@ class MLBatch:
         # per row and cycle: highest detected band (-1: none) and its level (eq. 29), dB
         self.top_band = np.full((b, self.capacity), -1)
         self.top_level_db = np.full((b, self.capacity), np.nan)
-        # the same level less K(r) at the range tracked until then (eq. 29 with level_vs_k), dB
-        self.top_residual_db = np.full((b, self.capacity), np.nan)
-        self.k_error_sd_db = np.array([c.k_error_sd_db for c in classes])  # sd of K's error, dB
+        # the same level less K(r) at the range tracked until then (eq. 29 with level_vs_k), dB,
+        # eq. 29's statistics on the level and on the level less K along the track (level_vs_k), dB
+        self.level_step_db = np.full((2, b, self.capacity), np.nan)
         # the current tack of each row: first cycle, number (1, 2, ...), and the number of
         # consecutive cycles on which a maneuver test (eqs. 26-29) has fired
         self.tack_start = np.zeros(b, dtype=int)
@@ -190,10 +190,6 @@ class MLBatch:
         # K at the row's bearing from the observer on a bearing-dependent grid, from the tables
         # where the observer is (an atlas's follow it): (C, M, B, R)
         k_db = self.tables.at_observer(obs_x_m, obs_y_m).k_db(obs_depth_m, bearing_deg=brg)
-        self._record_level_residual(n, k_db)
-
-        # step 1: maneuver detection; a confirmed one starts a new tack
-        new_tack = self._detect_maneuver(n, sd_p, sd_w)
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
         k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
@@ -205,6 +201,9 @@ class MLBatch:
             # k_error_sd_db in the grid) in place of the class's one number: it weights the range
             # term of eq. 25
             r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd)
+
+        # step 1: maneuver detection; a confirmed one starts a new tack
+        new_tack = self._detect_maneuver(n, sd_p, sd_w, k_db, r_level, r_level_sd)
         r_prior, r_prior_sd = range_prior_m(r_level, r_level_sd, self.last_range_m)
 
         # this cycle's bearing joins the bearing form, weighted with the latest range
@@ -278,20 +277,33 @@ class MLBatch:
                                                            np.maximum(top, 0)], np.nan)
         self.n_cycles = n + 1
 
-    def _detect_maneuver(self, n, sd_p, sd_w):
+    def _detect_maneuver(self, n, sd_p, sd_w, k_db, range_m, range_sd_m):
         """Step 1: eqs. 26-27 and 29; rows whose test fired on enough consecutive cycles start
-        a new tack at the first of those cycles. Returns the rows that did, (B,) bool."""
+        a new tack at the first of those cycles. Returns the rows that did, (B,) bool.
+        ``k_db`` is this cycle's K (`update`), ``range_m``, ``range_sd_m`` (B,) the level range
+        and its sd (eqs. 20-21)."""
         p = self.params
-        bearing_test = maneuver.bearing_maneuver_curved if p.maneuver_curved else maneuver.bearing_maneuver
-        fired = bearing_test(self.t_s, self.bearing_deg, self.tack_start, n, sd_p, s_cycles=p.maneuver_s,
-                             l_cycles=p.maneuver_l, factor=p.maneuver_factor)
+        if p.maneuver_curved:
+            # the fit's relative velocity is bounded by the observer's speed and the class's fastest
+            # (mean + 3 sd) over the range tracked so far (the level range before there is one;
+            # without either, half the grid's range: a fit left free there is dominated by the
+            # curvature of noise, gm-nps's weak runs declared 1-4 manoeuvres in 15 min)
+            obs_speed = math.hypot(self.obs_x_m[n] - self.obs_x_m[max(n - 1, 0)],
+                                   self.obs_y_m[n] - self.obs_y_m[max(n - 1, 0)]) / max(
+                self.t_s[n] - self.t_s[max(n - 1, 0)], 1e-9)
+            fired = maneuver.bearing_maneuver_curved(
+                self.t_s, self.bearing_deg, self.tack_start, n, sd_p, s_cycles=p.maneuver_s,
+                l_cycles=p.maneuver_l, factor=p.maneuver_factor,
+                range_m=np.where(np.isfinite(self.last_range_m), self.last_range_m,
+                                 np.where(np.isfinite(range_m), range_m, 0.5 * self.range_axis_m[-1])),
+                relative_speed_mps=obs_speed + self.speed_mean_mps + 3.0 * self.speed_sd_mps,
+                bearing_sd_history_deg=self.bearing_sd_deg)
+        else:
+            fired = maneuver.bearing_maneuver(self.t_s, self.bearing_deg, self.tack_start, n, sd_p,
+                                              s_cycles=p.maneuver_s, l_cycles=p.maneuver_l,
+                                              factor=p.maneuver_factor)
         if p.level_vs_k:
-            # the level less K at the tracked range: what eq. 29 means to see (the target's own
-            # noise) without K's change along the track; K's error sd joins sigma_dW
-            sd_k = np.hypot(np.maximum(sd_w, p.level_sd_floor_db), self.k_error_sd_db[:, None])
-            fired |= maneuver.level_maneuver(self.top_band, self.top_residual_db, sd_k, self.tack_start,
-                                             n, f_cycles=p.level_f, factor=p.maneuver_factor,
-                                             sd_floor_db=p.level_sd_floor_db)
+            fired |= self._level_test(n, sd_w, k_db, range_sd_m)
         else:
             fired |= maneuver.level_maneuver(self.top_band, self.top_level_db, sd_w, self.tack_start,
                                              n, f_cycles=p.level_f, factor=p.maneuver_factor,
@@ -305,22 +317,66 @@ class MLBatch:
             self.bearing_form[new] = 0.0
         return new
 
-    def _record_level_residual(self, n, k_db) -> None:
-        """Cycle n's highest-band level less K at the range tracked until now (NaN before a range)."""
-        top = self.top_band[:, n]
-        r = self.last_range_m
-        ok = (top >= 0) & np.isfinite(r)
-        if not ok.any():
-            return
+    def _level_test(self, n, sd_w, k_db, range_sd_m):
+        """Eq. 29 on the level and on the level less K along the track tracked until now, each row
+        on the one whose sd is the smaller (`tracker.mltma.maneuver.level_maneuver_robust`).
+
+        K is this cycle's profile read at the window's and this cycle's ranges on one track (the
+        last estimates carried back and forth), so that the jitter of the range tracked from cycle
+        to cycle does not enter the step. Model sds: sigma_dW's (floored, with the window mean's);
+        for the level less K, K's structure under the range sd of eq. 21; for the level, the change
+        of K along that track less what that structure leaves unknown (a change the tracked range
+        cannot predict does not count against the level's own prediction, no change)."""
+        p = self.params
+        top = np.maximum(self.top_band[:, n], 0)
+        rows = np.arange(self.n_rows)
+        var = np.maximum(sd_w[rows, top], p.level_sd_floor_db) ** 2 * (1.0 + 1.0 / p.level_f)
+        lo = n - 3 - p.level_f
+        steps = np.full((2, self.n_rows), np.nan)
+        var_raw = var_k = var
+        steps[0] = maneuver.level_step_db(self.top_band, self.top_level_db, self.tack_start, n, f_cycles=p.level_f)
+        last = self.last_estimates
+        if last is not None and lo >= 0:
+            course = np.radians(last["course_deg"])
+            vx, vy = last["speed_mps"] * np.sin(course), last["speed_mps"] * np.cos(course)
+            cycles = np.append(np.arange(lo, n - 3), n)
+            dt = self.t_s[cycles] - self.t_s[n - 1]                                         # (F + 1,)
+            r = np.hypot(last["x_m"][:, None] + vx[:, None] * dt - self.obs_x_m[cycles],
+                         last["y_m"][:, None] + vy[:, None] * dt - self.obs_y_m[cycles])
+            k_rows = self._k_rows(k_db, top)
+            k_track = self._k_interp(k_rows, r)                                                # (B, F + 1)
+            steps[1] = maneuver.level_step_db(self.top_band, self.top_level_db, self.tack_start, n,
+                                              f_cycles=p.level_f, k_window_db=k_track[:, :-1],
+                                              k_now_db=k_track[:, -1])
+            test = np.isfinite(steps[1])
+            if test.any():
+                window = np.where(self.top_band[:, lo:n - 3] == self.top_band[:, n:n + 1], r[:, :-1], np.nan)
+                structure = maneuver.k_structure_var_db2(k_rows, self.range_axis_m, np.where(test, r[:, -1], np.nan),
+                                                         window, range_sd_m)
+                var_k = var + structure
+                # the change of K along the track, which the level itself leaves in its step, as
+                # far as the range is known well enough to predict it
+                change2 = np.nan_to_num(np.square(steps[0] - steps[1]))
+                var_raw = var + change2 * change2 / np.maximum(change2 + structure, 1e-12)
+        fired = maneuver.level_maneuver_robust(steps, self.level_step_db, n, np.sqrt(np.stack([var_raw, var_k])),
+                                               factor=p.maneuver_factor, history_cycles=p.level_history_cycles,
+                                               min_history=p.level_min_history)
+        self.level_step_db[:, :, n] = steps
+        return fired
+
+    def _k_interp(self, k_rows, range_m):
+        """Each row's K (B, R) at its ranges (B, J), linear, held at the axis's ends, dB."""
         axis = self.range_axis_m
-        rc = np.clip(np.where(ok, r, axis[0]), axis[0], axis[-1])
+        rc = np.clip(np.nan_to_num(range_m, nan=axis[0]), axis[0], axis[-1])
         i = np.clip(np.searchsorted(axis, rc, side="right") - 1, 0, axis.size - 2)
         w = (rc - axis[i]) / (axis[i + 1] - axis[i])
-        ci, tb = self.class_index, np.maximum(top, 0)
+        rows = np.arange(k_rows.shape[0])[:, None]
+        return np.where(np.isfinite(range_m), (1.0 - w) * k_rows[rows, i] + w * k_rows[rows, i + 1], np.nan)
+
+    def _k_rows(self, k_db, band):
+        """Each row's K(r) in the given band (B,) of its class, (B, R), dB."""
         rows = np.arange(self.n_rows)
-        k_rows = k_db[ci, tb, rows] if k_db.ndim == 4 else k_db[ci, tb]   # (B, R)
-        k = (1.0 - w) * k_rows[rows, i] + w * k_rows[rows, i + 1]
-        self.top_residual_db[:, n] = np.where(ok, self.top_level_db[:, n] - k, np.nan)
+        return k_db[self.class_index, band, rows] if k_db.ndim == 4 else k_db[self.class_index, band]
 
     def _accumulate_form(self, n, new_tack, sd_p, rho) -> None:
         """Add cycle n's bearing to the bearing form; a new tack's form is first rebuilt from

@@ -28,11 +28,15 @@ class MLParams:
     maneuver_curved: bool = True       # eqs. 26-27 about a quadratic fit of the bearing trace, not
                                        # eq. 27's line (a non-manoeuvring target's trace curves;
                                        # docs/atlas-tracking.md); False: the paper's line
-    level_vs_k: bool = True            # eq. 29 on the level less K(r) at the tracked range, its sd
-                                       # widened by the class's K error sd; False: the paper's raw
-                                       # level against sigma_dW
+    level_vs_k: bool = True            # eq. 29 on the level less K(r) at the tracked range, against
+                                       # the spread that statistic has had on the track and K's
+                                       # structure under the range error (tracker.mltma.maneuver.
+                                       # level_maneuver_robust); False: the paper's raw level
+                                       # against sigma_dW
     level_f: int = 10                  # F of eq. 29
     level_sd_floor_db: float = 0.5     # floor on sigma_dW in eq. 29 (K(r) ripple along range)
+    level_history_cycles: int = 30     # eq. 29 on the level less K: the cycles whose statistic
+    level_min_history: int = 10        # gives its spread, and the fewest it needs to test
     n_course: int = 24                 # global search: values per axis (>= 20, paper step 8)
     n_speed: int = 20
     speed_span_sd: float = 3.0         # speed axis: mV +- this many sV
