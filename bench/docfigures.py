@@ -93,6 +93,16 @@ def accuracy(root: Path) -> str:
         cls_name, depth = key.removeprefix("k_error_reciprocity_").removesuffix("_median").split("_")
         what = f"{cls_name} at {depth.removesuffix('m')} m"
         rows.append((f"reciprocity (source at the observer), {what}", *pair(key.removesuffix("_median"))))
+    table = [k for k in (d.get("figures") or d["results"]) if k.startswith("k_error_observer_table_semicoherent_")
+             and k.endswith("_median")]
+    for key in table:
+        cls_name, depth = key.removeprefix("k_error_observer_table_semicoherent_").removesuffix("_median").split("_")
+        inc = key.replace("_semicoherent_", "_incoherent_").removesuffix("_median")
+        base = key.removesuffix("_median")
+        rows.append((f"the table from the observer (arrivals and the surface's image at the target), {cls_name} at "
+                     f"{depth.removesuffix('m')} m, against its own runs; incoherent beams in brackets",
+                     f"{_fig(d, base + '_median'):.2g} dB ({_fig(d, inc + '_median'):.2g} dB)",
+                     f"{_fig(d, base + '_p95'):.2g} dB ({_fig(d, inc + '_p95'):.2g} dB)"))
     tl = "tl_field_error_default_vs_full_NPS_FB1"
     rows.append(("the whole TL field (NPS, FB1, where TL < 120 dB) with the default settings", *pair(tl)))
     return _table(rows) + "\n" + _source(d, "accuracy.json")
@@ -167,10 +177,81 @@ def grids_check(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "grids-check.json")
 
 
+def _whole(case: dict) -> dict:
+    """(class, band) -> the comparison's row over all bearings of a models-study case."""
+    return {(r["class"], r["band"]): r for r in case["rows"] if r["bearing_deg"] is None}
+
+
+def _per_class(values: list[str], classes: list[str]) -> str:
+    """One value when every class has it, else each with its class."""
+    if len(set(values)) == 1:
+        return values[0]
+    return ", ".join(f"{v} ({c})" for v, c in zip(values, classes))
+
+
+def _cut(case: dict) -> str:
+    bearings = sorted({r["bearing_deg"] for r in case["rows"] if r["bearing_deg"] is not None})
+    base = case["area"].split("-fb")[0].removesuffix("-crossover")
+    bands = "/".join(b[0] for b in case["bands"])
+    where = (f", radial{'s' if len(bearings) > 1 else ''} {'/'.join(f'{b:g}' for b in bearings)} deg"
+             if bearings else "")
+    return f"{base} {bands}{where} to {case['range_max_m'] / 1000:g} km"
+
+
+def models_areas(root: Path) -> str:
+    d = _load(root, "models-areas.json")
+    rows = [("area, band, cut", "\\|dTL\\| median / p90", "\\|dK\\| median / p90, NPS (200 m)", "SW (6 m)",
+             "TV (8 m)", "rms dK, NPS / SW / TV", "RAM runs, run time", "BELLHOP runs, run time"),
+            ("---",) * 8]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        band = case["bands"][0][0]
+        tl = [f"{whole[(c, band)]['tl_median_db']:.2f} / {whole[(c, band)]['tl_p90_db']:.2f} dB" for c in classes]
+        k = [f"{whole[(c, band)]['k_median_db']:.2f} / {whole[(c, band)]['k_p90_db']:.2f} dB" for c in classes]
+        rms = " / ".join(f"{whole[(c, band)]['k_rms_db']:.2f}" for c in classes) + " dB"
+        ram, bh = case["ram"], case["bellhop"]
+        rows.append((_cut(case), _per_class(tl, classes), *k, rms,
+                     f"{ram['runs']}, {ram['run_seconds']:.0f} s ({ram['wall_s']:.0f} s wall)",
+                     f"{bh['runs']}, {bh['run_seconds']:.1f} s"))
+    modes = sorted({c.get("bellhop_mode", "incoherent") for c in d["cases"]})
+    return _table(rows) + f"\nBELLHOP's mode: {', '.join(modes)}.\n\n" + _source(d, "models-areas.json")
+
+
+def ram_crossover(root: Path) -> str:
+    d = _load(root, "ram-crossover.json")
+    rows = [("band", "\\|dTL\\| median / p90", "\\|dK\\| median, NPS / SW / TV", "rms dK, NPS / SW / TV"),
+            ("---",) * 4]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        for name, low, high in case["bands"]:
+            tl = [f"{whole[(c, name)]['tl_median_db']:.2f} / {whole[(c, name)]['tl_p90_db']:.2f} dB" for c in classes]
+            rows.append((f"{low:.0f}-{high:.0f} Hz", _per_class(tl, classes),
+                         " / ".join(f"{whole[(c, name)]['k_median_db']:.2f}" for c in classes) + " dB",
+                         " / ".join(f"{whole[(c, name)]['k_rms_db']:.2f}" for c in classes) + " dB"))
+    return _table(rows) + "\n" + _source(d, "ram-crossover.json")
+
+
+def surface_compare(root: Path) -> str:
+    d = _load(root, "surface-compare.json")
+    rows = [("area", "class", "FB1 / FB2 / FB3 (or the band): \\|dK\\| median (p90), signed median dK, dB"),
+            ("---",) * 3]
+    for area, entry in d["areas"].items():
+        by = entry["by_class_band"]
+        classes = list(dict.fromkeys(k.split()[0] for k in by))
+        for cls_name in classes:
+            cells = [f"{v['k_median_db']:.2f} ({v['k_p90_db']:.2f}), {v['k_signed_median_db']:+.2f}"
+                     for k, v in by.items() if k.split()[0] == cls_name]
+            rows.append((area, cls_name, " / ".join(cells)))
+    return _table(rows) + "\n" + _source(d, "surface-compare.json")
+
+
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
                                              "surface": surface, "surface-cost": surface_cost,
-                                             "grids-check": grids_check}
+                                             "grids-check": grids_check, "models-areas": models_areas,
+                                             "ram-crossover": ram_crossover, "surface-compare": surface_compare}
 
 
 def _table(rows) -> str:
