@@ -64,7 +64,8 @@ def pairs(names) -> dict:
             plan = plan_atlas(atlas)
             now = table_area(atlas, plan.months[0], float(plan.lat_deg[0]), float(plan.lon_deg[0]))
             now = dataclasses.replace(now, grid=dataclasses.replace(now.grid, depth_step_m=atlas.atlas.depth_step_m))
-            what = (f"one atlas table (month {plan.months[0]}, {float(plan.lat_deg[0]):.4f} N "
+            month = "the area's month" if plan.months[0] == 0 else f"month {plan.months[0]}"
+            what = (f"one atlas table ({month}, {float(plan.lat_deg[0]):.4f} N "
                     f"{float(plan.lon_deg[0]):.4f} E, {atlas.atlas.depth_step_m:g} m depth axis): now against "
                     f"incoherent beams at 1500 beams")
             out[name] = (_with(now, mode=envdata.TlMode.INCOHERENT, n_beams=1500), now, what)
@@ -129,21 +130,50 @@ def summary(rows: list[dict]) -> dict:
             for r in rows if r["bearing_deg"] is None}
 
 
-def k_signed(before: Path, now: Path) -> dict:
-    """Median of dK = K_now - K_before per class and band over every range (and bearing) both
-    have, dB (``grids compare`` gives |dK|; which way it moved is this)."""
+#: Range windows of the signed dK, km (the last one runs to the grid's end).
+WINDOWS_KM = (0.0, 10.0, 20.0, 30.0, 50.0, 70.0, 1e9)
+
+
+def _stats(d) -> dict | None:
+    import numpy as np
+
+    d = d[np.isfinite(d)]
+    if not d.size:
+        return None
+    return {"median_db": round(float(np.median(d)), 3), "p10_db": round(float(np.percentile(d, 10)), 3),
+            "p90_db": round(float(np.percentile(d, 90)), 3), "cells": int(d.size)}
+
+
+def k_signed(before: Path, now: Path) -> tuple[dict, dict]:
+    """dK = K_now - K_before per class and band (``grids compare`` gives |dK|; which way it
+    moved is this): its median over every range (and bearing) both have, dB; and its median,
+    10th and 90th percentiles by range window (``WINDOWS_KM``) and, for a bearing-dependent
+    grid, by bearing and range window."""
     import numpy as np
 
     import acoustics
 
     a, b = acoustics.open_grid(before), acoustics.open_grid(now)
-    out = {}
+    r_km = np.asarray(a.range_m, dtype=float) / 1000.0
+    bearings = np.asarray(getattr(a, "bearing_deg", []), dtype=float)
+    whole, detail = {}, {}
     for ic, cls_name in enumerate(a.class_names):
         for ib, band in enumerate(a.band_names):
-            d = (np.asarray(b.k_grid_db[ic, ib]) - np.asarray(a.k_grid_db[ic, ib])).ravel()
-            d = d[np.isfinite(d)]
-            out[f"{cls_name} {band}"] = round(float(np.median(d)), 3) if d.size else None
-    return out
+            d = np.asarray(b.k_grid_db[ic, ib], dtype=float) - np.asarray(a.k_grid_db[ic, ib], dtype=float)
+            d = d.reshape(-1, r_km.size)  # (bearing or 1, range)
+            whole[f"{cls_name} {band}"] = (_stats(d.ravel()) or {}).get("median_db")
+            windows = {}
+            for lo, hi in zip(WINDOWS_KM[:-1], WINDOWS_KM[1:]):
+                cols = (r_km > lo) & (r_km <= hi)
+                if not cols.any():
+                    continue
+                name = f"{lo:g}-{min(hi, r_km[-1]):g} km"
+                entry = {"all": _stats(d[:, cols].ravel())}
+                if bearings.size:
+                    entry["by_bearing_deg"] = {f"{x:g}": _stats(d[j, cols]) for j, x in enumerate(bearings)}
+                windows[name] = entry
+            detail[f"{cls_name} {band}"] = windows
+    return whole, detail
 
 
 def main(argv=None) -> int:
@@ -169,8 +199,10 @@ def main(argv=None) -> int:
         entry["compare"] = result
         entry["plot"] = str(plot.relative_to(REPO))
         entry["by_class_band"] = summary(result["rows"])
-        for key, value in k_signed(paths["before"], b_path).items():
+        whole, detail = k_signed(paths["before"], b_path)
+        for key, value in whole.items():
             entry["by_class_band"][key]["k_signed_median_db"] = value
+        entry["k_signed_by_range"] = detail
         for key, s in entry["by_class_band"].items():
             session.say(f"{name} {key} |dK| median", s["k_median_db"], "dB")
         areas[name] = entry
