@@ -213,9 +213,13 @@ def models_areas(root: Path) -> str:
         ram, bh = case["ram"], case["bellhop"]
         rows.append((_cut(case), _per_class(tl, classes), *k, rms,
                      f"{ram['runs']}, {ram['run_seconds']:.0f} s ({ram['wall_s']:.0f} s wall)",
-                     f"{bh['runs']}, {bh['run_seconds']:.1f} s"))
-    modes = sorted({c.get("bellhop_mode", "incoherent") for c in d["cases"]})
-    return _table(rows) + f"\nBELLHOP's mode: {', '.join(modes)}.\n\n" + _source(d, "models-areas.json")
+                     f"{bh['runs']}, {_secs(bh['run_seconds'])} s ({case.get('bellhop_mode', 'incoherent')}, "
+                     f"{case.get('bellhop_beams', '?')} beams)"))
+    return _table(rows) + "\n" + _source(d, "models-areas.json")
+
+
+def _secs(x: float) -> str:
+    return f"{x:.2g}" if x < 10.0 else f"{x:.0f}"
 
 
 def ram_crossover(root: Path) -> str:
@@ -247,11 +251,118 @@ def surface_compare(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "surface-compare.json")
 
 
+#: The sensitivity command's studies of ocean-deep that docs/sensitivity.md quotes: set -> its label.
+SENSITIVITY_SETS = {"profile": "profile measured well", "bottom": "bottom only", "default": "the default set (both)"}
+
+
+def _range_span(values: list[float], digits: int, unit: str) -> str:
+    lo, hi = min(values), max(values)
+    return f"{lo:.{digits}f} {unit}".strip() if round(lo, digits) == round(hi, digits) else \
+        f"{lo:.{digits}f}-{hi:.{digits}f} {unit}".strip()
+
+
+def sensitivity_sets(root: Path) -> str:
+    rows = [("perturbation set", "NPS (200 m)", "SW (6 m)", "TV (8 m)", "constant share", "median sd of dK(r)"),
+            ("---",) * 6,
+            ("paper (constant offset, profile measured well)", "2.0 dB", "1.5 dB", "1.5 dB", "100 % (assumed)", "–")]
+    sources = []
+    for name, label in SENSITIVITY_SETS.items():
+        file = f"sensitivity/ocean-deep-{name}.json"
+        d = _load(root, file)
+        specs = ", ".join(f"`{p}`" for p in d["perturbations"]) if name != "default" else ""
+        sd = d["k_error_sd_db"]
+        share = [100.0 * v["constant_fraction"] for v in d["k"].values()]
+        spread = [v["sd_db_median"] for v in d["k"].values()]
+        share_text = "< 1 %" if max(share) < 1.0 else _range_span(share, 0, "%")
+        rows.append((f"{label}: {specs}" if specs else label, *(f"{sd[c]:.2f} dB" for c in ("NPS", "SW", "TV")),
+                     share_text, _range_span(spread, 2 if max(spread) < 1 else 1, "dB")))
+        sources.append(_made(d, file))
+    return _table(rows) + "\n*From " + "; ".join(sources) + " (each by the command above, through "\
+        "`python -m bench.record`).*\n"
+
+
+def _made(data: dict, file: str) -> str:
+    """A result file named with the commit, date and load average it was made at."""
+    prov = data["provenance"]
+    load = (prov.get("load_average") or {}).get("before")
+    load = load[0] if isinstance(load, list) else load
+    shown = f", load average {load:g}" if isinstance(load, (int, float)) else ""
+    pending = ", to be made again after the sea-surface change" if prov.get("rerun_pending") else ""
+    when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"
+    return f"`docs/results/{file}` ({when}{shown}{pending})"
+
+
+def sensitivity_ranges(root: Path) -> str:
+    rows = [("set", "class", "5 km", "10 km", "20 km", "50 km", "100 km"), ("---",) * 7]
+    for name, label in SENSITIVITY_SETS.items():
+        d = _load(root, f"sensitivity/ocean-deep-{name}.json")
+        for cls_name in ("NPS", "SW"):
+            err = d["range_error"][cls_name]
+            km = [err[r]["rms_m"] / 1000.0 for r in ("5", "10", "20", "50", "100")]
+            rows.append((label, cls_name, *(f"{x:.2f} km" if x < 10.0 else f"{x:.1f} km" for x in km)))
+    return _table(rows) + "\n" + "*From the same files.*\n"
+
+
+def sensitivity_speed(root: Path) -> str:
+    d = _load(root, "sensitivity.json")
+    w1, w2 = _fig(d, "study_1_worker_wall"), _fig(d, "study_2_workers_wall")
+    rows = [("figure", "measured", "target"), ("---",) * 3,
+            ("2 workers vs 1 (median of the side-by-side pairs)",
+             f"{_fig(d, 'speedup_2_vs_1_workers'):.2f}x ({w1:.1f} s -> {w2:.1f} s)", ">= 1.7x"),
+            ("overhead, 1 worker: wall / sum of BELLHOP - 1",
+             f"{_fig(d, 'overhead_1_worker_wall_over_bellhop_sum'):.1f} %", "<= 10 %"),
+            ("overhead, 2 workers: 2 x wall / sum of BELLHOP - 1",
+             f"{_fig(d, 'overhead_2_workers_wall_x2_over_bellhop_sum'):.1f} %", "<= 10 %"),
+            ("results with 1 and 2 workers",
+             "identical (bitwise)" if _fig(d, "results_identical_1_vs_2_workers") else "NOT identical", "identical")]
+    return _table(rows) + "\n" + _source(d, "sensitivity.json")
+
+
+def reciprocity(root: Path) -> str:
+    sens, acc = _load(root, "sensitivity.json"), _load(root, "accuracy.json")
+    rows = [("class (depth)", "how its K is computed", "against its own runs: median", "p95"), ("---",) * 4]
+    for key in (k for k in (sens.get("figures") or sens["results"]) if k.startswith("reciprocity_vs_direct_")
+                and k.endswith("_median")):
+        cls_name, depth = key.removeprefix("reciprocity_vs_direct_").removesuffix("_median").split("_")
+        rows.append((f"{cls_name} ({depth.removesuffix('m')} m)", "by reciprocity (source at the observer)",
+                     f"{_fig(sens, key):.2f} dB", f"{_fig(sens, key.replace('_median', '_p95')):.2f} dB"))
+    for key in (k for k in (acc.get("figures") or acc["results"])
+                if k.startswith("k_error_observer_table_semicoherent_") and k.endswith("_median")):
+        cls_name, depth = key.removeprefix("k_error_observer_table_semicoherent_").removesuffix("_median").split("_")
+        inc = key.replace("_semicoherent_", "_incoherent_")
+        rows.append((f"{cls_name} ({depth.removesuffix('m')} m)",
+                     "directly here; from the observer in a bearing-dependent grid or an atlas (incoherent beams "
+                     "in brackets)", f"{_fig(acc, key):.2f} dB ({_fig(acc, inc):.2f} dB)",
+                     f"{_fig(acc, key.replace('_median', '_p95')):.2f} dB "
+                     f"({_fig(acc, inc.replace('_median', '_p95')):.2f} dB)"))
+    return _table(rows) + "\n" + _source(sens, "sensitivity.json") + _source(acc, "accuracy.json")
+
+
+def models_bench(root: Path) -> str:
+    d = _load(root, "models.json")
+    runs = _fig(d, "ram_runs")
+    rows = [("figure", "value"), ("---", "---"),
+            (f"RAM runs ({runs // 21} radials x 21 frequencies)", f"{runs}"),
+            ("BELLHOP build, 2 workers",
+             f"{_fig(d, 'bellhop_w2_wall'):.2f} s, peak {_fig(d, 'bellhop_w2_peak_rss'):.0f} MiB"),
+            ("RAM build, 1 worker",
+             f"{_fig(d, 'ram_w1_wall'):.1f} s ({_fig(d, 'ram_run_seconds_sum_w1'):.1f} s of runs), "
+             f"peak {_fig(d, 'ram_w1_peak_rss'):.0f} MiB"),
+            ("RAM build, 2 workers", f"{_fig(d, 'ram_w2_wall'):.1f} s, peak {_fig(d, 'ram_w2_peak_rss'):.0f} MiB"),
+            ("RAM on 2 workers over BELLHOP on 2 workers", f"{_fig(d, 'ram_w2_over_bellhop_w2'):.0f}x"),
+            ("RAM, 2 workers against 1", f"{_fig(d, 'ram_speedup_2_vs_1'):.2f}x (target >= 1.8x)")]
+    return _table(rows) + "\n" + _source(d, "models.json")
+
+
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
                                              "surface": surface, "surface-cost": surface_cost,
                                              "grids-check": grids_check, "models-areas": models_areas,
-                                             "ram-crossover": ram_crossover, "surface-compare": surface_compare}
+                                             "ram-crossover": ram_crossover, "surface-compare": surface_compare,
+                                             "sensitivity-sets": sensitivity_sets,
+                                             "sensitivity-ranges": sensitivity_ranges,
+                                             "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
+                                             "models-bench": models_bench}
 
 
 def _table(rows) -> str:
