@@ -76,7 +76,7 @@ def accuracy(root: Path) -> str:
     d = _load(root, "accuracy.json")
 
     def pair(key: str, digits: int = 2) -> tuple[str, str]:
-        return (f"{_fig(d, key + '_median'):.{digits}g} dB", f"{_fig(d, key + '_p95'):.{digits}g} dB")
+        return (f"{_fig(d, key + '_median'):#.{digits}g} dB", f"{_fig(d, key + '_p95'):#.{digits}g} dB")
 
     beams = (250, 500, 1000, 3000)
     rec = [k for k in (d.get("figures") or d["results"]) if k.startswith("k_error_reciprocity_")
@@ -84,11 +84,11 @@ def accuracy(root: Path) -> str:
     rows = [("shortcut", "median abs. error", "95th percentile"), ("---", "---", "---"),
             ("all of the default settings together", *pair("k_error_default_grid_vs_full")),
             ("fixed fan of 1500 beams (vs up to 72 000)", *pair("k_error_fixed_beam_fan_vs_full")),
-            ("one run per band, other frequencies through absorption",
-             *pair("k_error_frequency_shortcut_vs_full")),
+            ("one run per band, other frequencies through absorption (a near-surface class's run: its "
+             "surface pattern averaged over the band)", *pair("k_error_frequency_shortcut_vs_full")),
             (" / ".join(str(b) for b in beams) + " beams",
-             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_median'):.2g}" for b in beams) + " dB",
-             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_p95'):.2g}" for b in beams) + " dB")]
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_median'):#.2g}" for b in beams) + " dB",
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_p95'):#.2g}" for b in beams) + " dB")]
     for key in rec:
         cls_name, depth = key.removeprefix("k_error_reciprocity_").removesuffix("_median").split("_")
         what = f"{cls_name} at {depth.removesuffix('m')} m"
@@ -101,8 +101,8 @@ def accuracy(root: Path) -> str:
         base = key.removesuffix("_median")
         rows.append((f"the table from the observer (arrivals and the surface's image at the target), {cls_name} at "
                      f"{depth.removesuffix('m')} m, against its own runs; incoherent beams in brackets",
-                     f"{_fig(d, base + '_median'):.2g} dB ({_fig(d, inc + '_median'):.2g} dB)",
-                     f"{_fig(d, base + '_p95'):.2g} dB ({_fig(d, inc + '_p95'):.2g} dB)"))
+                     f"{_fig(d, base + '_median'):#.2g} dB ({_fig(d, inc + '_median'):#.2g} dB)",
+                     f"{_fig(d, base + '_p95'):#.2g} dB ({_fig(d, inc + '_p95'):#.2g} dB)"))
     tl = "tl_field_error_default_vs_full_NPS_FB1"
     rows.append(("the whole TL field (NPS, FB1, where TL < 120 dB) with the default settings", *pair(tl)))
     return _table(rows) + "\n" + _source(d, "accuracy.json")
