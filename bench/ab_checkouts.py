@@ -47,8 +47,8 @@ from tracker.scenario import load_scenario
 from tracker.simulate import simulate
 grid = acoustics.build_grid(envdata.load_area("ocean-deep"), model="urick")
 try:
-    from acoustics.grid.tables import as_tables
-    grid = as_tables(grid)
+    from acoustics.grid.opentables import open_tables
+    grid = open_tables(grid)
 except ImportError:  # the checkout before the typed face takes the dataset
     pass
 sc = load_scenario("gm-tv-30km")

@@ -125,7 +125,7 @@ def test_no_layer_imports_a_higher_one():
 def test_the_layer_check_finds_an_upward_arrow():
     # planted: the tracker importing a study (the studies rank above it, in tools/) and the
     # formulas importing the tracker; the studies' own downward arrows stay unflagged
-    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.tables"},
+    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.face"},
              "acoustics.kcurve": {"tracker.ranging"},
              "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"}}
     assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"), ("tracker.track", "tools.studies.gm")]
@@ -159,7 +159,7 @@ def test_the_rank_check_finds_an_upward_arrow():
     # the builders, and one from the root formulas up to the figures, are found; downward ones not
     graph = {"acoustics.bellhop.runner": {"acoustics.builder.executor", "acoustics.errors"},
              "acoustics.kcurve": {"acoustics.plots.figures"},
-             "acoustics.plots.figures": {"acoustics.grid.tables", "acoustics.kcurve"}}
+             "acoustics.plots.figures": {"acoustics.grid.face", "acoustics.kcurve"}}
     assert upward_in_acoustics(graph) == [("acoustics.bellhop.runner", "acoustics.builder.executor"),
                                           ("acoustics.kcurve", "acoustics.plots.figures")]
 
@@ -202,8 +202,8 @@ def test_the_tools_and_tracker_checks_find_their_arrows():
     # the studies used to draw from tracker/), and allowed arrows that must stay unflagged
     graph = {"tools.studies.shelf": {"tools.experiment_cmd", "tools.studies.shelf_plot", "tracker.track"},
              "tools.experiment_cmd": {"tools.studies.shelf", "tools.report"},
-             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.tables"},
-             "tracker.simulate": {"acoustics.grid.tables", "acoustics.levelrange"}}
+             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.face"},
+             "tracker.simulate": {"acoustics.grid.face", "acoustics.levelrange"}}
     assert upward_in_tools(graph) == [("tools.studies.shelf", "tools.experiment_cmd")]
     assert tracker_table_makers(graph) == [("tracker.studies.depth", "acoustics.builder.gridfile")]
 

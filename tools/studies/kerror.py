@@ -29,8 +29,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.io import open_grid
-from acoustics.grid.tables import GridTables, as_tables
+from acoustics.grid.dataset import with_k_error_sd
+from acoustics.grid.face import Tables
+from acoustics.grid.opentables import open_tables
 from acoustics.sensitivity.files import open_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
 from envdata.errors import InputError
@@ -45,13 +46,13 @@ METHODS = ("ml", "rpf")
 SDS = ("map", "scalar")
 
 
-def member_tables(nominal: GridTables, study, member: int) -> GridTables:
+def member_tables(nominal: Tables, study, member: int) -> Tables:
     """The sea of one member: the nominal grid with the member's K (the truth the runs simulate)."""
     k = study["k_db"].isel(member=member).transpose(*nominal.dataset["k_db"].dims)
     ds = nominal.dataset.assign(k_db=(nominal.dataset["k_db"].dims, k.values, nominal.dataset["k_db"].attrs))
     if "k_error_sd_db" in ds:
         ds = ds.drop_vars("k_error_sd_db")
-    return as_tables(ds, f"{nominal.source} (member {member})")
+    return open_tables(ds, name=f"{nominal.source} (member {member})")
 
 
 def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int = 48, seed: int = 0,
@@ -59,7 +60,7 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     """The study (see the module); returns its summary and writes its three files."""
     start = time.perf_counter()
     out = Path(out_dir)
-    with_map = open_grid(grid)
+    with_map = open_tables(grid)
     if not with_map.has_k_error_map:
         raise InputError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
     ds = open_study(study)
@@ -68,9 +69,8 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     ic = with_map.class_index(sc.target_class)
     band = 0  # FB1, the band heard farthest
     scalar_db = k_error_by_class(summary_k)[sc.target_class]
-    scalar = as_tables(with_map.dataset_with_k_error_sd(
-        np.where(np.isfinite(with_map.k_grid_db), scalar_db, np.nan), f"one number, {scalar_db:.2f} dB"),
-        f"{grid} (one number)")
+    scalar = open_tables(with_k_error_sd(with_map.dataset, np.where(np.isfinite(with_map.k_grid_db), scalar_db, np.nan),
+                                         f"one number, {scalar_db:.2f} dB"), name=f"{grid} (one number)")
     rng = np.random.default_rng(seed)
     members = rng.integers(0, ds.sizes["member"], runs)
     errors = {(m, s): [] for m in METHODS for s in SDS}
@@ -118,9 +118,9 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     return summary
 
 
-def open_grid_without_map(tables: GridTables) -> GridTables:
+def open_grid_without_map(tables: Tables) -> Tables:
     """The same grid without ``k_error_sd_db`` (the classes' one number, already in sigma_l)."""
-    return as_tables(tables.dataset.drop_vars("k_error_sd_db"), f"{tables.source} (no map)")
+    return open_tables(tables.dataset.drop_vars("k_error_sd_db"), name=f"{tables.source} (no map)")
 
 
 def _figure(frame: pd.DataFrame, summary: dict):
