@@ -18,6 +18,7 @@ from acoustics.grid.dataset import with_k_error_sd
 from acoustics.grid.face import Tables
 from acoustics.grid.io import write_netcdf
 from acoustics.grid.opentables import open_tables
+from acoustics.sensitivity.face import Study
 from envdata.area import Area
 
 
@@ -52,7 +53,7 @@ def check_into_grid(path: str | Path, area: Area) -> Tables:
     return tables
 
 
-def k_error_grid(tables: Tables, summary: xr.Dataset, study: xr.Dataset, study_name: str) -> xr.Dataset:
+def k_error_grid(tables: Tables, summary: xr.Dataset, study: Study, study_name: str) -> xr.Dataset:
     """The grid dataset with the study's ``k_rms_db`` as ``k_error_sd_db`` on the grid's range axis
     (linear in range; NaN beyond the study's ranges, where the class's one number serves)."""
     dims = ("class", "band", "bearing", "range") if "bearing" in summary.dims else ("class", "band", "range")
@@ -65,8 +66,8 @@ def k_error_grid(tables: Tables, summary: xr.Dataset, study: xr.Dataset, study_n
         if ok.sum() >= 2:
             out[i] = np.interp(tables.range_m, r_study[ok], row[ok], left=np.nan, right=np.nan)
     sd = out.reshape(rms.shape[:-1] + (tables.range_m.size,))
-    comment = (f"rms over {study.sizes['member']} members of K - K_nominal, tmakit sensitivity study "
-               f"{study_name} (source_hash {study.attrs.get('source_hash', '?')[:12]})")
+    comment = (f"rms over {study.members} members of K - K_nominal, tmakit sensitivity study "
+               f"{study_name} (source_hash {study.source_hash[:12]})")
     return with_k_error_sd(tables.dataset, sd, comment, tables.source)
 
 
