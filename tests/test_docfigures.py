@@ -41,6 +41,22 @@ def test_a_table_that_differs_from_its_file_is_found(tmp_path):
     assert done.returncode == 1 and "README.md: grids" in done.stdout, done.stdout + done.stderr
 
 
+def test_a_figure_quoted_in_prose_that_differs_from_its_file_is_found(tmp_path):
+    # prose is checked, not rewritten: the atlas's store size ratio changed in a copied README
+    for part in ("README.md", "docs"):
+        src = REPO / part
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / part)
+    readme = tmp_path / "README.md"
+    text = readme.read_text()
+    assert "the store is 0.21 of its raw" in text
+    readme.write_text(text.replace("the store is 0.21 of its raw", "the store is 0.12 of its raw"))
+    done = _docfigures("--check", "--root", str(tmp_path))
+    assert done.returncode == 1 and "atlas.json store.store_over_raw" in done.stdout, done.stdout + done.stderr
+    # and a rewrite leaves the prose to its author
+    _docfigures("--root", str(tmp_path))
+    assert "the store is 0.12 of its raw" in readme.read_text()
+
+
 @pytest.mark.parametrize("path", sorted(RESULTS.rglob("*.json")), ids=lambda p: str(p.relative_to(RESULTS)))
 def test_every_result_file_says_how_it_was_made(path):
     data = json.loads(path.read_text())
