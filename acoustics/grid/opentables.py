@@ -45,11 +45,15 @@ def open_tables(source: str | Path | xr.Dataset, *, month: int | None = None, na
 
         return _of_month(checked_tables(source, name), month, name or "the grid")
     path = Path(source)
-    if path.is_dir():  # an atlas is a Zarr store, a folder (open_store says what else it is)
-        from acoustics.grid.atlas.follow import follow
-        from acoustics.grid.atlas.store import open_store
+    if path.is_dir():  # an atlas is a Zarr store, a folder; another folder is refused as a grid file
+        from acoustics.grid.atlas.format import is_atlas_attrs, read_attrs
 
-        return follow(open_store(path), month)
+        attrs = read_attrs(path)
+        if is_atlas_attrs(attrs):
+            from acoustics.grid.atlas.follow import follow
+            from acoustics.grid.atlas.store import open_store
+
+            return follow(open_store(path, attrs=attrs), month)
     from acoustics.grid.checked import checked_tables
     from acoustics.grid.io import load_netcdf
 

@@ -202,8 +202,11 @@ class AtlasStore:
         return self._kept[key]
 
 
-def open_store(path: str | Path) -> AtlasStore:
+def open_store(path: str | Path, *, attrs: dict | None = None) -> AtlasStore:
     """Open an atlas store: check it is tmakit's, of this format, and which tables are complete.
+
+    ``attrs``: the store's attributes when the caller has read them (``read_attrs``), so that
+    they, ``area_json`` among them, are read once.
 
     Raises
     ------
@@ -215,7 +218,7 @@ def open_store(path: str | Path) -> AtlasStore:
     path = Path(path)
     if not path.is_dir():
         raise AtlasFileError(f"{path}: no such atlas (an atlas is a Zarr store, a folder)")
-    attrs = read_attrs(path)  # the store's attributes, area_json among them, read once
+    attrs = read_attrs(path) if attrs is None else attrs
     if not is_atlas_attrs(attrs):
         raise AtlasFileError(f"{path}: not a tmakit atlas (no Zarr 3 group with tmakit_kind = \"atlas\")")
     check_format(path, attrs)
