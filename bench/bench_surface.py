@@ -35,9 +35,12 @@ def _areas() -> dict:
     atlas_area = envdata.load_area("shelf-break-atlas")
     plan = plan_atlas(atlas_area)
     table = table_area(atlas_area, plan.months[0], float(plan.lat_deg[0]), float(plan.lon_deg[0]))
+    def atlas_axis(area, deepest_m):  # the atlas's own depth axis, as its build gives the table
+        return atlas_depth_axis_m(atlas_area, deepest_m)
+
     return {"ocean-deep": (envdata.load_area("ocean-deep"), None),
             "shelf-break": (envdata.load_area("shelf-break"), None),
-            "atlas table": (table, atlas_depth_axis_m)}
+            "atlas table": (table, atlas_axis)}
 
 
 def _with_mode(area, mode):

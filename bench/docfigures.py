@@ -184,9 +184,21 @@ def radials(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "radials.json")
 
 
+def grids_check(root: Path) -> str:
+    d = _load(root, "grids-check.json")
+    rows = [("area", "doubled", "K moves: median (worst class and band), dB", "converged"),
+            ("---", "---", "---", "---")]
+    for area, result in d["areas"].items():
+        for v in result["variants"]:
+            rows.append((area, v["change"], f"{v['median_db']:.2f} ({v['worst_db']:.2f} {v['worst']})",
+                         "yes" if v["converged"] else "no"))
+    return _table(rows) + "\n" + _source(d, "grids-check.json")
+
+
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
-                                             "surface": surface, "surface-cost": surface_cost, "radials": radials}
+                                             "surface": surface, "surface-cost": surface_cost,
+                                             "grids-check": grids_check, "radials": radials}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (

@@ -88,7 +88,8 @@ def _leftover_dirs() -> set[str]:
 
 
 def test_bellhop_failure_quotes_bellhop_and_leaves_no_files(tmp_path, monkeypatch):
-    # a temporary folder of its own: other BELLHOP runs on the machine come and go in the shared one
+    # the run's temporary folder in this test's own folder: other BELLHOP runs on the machine
+    # (a second suite, a build) come and go in the system's
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     area = isovelocity_area(1000.0)
     spec = RunSpec(title="bad", freq_hz=100.0, source_depth_m=(20.0,), receiver_depth_m=(10.0,),
