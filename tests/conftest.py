@@ -58,6 +58,7 @@ def tiny_depth_area(tiny_area) -> envdata.Area:
 
 @pytest.fixture(scope="session")
 def tiny_depth_grid(tiny_depth_area) -> "xr.Dataset":  # noqa: F821
+    """The grid of the tiny area with the submarine's depth uncertain (``tl_obs_db`` in it)."""
     return acoustics.build_grid(tiny_depth_area, workers=2)
 
 
