@@ -89,7 +89,7 @@ def main(argv=None) -> None:
     session.say("results_identical_1_vs_2_workers", same)
 
     # -- what the study measures -------------------------------------------------------------------
-    summary = sens.summarize(ds2)
+    summary = sens.summarize(sens.study_face(ds2))
     for cls_name in summary["class"].values:
         for band in summary["band"].values:
             sel = {"class": cls_name, "band": band}

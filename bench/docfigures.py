@@ -12,6 +12,10 @@ bench.docfigures`` rewrites every block from its file; ``--check`` changes nothi
 naming each block whose committed text differs from what its file gives (the test
 tests/test_docfigures.py runs it in ``make test``). A table's caption names its file; a file
 marked ``rerun_pending`` (bench.record) is quoted as it is, with the mark.
+
+Figures quoted in prose are checked, not written: ``QUOTES`` lists, per page, the result file,
+the figure's place in it and how the page prints it, and ``--check`` names each whose printed
+value the page no longer holds (a prose sentence is the author's; the check keeps it honest).
 """
 
 from __future__ import annotations
@@ -182,6 +186,30 @@ def surface_cost(root: Path) -> str:
                      f"{b['wall_semicoherent_s']:.1f} s ({b['runs_semicoherent']} runs)",
                      f"{b['wall_ratio']:.2f}x", f"{b['bellhop_ratio']:.2f}x"))
     return _table(rows) + "\n" + _source(d, "surface-cost.json")
+
+
+def radials(root: Path) -> str:
+    d = _load(root, "radials.json")
+
+    def f(key: str) -> float:
+        return _fig(d, key)
+
+    rows = [("figure", "shelf-break, 12 radials x 3 bands to 30 km (36 runs)",
+             "36 radials x 3 bands to 50 km (108 runs)", "target"), ("---", "---", "---", "---"),
+            ("`grids build`, 2 workers", f"{f('shelf_break_build_2_workers_median'):.1f} s",
+             f"{f('wide_36_radials_build_2_workers'):.1f} s", ""),
+            ("over half the sum of the raw BELLHOP runs", f"{f('shelf_break_2_workers_over_half_raw'):.2f}",
+             f"{f('wide_36_radials_2_workers_over_half_raw'):.2f}", "<= 1.10"),
+            ("the raw runs two at a time, over half their sum (what the machine allows)",
+             f"{f('shelf_break_raw_two_at_a_time_over_half_raw'):.2f}",
+             f"{f('wide_36_radials_raw_two_at_a_time_over_half_raw'):.2f}", ""),
+            ("2 workers vs 1", f"{f('shelf_break_speedup_2_vs_1'):.2f}x", "", ">= 1.8x"),
+            ("the command's fixed cost (1 worker less the raw sum)",
+             f"{f('shelf_break_fixed_cost_w1_minus_raw'):.1f} s", "", ""),
+            ("peak memory (largest process)", "", f"{f('wide_36_radials_peak_rss'):.0f} MiB", "< 1 GiB"),
+            ("K with the default 25 m ray step against 5 m, median / 95th percentile",
+             f"{f('step_25m_vs_5m_k_median_abs_diff'):.2f} / {f('step_25m_vs_5m_k_p95_abs_diff'):.2f} dB", "", "")]
+    return _table(rows) + "\n" + _source(d, "radials.json")
 
 
 def grids_check(root: Path) -> str:
@@ -380,7 +408,40 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "sensitivity-sets": sensitivity_sets,
                                              "sensitivity-ranges": sensitivity_ranges,
                                              "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
-                                             "models-bench": models_bench, "manoeuvres": manoeuvres}
+                                             "models-bench": models_bench, "manoeuvres": manoeuvres,
+                                             "radials": radials}
+
+#: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
+QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
+    *(("README.md", "atlas.json", ("speed", key), fmt) for key, fmt in (
+        ("tables", "{:d} tables"), ("runs", "({:d} runs"), ("per_run_ms", "{:.0f} ms each"),
+        ("build_2_workers_s", "took {:.1f} s on 2 workers"), ("raw_serial_bellhop_s", "against {:.1f} s of raw"),
+        ("two_workers_over_half_raw", "{:.2f} x half of it"), ("two_vs_one_worker", "{:.2f}x faster than 1 worker"),
+        ("bellhop_2_workers_s", "({:.1f} s summed"), ("two_workers_over_half_their_own_bellhop", "{:.3f} x half"))),
+    *(("README.md", "atlas.json", ("memory", key), fmt) for key, fmt in (
+        ("small_peak_rss_mib", "{:.0f} MiB for"), ("small_tables", "for {:d} tables"),
+        ("large_peak_rss_mib", "{:.0f} MiB for"), ("large_tables", "for {:d} (flat"))),
+    *(("README.md", "atlas.json", ("store", key), fmt) for key, fmt in (
+        ("open_s", "open {:.2f} s"), ("slab_read_ms_median", "slab read {:.1f} ms"),
+        ("sample_10000_points_s", "sampled in {:.2f} s"), ("store_over_raw", "the store is {:.2f} of its raw"))),
+    ("README.md", "icechunk.json", ("median_seconds_per_table", "icechunk"), "cost {:.3f} s"),
+    ("README.md", "icechunk.json", ("median_seconds_per_table", "zarr"), "against {:.3f} s for the atlas's"),
+    ("README.md", "icechunk.json", ("icechunk_over_zarr",), "({:.2f}x)"),
+)
+
+
+def stale_quotes(root: Path) -> list[str]:
+    """The `QUOTES` whose printed value the page no longer holds, as ``page: file key (printed)``."""
+    out, texts = [], {}
+    for page, file, keys, fmt in QUOTES:
+        text = texts.setdefault(page, (root / page).read_text())
+        value = _load(root, file)
+        for key in keys:
+            value = value[key]
+        printed = fmt.format(value)
+        if " ".join(printed.split()) not in " ".join(text.split()):  # line breaks in prose are free
+            out.append(f"{page}: {file} {'.'.join(keys)} ({printed!r})")
+    return out
 
 
 def _table(rows) -> str:
@@ -421,7 +482,10 @@ def main(argv=None) -> int:
             page.write_text(new)
     for line in stale:
         print(("differs from its result file: " if args.check else "rewrote ") + line)
-    return 1 if stale and args.check else 0
+    quotes = stale_quotes(args.root)
+    for line in quotes:  # prose is the author's to rewrite: named, never changed
+        print(f"quoted in prose, not what its result file gives: {line}")
+    return 1 if (stale and args.check) or quotes else 0
 
 
 if __name__ == "__main__":

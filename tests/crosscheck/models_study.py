@@ -61,7 +61,7 @@ def measure(area: envdata.Area, workers: int, cache: Path | None = None) -> dict
         start = time.perf_counter()
         grid = acoustics.build_grid(area, model=model, workers=workers, stats=stats,
                                     cache_dir=None if cache is None else cache / area.name)
-        grids[model] = acoustics.as_tables(grid, f"{area.name}-{model}")
+        grids[model] = acoustics.open_tables(grid, name=f"{area.name}-{model}")
         out[model] = {"wall_s": round(time.perf_counter() - start, 2), "runs": stats.runs_total,
                       "runs_reused": stats.runs_reused,
                       "run_seconds": round(stats.bellhop_seconds if model == "bellhop" else stats.ram_seconds, 2)}
