@@ -2,7 +2,7 @@
 
 Not in Grinenkov & Mashoshin (their classes radiate from one depth each). For each depth
 hypothesis z the whole analysis runs on the tables with K at z
-(``GridTables.at_target_depth``); the hypotheses are then weighed by the likelihood of the
+(``Tables.at_target_depth``); the hypotheses are then weighed by the likelihood of the
 band levels along each one's own track:
 
     e_i = W_i - (P0 + K_z(r_i, bearing_i) + G)         (eq. 12; r_i the track's range at cycle i)
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from tracker.measurements import Measurements
 from tracker.mltma import measurement_sd
 from tracker.mltma.params import MLParams
@@ -73,7 +73,7 @@ def depth_hypotheses_m(span_m: tuple[float, float], class_depth_m: float,
     return z
 
 
-def level_log_likelihood(track: pd.DataFrame, m: Measurements, tables: GridTables, ic: int
+def level_log_likelihood(track: pd.DataFrame, m: Measurements, tables: Tables, ic: int
                          ) -> np.ndarray:
     """ln L of the levels along one hypothesis's track at each cycle (cumulative), (T,).
 
@@ -106,7 +106,7 @@ def level_log_likelihood(track: pd.DataFrame, m: Measurements, tables: GridTable
     return -0.5 * (see - 2.0 * b * se + b * b * s1 + b * b * prior)
 
 
-def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = None,
+def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None,
                  band: str | None = None, params: MLParams | None = None,
                  depths_m=None) -> tuple[pd.DataFrame, list[DepthChoice]]:
     """The ML analysis over class x depth hypotheses; one row per cycle per class.
@@ -117,7 +117,7 @@ def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = 
 
     Parameters
     ----------
-    tables : GridTables
+    tables : Tables
         Must serve K at any target depth (``serves_target_depth``).
     m : Measurements
         Bearings and levels (cycles without a bearing dropped, as in
@@ -126,7 +126,7 @@ def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = 
         As ``tracker.mltma.track_measurements``.
     depths_m : array_like, optional
         The depth hypotheses, m; default `depth_hypotheses_m` of each class's span
-        (``GridTables.target_depth_span_m``).
+        (``Tables.target_depth_span_m``).
 
     Returns
     -------
