@@ -7,7 +7,8 @@ observer where it was (through an atlas, the tables around that position:
 observer and the cycle's time, so Stone Soup's metrics and plotters see where the sensor was.
 A cycle without a bearing gives no detection. A Stone Soup track (states (x, vx, y, vy) with
 covariances, particle states included) becomes the rows of a track CSV (docs/formats.md "Track
-CSV"), so that ``tmakit track --plot`` and the studies read it as any tracker's.
+CSV"), so that ``tmakit track --plot`` and the studies read it as any tracker's; and a track
+CSV's class becomes a Stone Soup ``Track`` of Gaussian states, for Stone Soup's metrics.
 """
 
 from __future__ import annotations
@@ -18,9 +19,10 @@ import math
 import numpy as np
 import pandas as pd
 from stonesoup.types.detection import Detection
-from stonesoup.types.state import StateVector
+from stonesoup.types.state import GaussianState, StateVector
+from stonesoup.types.track import Track
 
-from tools.stonesoup.model import VX, VY, X, Y, TablesMeasurementModel
+from tools.stonesoup.model import VX, VY, TablesMeasurementModel, X, Y
 from tracker.measurements import Measurements
 from tracker.trackfile import check_track
 
@@ -109,3 +111,27 @@ def track_frame(states, m: Measurements, cls_name: str, *, method: str = "stones
                      "speed_sd_mps": math.sqrt(max(v @ cov @ v, 0.0)), "tack": 1, "method": method,
                      "depth_m": np.nan, "depth_sd_m": np.nan})
     return check_track(pd.DataFrame(rows), where="stonesoup track")
+
+
+def track_from_frame(df: pd.DataFrame, cls_name: str | None = None, *, epoch: dt.datetime = EPOCH) -> Track:
+    """One class's rows of a track table (``tracker.trackfile.read_track``) as a Stone Soup track:
+    Gaussian states (x, vx, y, vy) at ``epoch + t_s``, the covariance from the row's range, course
+    and speed sds (first order, along the line of sight of a track with no observer: the
+    position's sd is the range sd in both axes; the velocity's from course and speed)."""
+    rows = df if cls_name is None else df[df["class"] == cls_name]
+    if rows.empty:
+        raise ValueError(f"track has no rows{'' if cls_name is None else f' of class {cls_name!r}'}")
+    states = []
+    for r in rows.itertuples(index=False):
+        course = math.radians(r.course_deg)
+        vx, vy = r.speed_mps * math.sin(course), r.speed_mps * math.cos(course)
+        # velocity covariance: speed sd along the course, speed x course sd across it
+        along = np.array([math.sin(course), math.cos(course)])
+        across = np.array([math.cos(course), -math.sin(course)])
+        cv = (r.speed_sd_mps ** 2 * np.outer(along, along)
+              + (r.speed_mps * math.radians(r.course_sd_deg)) ** 2 * np.outer(across, across))
+        cov = np.zeros((4, 4))
+        cov[X, X] = cov[Y, Y] = r.range_sd_m ** 2
+        cov[np.ix_([VX, VY], [VX, VY])] = cv
+        states.append(GaussianState(StateVector([r.x_m, vx, r.y_m, vy]), cov, timestamp=timestamp(r.t_s, epoch)))
+    return Track(states)

@@ -23,7 +23,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import log_ndtr, ndtr
+from scipy.special import log_ndtr
 from stonesoup.base import Property
 from stonesoup.updater.particle import BernoulliParticleUpdater
 
@@ -82,11 +82,6 @@ class DetectionProbability:
         return np.exp(log_p)
 
 
-def normal_cdf(u) -> np.ndarray:
-    """Phi(u), the standard normal distribution function."""
-    return ndtr(u)
-
-
 class TablesBernoulliParticleUpdater(BernoulliParticleUpdater):
     """Stone Soup's Bernoulli particle updater with each particle's probability of detection from
     tmakit's tables (`DetectionProbability`) where the observer is at the prediction's time."""
@@ -100,4 +95,4 @@ class TablesBernoulliParticleUpdater(BernoulliParticleUpdater):
         return np.log(np.clip(p, 1e-300, 1.0))
 
 
-__all__ = ["DetectionProbability", "TablesBernoulliParticleUpdater", "normal_cdf"]
+__all__ = ["DetectionProbability", "TablesBernoulliParticleUpdater"]

@@ -47,12 +47,14 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
     mapping: tuple = Property(default=(X, Y), doc="The position rows of the state")
 
     def __init__(self, *args, **kwargs):
+        tables, ic = kwargs["tables"], kwargs["class_index"]
+        cls = tables.classes[ic]
+        if kwargs.get("noise_covar") is None:  # Stone Soup checks it on construction
+            level_var = cls.noise_sd_db ** 2 + kwargs["level_sd_db"] ** 2 + float(cls.k_error_sd_db) ** 2
+            kwargs["noise_covar"] = CovarianceMatrix(np.diag(
+                [kwargs["bearing_sd_rad"] ** 2] + [level_var] * len(kwargs["band_index"])))
         super().__init__(*args, **kwargs)
-        cls = self.tables.classes[self.class_index]
         self._cls = cls
-        self._k_sd_const = float(cls.k_error_sd_db)
-        self.noise_covar = CovarianceMatrix(np.diag(
-            [self.bearing_sd_rad ** 2] + [self._level_var(self._k_sd_const)] * len(self.band_index)))
 
     @property
     def ndim_state(self) -> int:
