@@ -145,6 +145,20 @@ def manoeuvres(root: Path) -> str:
             f"the study took {_fig(d, 'gm_default_seconds'):.0f} s with the default tests, "
             f"{_fig(d, 'gm_paper_seconds'):.0f} s with the paper's.\n\n" + _source(d, "maneuver.json"))
 
+def stonesoup(root: Path) -> str:
+    d = _load(root, "stonesoup.json")
+    summ = d["summary"]
+    rpf = summ["rpf"]
+    rows = [("filter", "particles", f"final position error, median of {len(d['runs'])} runs", "over tmakit's",
+             "time per run (median)"), ("---",) * 5,
+            ("tmakit track --method rpf", f"{rpf['particles']}", f"{rpf['final_error_median_m']:.0f} m", "1",
+             f"{rpf['seconds_median']:.3f} s")]
+    for s in summ["stonesoup"]:
+        rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']}",
+                     f"{s['final_error_median_m']:.0f} m", f"{s['over_rpf']:.2f}x", f"{s['seconds_median']:.2f} s"))
+    return _table(rows) + "\n" + _source(d, "stonesoup.json")
+
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -409,7 +423,7 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "sensitivity-ranges": sensitivity_ranges,
                                              "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
-                                             "radials": radials}
+                                             "radials": radials, "stonesoup": stonesoup}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (

@@ -23,7 +23,9 @@ ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plot
                    "sensitivity": 5}
 #: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
 #: the tracker by the layers) below the command line and its command modules at the root.
-TOOLS_RANKS = {"studies": 0, "": 1}
+TOOLS_RANKS = {"studies": 0, "stonesoup": 0, "": 1}
+#: The optional Stone Soup glue (the ``stonesoup`` extra): the only package that imports Stone Soup.
+STONESOUP_GLUE = "tools.stonesoup"
 #: Inside ``acoustics.grid``: what a grid is, its face and their kernels (rank 0, every module not
 #: named), the atlas's store over them, and the one way in (``open_tables``) over both.
 GRID_RANKS = {"atlas": 1, "opentables": 2}
@@ -256,6 +258,38 @@ def test_the_tools_and_tracker_checks_find_their_arrows():
              "tracker.simulate": {"acoustics.grid.face", "acoustics.levelrange"}}
     assert upward_in_tools(graph) == [("tools.studies.shelf", "tools.experiment_cmd")]
     assert tracker_table_makers(graph) == [("tracker.studies.depth", "acoustics.builder.gridfile")]
+
+
+def external_imports(path: Path) -> set[str]:
+    """The top-level names of every module ``path`` imports (those inside functions too)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            out.add(node.module.split(".")[0])
+    return out
+
+
+def stonesoup_importers(mods: dict[str, Path]) -> list[str]:
+    """Modules outside the Stone Soup glue that import Stone Soup."""
+    return sorted(name for name, path in mods.items()
+                  if not (name == STONESOUP_GLUE or name.startswith(STONESOUP_GLUE + "."))
+                  and "stonesoup" in external_imports(path))
+
+
+def test_only_the_glue_imports_stone_soup():
+    # the core runs without the optional extra; `make demo` does not install it
+    mods = _modules()
+    assert stonesoup_importers(mods) == []
+    assert "stonesoup" in external_imports(mods["tools.stonesoup.model"])  # the scan sees the glue's
+
+
+def test_the_stone_soup_check_finds_an_importer(tmp_path):
+    planted = tmp_path / "face.py"
+    planted.write_text("def f():\n    from stonesoup.types.state import State\n")
+    assert stonesoup_importers({"acoustics.grid.face": planted, "tools.stonesoup.x": planted}) == \
+        ["acoustics.grid.face"]
 
 
 def test_the_import_graph_has_no_circle():
