@@ -33,14 +33,6 @@ def main(argv=None) -> int:
         for v in result.variants:
             session.say(f"{name} {v.name}", v.median_db,
                         f"dB median |dK| ({v.change}; worst {v.worst_db} dB {v.worst})")
-    if "shelf-break" in args.areas:  # the fan shelf-break had before this check doubled it
-        area = envdata.load_area("shelf-break")
-        area = dataclasses.replace(area, propagation=dataclasses.replace(area.propagation, n_beams=1500))
-        result = check_area(area, workers=args.workers)
-        out["shelf-break at 1500 beams"] = dataclasses.asdict(result)
-        v = result.variants[0]
-        session.say("shelf-break at 1500 beams beams", v.median_db,
-                    f"dB median |dK| ({v.change}; worst {v.worst_db} dB {v.worst})")
     session.write(areas=out)
     return 0
 

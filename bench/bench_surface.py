@@ -9,8 +9,7 @@ folder:
 - ocean-deep's flat grid (source at each class's depth; the ships' runs carry their Lloyd pattern:
   the same runs, so the same cost but for the pattern file);
 - shelf-break's bearing-dependent grid (12 radials from the observer; each radial adds its
-  arrivals run with 4x the beams at the near-surface depths), and also incoherent with the 1500
-  beams it had before ``grids check`` found them short (the cost of the whole change);
+  arrivals run, 6000 beams at the near-surface depths);
 - one atlas table of shelf-break-atlas (its first position and month: a bearing-dependent grid
   on the atlas's depth axis).
 
@@ -76,10 +75,6 @@ def main(argv=None) -> int:
             continue
         for mode in ("incoherent", "semicoherent"):
             builds[(name, mode)] = (_with_mode(area, mode), rule)
-    if not args.only or "shelf-break" in args.only:  # the area's fan before grids check doubled it
-        area, rule = _areas()["shelf-break"]
-        builds[("shelf-break", "incoherent, 1500 beams")] = (_with_mode(dataclasses.replace(
-            area, propagation=dataclasses.replace(area.propagation, n_beams=1500)), "incoherent"), rule)
     bellhop = {key: [] for key in builds}
     times = session.interleave({f"{n} {m}": (lambda key=(n, m): _build(*builds[key], bellhop[key]))
                                 for n, m in builds}, args.repeats)
@@ -95,12 +90,6 @@ def main(argv=None) -> int:
                        "bellhop_ratio": round(median(b_semi) / median(b_inc), 2),
                        "runs_incoherent": bellhop[(name, "incoherent")][0][1],
                        "runs_semicoherent": bellhop[(name, "semicoherent")][0][1]}
-        if (name, "incoherent, 1500 beams") in builds:
-            old = times[f"{name} incoherent, 1500 beams"]
-            table[name]["wall_incoherent_1500_beams_s"] = round(median(old), 2)
-            table[name]["wall_ratio_to_1500_beams"] = round(median(semi) / median(old), 2)
-            session.say(f"{name} wall semicoherent / incoherent with 1500 beams",
-                        table[name]["wall_ratio_to_1500_beams"], "x")
         session.say(f"{name} wall semicoherent / incoherent", table[name]["wall_ratio"], "x",
                     runs=np.array(semi) / np.array(inc))
         session.say(f"{name} BELLHOP semicoherent / incoherent", table[name]["bellhop_ratio"], "x")

@@ -174,6 +174,10 @@ class Propagation:
     # BELLHOP's ray step, m; None: not set in the area file (range-dependent areas need one set
     # explicitly: BELLHOP's automatic step, a tenth of the depth, is not converged on deep radials)
     step_m: float | None = None
+    # beams of the arrivals run that gives a table from the observer its near-surface rows (the
+    # fan's angles); None: the rule of acoustics.builder.surfaceimage.image_beams (at least 6000,
+    # at least twice n_beams). `tmakit grids check` says whether an area's count is converged.
+    surface_image_beams: int | None = None
 
     def __post_init__(self) -> None:
         if self.beam_type not in ("G", "g", "B", "R", "C"):
@@ -193,6 +197,9 @@ class Propagation:
                             f"got {self.run_timeout_s}")
         if self.step_m is not None and not (math.isfinite(self.step_m) and 0.0 < self.step_m <= 100_000.0):
             raise AreaError(f"[propagation] step_m: must be in (0, 100000] m, got {self.step_m}")
+        if self.surface_image_beams is not None and not 100 <= self.surface_image_beams <= 200_000:
+            raise AreaError(f"[propagation] surface_image_beams: must be in [100, 200000], "
+                            f"got {self.surface_image_beams}")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

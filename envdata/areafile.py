@@ -164,7 +164,8 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
                                            choices=tuple(a.value for a in Absorption))),
             tl_max_db=t.number("tl_max_db", defaults.tl_max_db),
             run_timeout_s=t.number("run_timeout_s", required=False),
-            step_m=t.number("step_m", required=False))
+            step_m=t.number("step_m", required=False),
+            surface_image_beams=t.integer("surface_image_beams", required=False))
         t.done()
     else:
         propagation = defaults

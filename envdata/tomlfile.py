@@ -50,8 +50,10 @@ class TomlTable:
             raise self._fail(key, f"must be finite, got {value}")
         return value
 
-    def integer(self, key: str, default: int) -> int:
-        value = self.value(key, default)
+    def integer(self, key: str, default: int | None = None, *, required: bool = True) -> int | None:
+        value = self.value(key, default, required=required and default is None)
+        if value is None and not required:
+            return None
         if isinstance(value, bool) or not isinstance(value, int):
             raise self._fail(key, f"must be an integer, got {value!r}")
         return value

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.builder.bandruns import BuildStats, uses_shortcut
+from acoustics.builder.bandruns import BuildStats, surface_acts, uses_shortcut
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.radial import DEFAULT_STEP_M, radial_k_db
 from acoustics.builder.surfaceimage import image_beams
@@ -27,6 +27,9 @@ from envdata.geometry import Bearings
 
 #: A setting is converged when doubling it moves K by at most this (median |dK|), dB.
 CONVERGED_DB = 0.2
+#: The sound speed that decides whether a class is within the surface's reach for the check's
+#: choice of variants (a bearing-dependent area has no one profile), m/s.
+NOMINAL_SPEED_MPS = 1500.0
 #: Radials a bearing-dependent area's check runs.
 SAMPLE_RADIALS = 3
 
@@ -69,7 +72,7 @@ def build_settings(area: Area) -> dict:
     return {"mode": str(prop.mode), "n_beams": prop.n_beams, "angle_min_deg": prop.angle_min_deg,
             "angle_max_deg": prop.angle_max_deg, "step_m": step, "freqs_per_band": prop.freqs_per_band,
             "one_run_per_band": uses_shortcut(area),
-            "surface_image_beams": image_beams(prop.n_beams) if prop.mode is TlMode.SEMICOHERENT else None}
+            "surface_image_beams": image_beams(prop) if prop.mode is TlMode.SEMICOHERENT else None}
 
 
 def _sample(area: Area) -> tuple[Area, str]:
@@ -96,9 +99,18 @@ def _k(area: Area, workers: int) -> tuple[np.ndarray, float]:
 def _variants(area: Area) -> list[tuple[str, str, Area]]:
     prop = area.propagation
     out = []
-    if prop.n_beams > 0:
+    semicoherent = prop.mode is TlMode.SEMICOHERENT
+    if prop.n_beams > 0:  # the fan alone: the surface's arrivals run keeps its beams
+        kept = {"surface_image_beams": image_beams(prop)} if semicoherent else {}
+        doubled = dataclasses.replace(prop, n_beams=2 * prop.n_beams, **kept)
         out.append(("beams", f"n_beams {prop.n_beams} -> {2 * prop.n_beams}",
-                    dataclasses.replace(area, propagation=dataclasses.replace(prop, n_beams=2 * prop.n_beams))))
+                    dataclasses.replace(area, propagation=doubled)))
+    near = any(surface_acts(area, b, c.depth_m, NOMINAL_SPEED_MPS) for c in area.classes for b in area.bands)
+    if semicoherent and area.is_bearing_dependent and near:
+        # the arrivals run that gives a table from the observer its near-surface rows
+        n = image_beams(prop)
+        out.append(("surface_image_beams", f"surface_image_beams {n} -> {2 * n}",
+                    dataclasses.replace(area, propagation=dataclasses.replace(prop, surface_image_beams=2 * n))))
     step = build_settings(area)["step_m"]
     if step is not None:
         out.append(("ray_step", f"step_m {step:g} -> {step / 2:g}",

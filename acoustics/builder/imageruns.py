@@ -70,7 +70,7 @@ def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.
         return None
     depths = receivers[rows]
     run_hz = float(area.bands[0].center_hz)
-    n_beams = image_beams(prop.n_beams)
+    n_beams = image_beams(prop)
     spec = run_spec(area, title=f"{title} surface image", freq_hz=run_hz,
                     source_depths_m=(area.observer.depth_m,), receiver_depths_m=depths, ranges_m=rng,
                     fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True)

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.bellhop.arrfile import Arrivals
+from envdata.area import Propagation
 
 #: The arrivals run's beams (the fan's angles): at least this many, and at least twice the fan's.
 #: Measured (docs/results/surface.json and the module's measurements above): K of ocean-deep's
@@ -45,9 +46,12 @@ from acoustics.bellhop.arrfile import Arrivals
 IMAGE_MIN_BEAMS = 6000
 
 
-def image_beams(n_beams: int) -> int:
-    """Beams of the arrivals run for a fan of ``n_beams``."""
-    return max(IMAGE_MIN_BEAMS, 2 * int(n_beams))
+def image_beams(prop: Propagation) -> int:
+    """Beams of the arrivals run: the area's ``surface_image_beams``, or by default at least
+    ``IMAGE_MIN_BEAMS`` and at least twice the fan's."""
+    if prop.surface_image_beams is not None:
+        return int(prop.surface_image_beams)
+    return max(IMAGE_MIN_BEAMS, 2 * int(prop.n_beams))
 
 
 #: Two arrivals at one receiver are a pair when their angles' magnitudes differ by less than this,

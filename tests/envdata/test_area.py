@@ -70,6 +70,7 @@ AREA_CASES = {
     "bathymetry-empty-name.toml": r"\[water\] bathymetry: must be a file name, got ' '$",
     "interpolation-with-climatology.toml": r"\[water\] ssp_interpolation: only for one profile, not with a climatology$",
     "step-m-zero.toml": r"\[propagation\] step_m: must be in \(0, 100000\] m, got 0\.0$",
+    "image-beams-few.toml": r"\[propagation\] surface_image_beams: must be in \[100, 200000\], got 50$",
     "latitude-differs-from-origin.toml": r"\[area\] latitude_deg, longitude_deg: 40\.0, 5\.0 deg differ from \[origin\] 43\.0, 5\.0",
     "cast-missing.toml": r"\[water\] cast: .*no-such-cast\.csv: CTD cast not found$",
     "cast-above-observer.toml": r"\[water\] cast: '\.\./\.\./casts/shallow\.csv' ends at 50 m and does not reach below "
