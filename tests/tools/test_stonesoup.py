@@ -19,6 +19,7 @@ from stonesoup.types.state import ParticleState, State, StateVector, StateVector
 import acoustics
 import envdata
 from acoustics.grid.detectionmap import class_terms, detection_map
+from tests.tools.simulated import simulate_on_tiny_grid
 from tools.stonesoup.convert import detections_from_measurements, observer_lookup, track_frame, track_from_frame
 from tools.stonesoup.detection import DetectionProbability, TablesBernoulliParticleUpdater
 from tools.stonesoup.model import TablesMeasurementModel
@@ -136,22 +137,7 @@ def test_the_bernoulli_updater_asks_the_tables_where_the_observer_is(tables):
 
 @pytest.fixture(scope="module")
 def simulated(tiny_grid_file, tmp_path_factory):
-    from pathlib import Path
-
-    from tools.cli import main
-
-    bad = Path(__file__).parent.parent / "data" / "malformed"
-    folder = tmp_path_factory.mktemp("stonesoup")
-    tables = acoustics.open_tables(tiny_grid_file)
-    cls = tables.classes[0]
-    sc = folder / "sc.toml"
-    sc.write_text((bad / "scenario" / "unknown_key.toml").read_text()
-                  .replace('colour = "red"', "").replace('"TV"', f'"{cls.name}"')
-                  .replace("depth_m = 8.0", f"depth_m = {cls.depth_m}")
-                  .replace("130.0", "150.0").replace("10000.0", "3000.0"))
-    assert main(["simulate", str(sc), "--grid", str(tiny_grid_file), "--out", str(folder / "sim"),
-                 "--seed", "2"]) == 0
-    return folder / "sim", cls.name
+    return simulate_on_tiny_grid(tiny_grid_file, tmp_path_factory.mktemp("stonesoup"))
 
 
 def test_a_measurement_file_becomes_detections_and_a_track_comes_back(tables, simulated, tmp_path):

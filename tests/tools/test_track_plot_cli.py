@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from tests.acoustics.plots.test_radialplots import png_size
+from tests.tools.simulated import simulate_on_tiny_grid
 from tools.cli import main
 
 BAD = Path(__file__).parent.parent / "data" / "malformed"
@@ -21,19 +22,7 @@ pytestmark = pytest.mark.bellhop
 
 @pytest.fixture(scope="module")
 def simulated(tiny_grid_file, tmp_path_factory):
-    import xarray as xr
-
-    folder = tmp_path_factory.mktemp("trackplot")
-    with xr.open_dataset(tiny_grid_file) as g:
-        cls, cls_depth = str(g["class"].values[0]), float(g["source_depth_m"].values[0])
-    sc = folder / "sc.toml"
-    sc.write_text((BAD / "scenario" / "unknown_key.toml").read_text()
-                  .replace('colour = "red"', "").replace('"TV"', f'"{cls}"')
-                  .replace("depth_m = 8.0", f"depth_m = {cls_depth}")
-                  .replace("130.0", "150.0").replace("10000.0", "3000.0"))
-    assert main(["simulate", str(sc), "--grid", str(tiny_grid_file), "--out", str(folder / "sim"),
-                 "--seed", "2"]) == 0
-    return folder / "sim"
+    return simulate_on_tiny_grid(tiny_grid_file, tmp_path_factory.mktemp("trackplot"))[0]
 
 
 def test_the_picture_shows_the_files_it_was_given(tiny_grid_file, simulated, tmp_path, capsys):
