@@ -8,7 +8,8 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+# nogil: the build's worker threads reduce their radials' arrivals at the same time
+@njit(cache=True, nogil=True)
 def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weights):
     """Per class and arrival, the band averages of I(f) / A^2 and of I(f) G(theta, f) / A^2:
     ``attenuation`` is each arrival's volume attenuation at the run frequency (intensity ratio),
@@ -31,7 +32,7 @@ def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weigh
     return plain, lloyd
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def pair_sums(intensity, factor, angle_deg, bounces, offsets, tolerance_deg):
     """``offsets[i]:offsets[i + 1]`` are receiver i's arrivals, with their intensity and Lloyd
     factor. Strongest first, each unmatched arrival takes the strongest unmatched twin (angle of
