@@ -159,6 +159,29 @@ def stonesoup(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "stonesoup.json")
 
 
+#: The G&M experiments of docs/gm.md: (result folder, what the paper gives for the true class).
+GM_RUNS = (("gm-tv-30km", "5-7 deg, 1.0-1.5 m/s, 2-3 km"), ("gm-tv-110km", "5-30 deg, sV = 1.0 m/s, <= 20 %"),
+           ("gm-nps", "Figs. 12-14"))
+
+
+def gm_experiments(root: Path) -> str:
+    rows = [("scenario, runs", "hypothesis", "course RMS", "speed RMS", "range RMS", "paper"), ("---",) * 6]
+    sources = []
+    for folder, paper in GM_RUNS:
+        d = _load(root, f"{folder}/summary.json")
+        true = d["true_class"]
+        for name in [true] + [c for c in d["classes"] if c != true]:
+            s = d["steady_state"][name]
+            cells = (f"{s['course_rms_deg']:.1f} deg", f"{s['speed_rms_mps']:.2f} m/s",
+                     f"{s['range_rms_m'] / 1000:.2f} km ({100 * s['range_rms_rel']:.0f} %)")
+            if name == true:
+                rows.append((f"{folder}, {d['runs']}", f"**{name} (true)**", *(f"**{c}**" for c in cells), paper))
+            else:
+                rows.append((f"{folder}, {d['runs']}", name, *cells, "larger than true class"))
+        sources.append(_source(d, f"{folder}/summary.json"))
+    return _table(rows) + "\n" + "".join(sources)
+
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -423,10 +446,13 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "sensitivity-ranges": sensitivity_ranges,
                                              "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
-                                             "radials": radials, "stonesoup": stonesoup}
+                                             "radials": radials, "stonesoup": stonesoup,
+                                             "gm-experiments": gm_experiments}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
+    *(("README.md", "gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
+        ("course_rms_deg", "| {:.1f} deg /"), ("speed_rms_mps", "/ {:.2f} m/s /"))),
     *(("README.md", "atlas.json", ("speed", key), fmt) for key, fmt in (
         ("tables", "{:d} tables"), ("runs", "({:d} runs"), ("per_run_ms", "{:.0f} ms each"),
         ("build_2_workers_s", "took {:.1f} s on 2 workers"), ("raw_serial_bellhop_s", "against {:.1f} s of raw"),
