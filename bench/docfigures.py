@@ -182,6 +182,29 @@ def gm_experiments(root: Path) -> str:
     return _table(rows) + "\n" + "".join(sources)
 
 
+def shelf_rmse(root: Path) -> str:
+    d = _load(root, "shelf/shelf.json")
+    names = (("ml_bearing", "ML (G&M), bearing-dependent"), ("ml_isotropic", "ML (G&M), origin's column, flat"),
+             ("rpf_bearing", "particle filter, bearing-dependent"),
+             ("rpf_isotropic", "particle filter, origin's column, flat"))
+    rows = [("tracker, grid", "5 min", "10 min", "20 min", "30 min", "5-30 min"), ("---",) * 6]
+    for key, label in names:
+        r = d["rmse_m"][key]
+        rows.append((label, *(f"{r[t]:.0f}" for t in ("5", "10", "20", "30")),
+                     f"{d['mean_rmse_after_5min_m'][key]:.0f}"))
+    return _table(rows) + "\n" + _source(d, "shelf/shelf.json")
+
+
+def shelf_dk(root: Path) -> str:
+    d = _load(root, "shelf/shelf.json")
+    where = {"0": "0 deg (up the slope to the shelf)", "90": "90 deg (along the slope)",
+             "150": "150 deg (down the slope, where the transport starts)", "180": "180 deg (down the slope to the basin)"}
+    rows = [("bearing", "5 km", "10 km", "15 km", "20 km"), ("---",) * 5]
+    for b, label in where.items():
+        rows.append((label, *(f"{d['k_difference_db'][b][r]:+.1f}" for r in ("5", "10", "15", "20"))))
+    return _table(rows) + "\n" + _source(d, "shelf/shelf.json")
+
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -447,7 +470,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
                                              "radials": radials, "stonesoup": stonesoup,
-                                             "gm-experiments": gm_experiments}
+                                             "gm-experiments": gm_experiments,
+                                             "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
