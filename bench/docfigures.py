@@ -198,7 +198,8 @@ def shelf_rmse(root: Path) -> str:
 def shelf_dk(root: Path) -> str:
     d = _load(root, "shelf/shelf.json")
     where = {"0": "0 deg (up the slope to the shelf)", "90": "90 deg (along the slope)",
-             "150": "150 deg (down the slope, where the transport starts)", "180": "180 deg (down the slope to the basin)"}
+             "150": "150 deg (down the slope, where the transport starts)",
+             "180": "180 deg (down the slope to the basin)"}
     rows = [("bearing", "5 km", "10 km", "15 km", "20 km"), ("---",) * 5]
     for b, label in where.items():
         rows.append((label, *(f"{d['k_difference_db'][b][r]:+.1f}" for r in ("5", "10", "15", "20"))))
