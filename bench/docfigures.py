@@ -476,6 +476,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
+    ("docs/atlas-tracking.md", "truth-bellhop.json", ("first", "seconds"), "{:.1f} s on 2 workers"),
+    ("docs/atlas-tracking.md", "truth-bellhop.json", ("cached", "seconds"), "{:.1f} s again from the run"),
     *(("README.md", "gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
         ("course_rms_deg", "| {:.1f} deg /"), ("speed_rms_mps", "/ {:.2f} m/s /"))),
     *(("README.md", "atlas.json", ("speed", key), fmt) for key, fmt in (
