@@ -1,5 +1,5 @@
 """How far the sea surface moved the built-in areas' tables: ``tmakit grids compare`` of each area
-built with the settings before it (incoherent beams; shelf-break's fan of 1500 beams) and with
+built with the settings before it (incoherent beams) and with
 the default now (DESIGN.md "Near-surface sources and the beam fan", issue 25).
 
     python -m bench.surface_compare [--areas ...] [--before-checkout DIR]
@@ -10,8 +10,7 @@ out/surface-compare/ (2 workers) with this checkout's code; each comparison is t
 ``tmakit grids compare BEFORE NOW --json --plot PNG`` in a child process, its JSON kept whole.
 
 - ocean-deep, shelf-break: the area file as it is now against the same with ``mode =
-  "incoherent"`` (and for shelf-break ``n_beams = 1500``, the fan it had before ``grids check``
-  doubled it).
+  "incoherent"`` (shelf-break's fan is 1500 beams before and after).
 - munk-1000 keeps the paper's incoherent beams (its area file says so): its grid is the same
   before and after; the comparison is with the semicoherent mode instead, what the area would
   move if it took the default.
@@ -67,16 +66,13 @@ def pairs(names) -> dict:
             month = "the area's month" if plan.months[0] == 0 else f"month {plan.months[0]}"
             what = (f"one atlas table ({month}, {float(plan.lat_deg[0]):.4f} N "
                     f"{float(plan.lon_deg[0]):.4f} E, {atlas.atlas.depth_step_m:g} m depth axis): now against "
-                    f"incoherent beams at 1500 beams")
-            out[name] = (_with(now, mode=envdata.TlMode.INCOHERENT, n_beams=1500), now, what)
+                    f"incoherent beams")
+            out[name] = (_with(now, mode=envdata.TlMode.INCOHERENT), now, what)
             continue
         now = envdata.load_area(name)
         if now.propagation.mode is envdata.TlMode.INCOHERENT:  # munk-1000: the paper's mode, kept
             out[name] = (now, _with(now, mode=envdata.TlMode.SEMICOHERENT),
                          "the area keeps incoherent beams (before = now): its grid against the semicoherent mode")
-        elif name == "shelf-break":
-            out[name] = (_with(now, mode=envdata.TlMode.INCOHERENT, n_beams=1500), now,
-                         "now (semicoherent, 3000 beams) against incoherent beams at 1500 beams")
         else:
             out[name] = (_with(now, mode=envdata.TlMode.INCOHERENT), now, "now (semicoherent) against incoherent beams")
     return out
@@ -153,7 +149,7 @@ def k_signed(before: Path, now: Path) -> tuple[dict, dict]:
 
     import acoustics
 
-    a, b = acoustics.open_grid(before), acoustics.open_grid(now)
+    a, b = acoustics.open_tables(before), acoustics.open_tables(now)
     r_km = np.asarray(a.range_m, dtype=float) / 1000.0
     bearings = np.asarray(getattr(a, "bearing_deg", []), dtype=float)
     whole, detail = {}, {}
@@ -223,8 +219,8 @@ def main(argv=None) -> int:
             worst = max((r[k] or 0.0) for r in result["rows"] for k in ("tl_p90_db", "k_p90_db"))
             checks[name] = {"commit": commit, "worst_p90_db": worst, "compare": result}
             session.say(f"{name} before-settings grid against commit {commit}'s", worst, "dB (worst p90 |dTL|, |dK|)")
-    session.write(what="grids compare of the built-in areas before the sea surface (incoherent beams; "
-                       "shelf-break at 1500 beams) and now (B - A = now - before)",
+    session.write(what="grids compare of the built-in areas before the sea surface (incoherent beams) "
+                       "and now (B - A = now - before)",
                   areas=areas, **({"before_code_check": checks} if checks else {}))
     return 0
 

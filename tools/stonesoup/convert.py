@@ -3,7 +3,7 @@
 Each cycle of a measurement file (``tracker.measurements``) becomes one ``Detection`` at
 ``epoch + t_s`` whose measurement model is a `TablesMeasurementModel` for that cycle: the
 observer where it was (through an atlas, the tables around that position:
-``GridTables.at_observer``), the bands whose level the cycle holds. Its metadata carries the
+``Tables.at_observer``), the bands whose level the cycle holds. Its metadata carries the
 observer and the cycle's time, so Stone Soup's metrics and plotters see where the sensor was.
 A cycle without a bearing gives no detection. A Stone Soup track (states (x, vx, y, vy) with
 covariances, particle states included) becomes the rows of a track CSV (docs/formats.md "Track
@@ -42,7 +42,7 @@ def detections_from_measurements(m: Measurements, tables, cls_name: str, *, bear
     Parameters
     ----------
     m : Measurements
-    tables : GridTables
+    tables : Tables
         The grid or atlas face (``acoustics.open_tables``).
     cls_name : str
         The class hypothesis.
