@@ -12,6 +12,7 @@ BELLHOP := $(VENV)/share/tmakit/bellhop/aubellhop/bin/bellhop.exe
 ARLPY  := .venv-arlpy/.installed
 RAMREF := .venv-ref/.installed
 KRAKEN := .venv-kraken/.installed
+SSEXTRA := $(VENV)/.stonesoup-installed
 
 .PHONY: demo test bench setup arlpy ramref kraken clean
 
@@ -29,7 +30,7 @@ $(BELLHOP): $(STAMP) tools/install_bellhop.py
 demo: setup
 	$(BIN)/tmakit demo --out out/demo
 
-test: setup $(ARLPY) $(RAMREF) $(KRAKEN)
+test: setup $(ARLPY) $(RAMREF) $(KRAKEN) $(SSEXTRA)
 	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" \
 	KRAKEN_PYTHON="$(CURDIR)/.venv-kraken/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
@@ -56,6 +57,12 @@ kraken: $(KRAKEN)
 $(KRAKEN): tests/crosscheck/requirements-kraken.txt
 	@test -x .venv-kraken/bin/python || $(PYTHON) -m venv .venv-kraken
 	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
+	@touch $@
+
+# the optional Stone Soup glue (tools/stonesoup/) is tested with the real Stone Soup, installed
+# as tmakit's extra into .venv for the tests only: `make demo` does not need it
+$(SSEXTRA): $(STAMP)
+	$(BIN)/python -m pip install -q -e '.[test,stonesoup]'
 	@touch $@
 
 # Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv

@@ -9,6 +9,19 @@ class GridFileError(InputError):
     """A grid file that is missing, not netCDF, truncated, or lacks what the contract requires."""
 
 
+class ObserverPositionError(InputError):
+    """An observer position the tables cannot serve (outside an atlas's positions).
+
+    ``index`` is the position's place in what was asked (from 0: a measurement file's row less
+    one, a cycle); ``reason`` the message without it, for a caller that names the row its own way.
+    """
+
+    def __init__(self, index: int, reason: str):
+        super().__init__(f"observer {index}: {reason}")
+        self.index = int(index)
+        self.reason = reason
+
+
 class BellhopError(RuntimeError):
     """BELLHOP failed or could not be run.
 

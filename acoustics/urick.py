@@ -46,3 +46,23 @@ def k_urick_db(range_m, band: Band, cls: TargetClass, *, beta_db_per_km: float, 
         raise ValueError("k_urick_db: ranges must be > 0 m")
     return (spectral_term_db(cls, band) - beta_db_per_km * range_km + np.asarray(anomaly_db)
             - 20.0 * np.log10(range_km) - 60.0)
+
+
+def urick_tables(area, range_m) -> tuple[np.ndarray, np.ndarray]:
+    """The Urick K(r) of every class and band of an area and the bands' volume attenuation: what
+    every grid and atlas stores beside the model's K.
+
+    Returns
+    -------
+    k_urick_db : ndarray, shape (C, M, R)
+        `k_urick_db` with A = 1 along ``range_m``, dB.
+    beta_db_per_km : ndarray, shape (M,)
+        Attenuation at each band's centre by the area's absorption model, dB/km.
+    """
+    from acoustics.absorption import absorption_db_per_km
+
+    absorption = area.propagation.absorption
+    beta = np.array([float(absorption_db_per_km(b.center_hz, absorption)) for b in area.bands])
+    k = np.stack([np.stack([k_urick_db(range_m, band, cls, beta_db_per_km=beta[ib])
+                            for ib, band in enumerate(area.bands)]) for cls in area.classes])
+    return k, beta

@@ -1,14 +1,17 @@
 """The same workloads on two checkouts of tmakit, interleaved: is one slower than the other?
 
-    python -m bench.ab_checkouts BEFORE_DIR AFTER_DIR [--repeats 3] [--name ab-refactor]
+    python -m bench.ab_checkouts BEFORE_DIR AFTER_DIR [--repeats 3] [--name ab-refactor] [--atlas STORE]
 
 Each workload runs in a fresh process with the checkout first on the import path and the same Python
 and BELLHOP (this venv's), alternately A B, B A, A B, ... so that drift in the machine's load falls
 on both; the figure is the median over the repeats and the ratio after / before of those medians.
 Workloads: the ``grids build`` of ocean-deep and of shelf-break on 2 workers (wall time of the
-command), one cycle of the ML tracker with 3 class hypotheses and 220-240 bearings on the tack (as
-bench_gm.py, on the Urick grid: no BELLHOP in it), and the compiled particle filter's throughput on
-bearings (one filter, as bench_rpf.py), and ``tmakit --help`` (the start-up every command pays).
+command), a small ``atlas build`` (the built-in atlas area with 4 radials) on 2 workers, on an atlas
+both sides read (``--atlas``: the simulator and the ML analysis, then the particle filter, asking
+the tables where the observer is every cycle, and ``atlas sample`` of 10 000 points), one cycle of
+the ML tracker with 3 class hypotheses and 220-240 bearings on the tack (as bench_gm.py, on the
+Urick grid: no BELLHOP in it), the compiled particle filter's throughput on bearings (one filter,
+as bench_rpf.py), and ``tmakit --help`` (the start-up every command pays).
 The workloads' code runs on either side of the studies' move to tools/ (it falls back to the old
 module paths). Written to docs/results/NAME.json by the harness. Not part of ``make bench``: it
 compares a change with its parent.
@@ -35,6 +38,56 @@ subprocess.run([sys.executable, "-m", "tools.cli", "grids", "build", "{area}", "
 print(time.perf_counter() - t)
 """
 
+# the built-in atlas area with 4 radials (its 6 positions, 1 month): a small atlas build
+ATLAS_BUILD = """
+import os, subprocess, sys, tempfile, time
+from pathlib import Path
+import envdata
+src = Path(envdata.area_path("shelf-break-atlas"))
+text = src.read_text().replace("step_deg = 30.0", "step_deg = 90.0").replace('"data/', f'"{src.parent}/data/')
+folder = Path(tempfile.mkdtemp())
+(folder / "a.toml").write_text(text)
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "atlas", "build", str(folder / "a.toml"), "--out",
+                str(folder / "a.zarr"), "--workers", "2"], check=True, capture_output=True)
+print(time.perf_counter() - t)
+"""
+# the follow study's crossing of the slope on an atlas both sides read ($TMAKIT_AB_ATLAS, built once):
+# the simulator and a tracker asking the tables where the observer is every cycle
+ATLAS_TRACK = """
+import os, time, numpy as np
+from acoustics.grid.opentables import open_tables
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate
+from tracker.track import track
+t = time.perf_counter()
+tables = open_tables(os.environ["TMAKIT_AB_ATLAS"])
+m, _ = simulate(load_scenario("shelf-cross"), tables, np.random.default_rng(0))
+if "{method}" == "rpf":
+    track(tables, m, method="rpf", rng=np.random.default_rng(1))  # compiled once
+    t = time.perf_counter()
+track(tables, m, method="{method}", rng=np.random.default_rng(1))
+print(time.perf_counter() - t)
+"""
+# tmakit atlas sample on 10 000 points of that atlas
+ATLAS_SAMPLE = """
+import os, subprocess, sys, tempfile, time
+import numpy as np
+from pathlib import Path
+store = os.environ["TMAKIT_AB_ATLAS"]
+rng = np.random.default_rng(1)
+folder = Path(tempfile.mkdtemp())
+rows = ["obs_lat_deg,obs_lon_deg,month,class,band,bearing_deg,range_m"]
+rows += [f"{la:.5f},{lo:.5f},0,TV,FB2,{b:.1f},{r:.0f}" for la, lo, b, r in zip(
+    rng.uniform(42.88, 43.02, 10000), rng.uniform(4.95, 5.03, 10000), rng.uniform(0, 360, 10000),
+    rng.uniform(200, 19000, 10000))]
+(folder / "p.csv").write_text(chr(10).join(rows) + chr(10))
+t = time.perf_counter()
+subprocess.run([sys.executable, "-m", "tools.cli", "atlas", "sample", store, "--points", str(folder / "p.csv"),
+                "--out", str(folder / "o.csv")], check=True, capture_output=True)
+print(time.perf_counter() - t)
+"""
+
 #: Each snippet prints one number (seconds, or particle-steps per second) and runs in the
 #: checkout's directory with the checkout first on sys.path.
 WORKLOADS = {
@@ -47,10 +100,14 @@ from tracker.scenario import load_scenario
 from tracker.simulate import simulate
 grid = acoustics.build_grid(envdata.load_area("ocean-deep"), model="urick")
 try:
-    from acoustics.grid.tables import as_tables
-    grid = as_tables(grid)
-except ImportError:  # the checkout before the typed face takes the dataset
-    pass
+    from acoustics.grid.opentables import open_tables
+    grid = open_tables(grid)
+except (ImportError, TypeError):  # before the one way in took a dataset
+    try:
+        from acoustics.grid.tables import as_tables
+        grid = as_tables(grid)
+    except ImportError:  # the checkout before the typed face takes the dataset
+        pass
 sc = load_scenario("gm-tv-30km")
 sc = dataclasses.replace(sc, target_tacks=(dataclasses.replace(sc.target_tacks[0], duration_s=2400.0),))
 m, _ = simulate(sc, grid, np.random.default_rng(0))
@@ -86,6 +143,10 @@ for i in range(3):
     best = max(best, t.size * 5000 / (time.perf_counter() - s))
 print(best / 1e6)
 """, "higher"),
+    "atlas_build_6_tables_2_workers_s": (ATLAS_BUILD, "lower"),
+    "atlas_simulate_and_track_ml_s": (ATLAS_TRACK.format(method="ml"), "lower"),
+    "atlas_track_rpf_s": (ATLAS_TRACK.format(method="rpf"), "lower"),
+    "atlas_sample_10000_points_s": (ATLAS_SAMPLE, "lower"),
     **{f"rpf_{kind}_shelf_nps_mpc_per_cpu_s": ("""
 import os, time, numpy as np, acoustics
 from envdata.classes import SourceLevelModel
@@ -94,7 +155,8 @@ from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
-tables = acoustics.open_grid(os.environ["TMAKIT_AB_SHELF_GRID"])  # as bench_depth.throughput
+open_ = getattr(acoustics, "open_tables", None) or acoustics.open_grid  # before the one way in
+tables = open_(os.environ["TMAKIT_AB_SHELF_GRID"])  # as bench_depth.throughput
 sc = load_scenario("shelf-nps")
 ic = tables.class_index(sc.target_class)
 sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(20))
@@ -153,12 +215,16 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--name", default="ab-refactor", help="docs/results/NAME.json (default %(default)s)")
     parser.add_argument("--only", action="append", choices=sorted(WORKLOADS), help="only this workload")
+    parser.add_argument("--atlas", type=Path, help="the atlas store of the built-in atlas area the atlas "
+                                                   "workloads read (tmakit atlas build shelf-break-atlas)")
     args = parser.parse_args(argv)
+    if args.atlas is not None:
+        os.environ["TMAKIT_AB_ATLAS"] = str(args.atlas.resolve())
     load_before, git = load_average(), git_state()
     sides = {"before": args.before.resolve(), "after": args.after.resolve()}
     result = {"repeats": args.repeats, "checkouts": {k: _describe(v) for k, v in sides.items()}, "workloads": {}}
     for name, (snippet, better) in WORKLOADS.items():
-        if args.only and name not in args.only:
+        if args.only and name not in args.only or "TMAKIT_AB_ATLAS" in snippet and args.atlas is None:
             continue
         values = {"before": [], "after": []}
         for i in range(args.repeats):

@@ -3,10 +3,12 @@
 Run with ``make bench`` (or ``python -m bench.bench_accuracy``). The full computation is every
 quadrature frequency of every band at BELLHOP's automatic beam count, K(r) computed directly
 (source at the class depth); against it: the default grid, the fixed fan of beams alone, the
-one-run-per-band frequency shortcut alone, fans of 250 to 3000 beams, K by reciprocity, and the
-whole TL field of one class and band. Prints ``name: value unit`` lines and writes
-docs/results/accuracy.json. The figures do not depend on the machine's load; the run takes
-about twenty minutes on 2 cores (the full computation is the naive loop of bench_grids.py).
+one-run-per-band frequency shortcut alone, fans of 250 to 3000 beams, K by reciprocity (the
+classes beyond the surface's reach), K of the near-surface classes from a table whose source is
+the observer (``observer_tables``), and the whole TL field of one class and band. Prints
+``name: value unit`` lines and writes docs/results/accuracy.json. The figures do not depend on
+the machine's load; the run takes about twenty minutes on 2 cores (the full computation is the
+naive loop of bench_grids.py).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 
 import acoustics
 import envdata
+from acoustics.builder.plan import near_surface
 from bench.harness import Session
 
 session = Session("accuracy")
@@ -68,9 +71,47 @@ def main() -> None:
     session.say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_median", float(np.median(d)), "dB")
     session.say(f"tl_field_error_default_vs_full_{nps.name}_{fb1.name}_p95", float(np.percentile(d, 95)), "dB")
     for cls in area.classes:
+        if near_surface(area, cls):  # build_k runs it directly whatever it is asked: see below
+            continue
         med, p95, _ = k_difference(k_recip.sel({"class": cls.name}), grid["k_db"].sel({"class": cls.name}))
         session.say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_median", med, "dB")
         session.say(f"k_error_reciprocity_{cls.name}_{cls.depth_m:g}m_p95", p95, "dB")
+    observer_tables(area, ncores)
+
+
+def observer_tables(area, workers: int) -> None:
+    """K of the near-surface classes from a table whose source is the observer, against the same
+    from the targets' own runs (the flat grid's K), in each mode.
+
+    ``build_k`` never takes a class within the surface's reach by reciprocity (its K from the
+    target's own runs carries the surface at the target), so its reciprocity figure for them
+    would compare the direct runs with themselves. The tables from the observer are the
+    bearing-dependent grids and atlases: here one radial of the area (an origin and one
+    bearing over the same flat sea), whose near-surface rows come from the arrivals run with
+    each arrival's surface image at the target (incoherent beams: the beams alone). Both sides
+    run at the radial builder's ray step, so that only the end the source is at differs.
+    """
+    from acoustics.builder.radial import DEFAULT_STEP_M
+
+    doc = area.to_dict()
+    doc["propagation"] = {**doc.get("propagation", {}), "step_m": DEFAULT_STEP_M}
+    doc["classes"] = [c for c, cls in zip(doc["classes"], area.classes) if near_surface(area, cls)]
+    for mode in ("semicoherent", "incoherent"):
+        doc["propagation"]["mode"] = mode
+        flat = envdata.parse_area({**doc, "area": {**doc["area"], "name": f"{area.name}-flat"}}, "accuracy-flat")
+        radial = envdata.parse_area({**doc, "area": {**doc["area"], "name": f"{area.name}-radial"},
+                                     "origin": {"lat_deg": area.latitude_deg, "lon_deg": area.longitude_deg},
+                                     "bearings": {"bearing_deg": [0.0]}}, "accuracy-radial")
+        k_direct = acoustics.build_k(flat, reciprocity_min_depth_m=math.inf, workers=workers)
+        k_table = acoustics.build_grid(radial, workers=workers)["k_db"].isel(bearing=0)
+        for cls in flat.classes:
+            a, b = k_table.sel({"class": cls.name}).values, k_direct.sel({"class": cls.name}).values
+            ok = np.isfinite(a) & np.isfinite(b)
+            med, p95, _ = k_difference(a[ok], b[ok])
+            key = f"k_error_observer_table_{mode}_{cls.name}_{cls.depth_m:g}m"
+            session.say(f"{key}_median", med, "dB")
+            session.say(f"{key}_p95", p95, "dB")
+            session.say(f"{key}_mean", float(np.mean(a[ok] - b[ok])), "dB (table - direct)")
 
 
 if __name__ == "__main__":

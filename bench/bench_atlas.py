@@ -171,11 +171,12 @@ def main() -> None:
                              "target_mib": 1024}
         print(json.dumps(results["memory"]), flush=True)
 
-        from acoustics.grid.atlas import open_atlas
+        from acoustics.grid.atlas.sample import values_at
+        from acoustics.grid.atlas.store import open_store
 
         store = tmp / "big.zarr"
         t = time.perf_counter()
-        atlas = open_atlas(store)
+        atlas = open_store(store)
         open_s = time.perf_counter() - t
         slab_times = []
         for o in range(min(20, atlas.lat_deg.size)):
@@ -189,8 +190,8 @@ def main() -> None:
         plat = rng.uniform(lat.min(), lat.max(), n)
         plon = rng.uniform(atlas.lon_deg.min(), atlas.lon_deg.max() - 1e-6, n)
         t = time.perf_counter()
-        atlas.values_at(lat_deg=plat, lon_deg=plon, month=rng.choice([2, 8], n), cls_name="TV", band_name="FB2",
-                        bearing_deg=rng.uniform(0, 360, n), range_m=rng.uniform(200, 10000, n))
+        values_at(atlas, lat_deg=plat, lon_deg=plon, month=rng.choice([2, 8], n), cls_name="TV", band_name="FB2",
+                  bearing_deg=rng.uniform(0, 360, n), range_m=rng.uniform(200, 10000, n))
         sample_s = time.perf_counter() - t
         size = sum(f.stat().st_size for f in store.rglob("*") if f.is_file())
         results["store"] = {"tables": int(atlas.done.size), "open_s": round(open_s, 4),
@@ -204,9 +205,7 @@ def main() -> None:
         for step in (100.0, 25.0, 10.0):
             a = area_file(tmp / f"d{int(step)}", spacing_km=8.0, depth_step_m=step)
             info = build(a, tmp / f"d{int(step)}.zarr", 1)
-            from acoustics.grid.atlas import open_atlas as _open
-
-            depths = int(_open(tmp / f"d{int(step)}.zarr").depth_m.size)
+            depths = int(open_store(tmp / f"d{int(step)}.zarr").depth_m.size)
             depth_cost.append({"depth_step_m": step, "depths": depths, "tables": info["tables"],
                                "bellhop_s_per_table": round(info["bellhop_seconds"] / info["tables"], 3)})
         results["cost_per_table_vs_depths"] = depth_cost

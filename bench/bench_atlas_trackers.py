@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustics.grid.atlas import open_atlas
+from acoustics.grid.atlas.follow import follow
+from acoustics.grid.atlas.store import open_store
 from acoustics.grid.formats import RESULT_FORMAT
 from bench.harness import REPO as ROOT
 from bench.harness import Session
@@ -34,9 +35,9 @@ N_PARTICLES = 5000
 
 
 def _tables(path: Path, which: str):
-    atlas = open_atlas(path)
+    atlas = open_store(path)
     month = int(atlas.months[0])
-    return atlas.follow(month) if which == "atlas" else atlas.sel(month=month, origin=int(atlas.lat_deg.size // 2))
+    return follow(atlas, month) if which == "atlas" else atlas.sel(month=month, origin=int(atlas.lat_deg.size // 2))
 
 
 def _ml_seconds(tables, sim) -> float:

@@ -47,7 +47,7 @@ def throughput() -> None:
     grid = REPO / "docs" / "results" / "depth" / "grids" / "shelf-break-bellhop.nc"
     if not grid.exists():
         acoustics.build_grid_file(envdata.load_area("shelf-break"), grid, workers=2)
-    tables = acoustics.open_grid(grid)
+    tables = acoustics.open_tables(grid)
     sc = load_scenario("shelf-nps")
     ic = tables.class_index(sc.target_class)
     sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(RUNS))
@@ -99,7 +99,7 @@ def reciprocity() -> None:
     # a depth_range_m makes the build add tl_obs_db (the runs from the observer depth)
     doc["classes"] = [{**base, "name": f"D{int(z)}", "depth_m": z, "depth_range_m": [5.0, 200.0]}
                       for z in RECIPROCITY_DEPTHS_M]
-    t = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
+    t = acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "reciprocity"), workers=2))
     for ic, cls in enumerate(t.classes):
         diff = t.at_target_depth(cls.depth_m).k_grid_db[ic] - t.k_grid_db[ic]   # (M, R)
         session.say(f"reciprocity_error_median_abs_db_at_{cls.depth_m:g}m", float(np.median(np.abs(diff))), "dB")

@@ -30,7 +30,7 @@ def main() -> None:
         path = Path(sys.argv[1])
     else:
         path = Path(bench_grid("ocean-deep"))
-    grid = acoustics.open_grid(path)
+    grid = acoustics.open_tables(path)
     # one 40-min tack (the scenario's first, made 2400 s long): the last cycles carry 220-240
     # bearings on the tack, as the latency figure asks
     sc = load_scenario("gm-tv-30km")

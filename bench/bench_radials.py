@@ -163,8 +163,8 @@ def main(argv: list[str] | None = None) -> None:
             fine.write_text(text.replace('"data/', f'"{data}/').replace("step_m = 25.0", "step_m = 5.0"))
             ref = Path(tmp) / "fine.nc"
             cli_with_rusage(["grids", "build", str(fine), "--out", str(ref), "--workers", "2"])
-            a = acoustics.open_grid(out)["k_db"].values
-            b = acoustics.open_grid(ref)["k_db"].values
+            a = acoustics.open_tables(out)["k_db"].values
+            b = acoustics.open_tables(ref)["k_db"].values
             d = np.abs(a - b)[np.isfinite(a) & np.isfinite(b)]
             say("step_25m_vs_5m_k_median_abs_diff", float(np.median(d)), "dB")
             say("step_25m_vs_5m_k_p95_abs_diff", float(np.percentile(d, 95)), "dB")

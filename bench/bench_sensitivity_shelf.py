@@ -52,7 +52,7 @@ def main(argv=None) -> None:
     session.say("overhead_2_workers_wall_over_half_bellhop_sum",
         median([w / (0.5 * b) - 1.0 for w, b in zip(walls[2], bellhop[2])]), "(median; target <= 0.10)")
     session.say("results_identical_on_1_and_2_workers", same)
-    summary = sens.summarize(first[2], eval_ranges_m=[5000.0, 10000.0, 20000.0])
+    summary = sens.summarize(sens.study_face(first[2]), eval_ranges_m=[5000.0, 10000.0, 20000.0])
     for cls_name, value in sens.k_error_by_class(summary).items():
         session.say(f"k_error_sd_db_{cls_name}", value, "dB")
     sd = summary["k_sd_db"]

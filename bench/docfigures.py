@@ -12,6 +12,10 @@ bench.docfigures`` rewrites every block from its file; ``--check`` changes nothi
 naming each block whose committed text differs from what its file gives (the test
 tests/test_docfigures.py runs it in ``make test``). A table's caption names its file; a file
 marked ``rerun_pending`` (bench.record) is quoted as it is, with the mark.
+
+Figures quoted in prose are checked, not written: ``QUOTES`` lists, per page, the result file,
+the figure's place in it and how the page prints it, and ``--check`` names each whose printed
+value the page no longer holds (a prose sentence is the author's; the check keeps it honest).
 """
 
 from __future__ import annotations
@@ -76,7 +80,7 @@ def accuracy(root: Path) -> str:
     d = _load(root, "accuracy.json")
 
     def pair(key: str, digits: int = 2) -> tuple[str, str]:
-        return (f"{_fig(d, key + '_median'):.{digits}g} dB", f"{_fig(d, key + '_p95'):.{digits}g} dB")
+        return (f"{_fig(d, key + '_median'):#.{digits}g} dB", f"{_fig(d, key + '_p95'):#.{digits}g} dB")
 
     beams = (250, 500, 1000, 3000)
     rec = [k for k in (d.get("figures") or d["results"]) if k.startswith("k_error_reciprocity_")
@@ -84,15 +88,25 @@ def accuracy(root: Path) -> str:
     rows = [("shortcut", "median abs. error", "95th percentile"), ("---", "---", "---"),
             ("all of the default settings together", *pair("k_error_default_grid_vs_full")),
             ("fixed fan of 1500 beams (vs up to 72 000)", *pair("k_error_fixed_beam_fan_vs_full")),
-            ("one run per band, other frequencies through absorption",
-             *pair("k_error_frequency_shortcut_vs_full")),
+            ("one run per band, other frequencies through absorption (a near-surface class's run: its "
+             "surface pattern averaged over the band)", *pair("k_error_frequency_shortcut_vs_full")),
             (" / ".join(str(b) for b in beams) + " beams",
-             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_median'):.2g}" for b in beams) + " dB",
-             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_p95'):.2g}" for b in beams) + " dB")]
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_median'):#.2g}" for b in beams) + " dB",
+             " / ".join(f"{_fig(d, f'k_error_{b}_beams_vs_full_p95'):#.2g}" for b in beams) + " dB")]
     for key in rec:
         cls_name, depth = key.removeprefix("k_error_reciprocity_").removesuffix("_median").split("_")
         what = f"{cls_name} at {depth.removesuffix('m')} m"
         rows.append((f"reciprocity (source at the observer), {what}", *pair(key.removesuffix("_median"))))
+    table = [k for k in (d.get("figures") or d["results"]) if k.startswith("k_error_observer_table_semicoherent_")
+             and k.endswith("_median")]
+    for key in table:
+        cls_name, depth = key.removeprefix("k_error_observer_table_semicoherent_").removesuffix("_median").split("_")
+        inc = key.replace("_semicoherent_", "_incoherent_").removesuffix("_median")
+        base = key.removesuffix("_median")
+        rows.append((f"the table from the observer (arrivals and the surface's image at the target), {cls_name} at "
+                     f"{depth.removesuffix('m')} m, against its own runs; incoherent beams in brackets",
+                     f"{_fig(d, base + '_median'):#.2g} dB ({_fig(d, inc + '_median'):#.2g} dB)",
+                     f"{_fig(d, base + '_p95'):#.2g} dB ({_fig(d, inc + '_p95'):#.2g} dB)"))
     tl = "tl_field_error_default_vs_full_NPS_FB1"
     rows.append(("the whole TL field (NPS, FB1, where TL < 120 dB) with the default settings", *pair(tl)))
     return _table(rows) + "\n" + _source(d, "accuracy.json")
@@ -130,6 +144,20 @@ def manoeuvres(root: Path) -> str:
     return (_table(rows) + f"\nDefault over paper: {min(ratios):.4f}-{max(ratios):.4f} on the six figures; "
             f"the study took {_fig(d, 'gm_default_seconds'):.0f} s with the default tests, "
             f"{_fig(d, 'gm_paper_seconds'):.0f} s with the paper's.\n\n" + _source(d, "maneuver.json"))
+
+def stonesoup(root: Path) -> str:
+    d = _load(root, "stonesoup.json")
+    summ = d["summary"]
+    rpf = summ["rpf"]
+    rows = [("filter", "particles", f"final position error, median of {len(d['runs'])} runs", "over tmakit's",
+             "time per run (median)"), ("---",) * 5,
+            ("tmakit track --method rpf", f"{rpf['particles']}", f"{rpf['final_error_median_m']:.0f} m", "1",
+             f"{rpf['seconds_median']:.3f} s")]
+    for s in summ["stonesoup"]:
+        rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']}",
+                     f"{s['final_error_median_m']:.0f} m", f"{s['over_rpf']:.2f}x", f"{s['seconds_median']:.2f} s"))
+    return _table(rows) + "\n" + _source(d, "stonesoup.json")
+
 
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
@@ -174,6 +202,30 @@ def surface_cost(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "surface-cost.json")
 
 
+def radials(root: Path) -> str:
+    d = _load(root, "radials.json")
+
+    def f(key: str) -> float:
+        return _fig(d, key)
+
+    rows = [("figure", "shelf-break, 12 radials x 3 bands to 30 km (36 runs)",
+             "36 radials x 3 bands to 50 km (108 runs)", "target"), ("---", "---", "---", "---"),
+            ("`grids build`, 2 workers", f"{f('shelf_break_build_2_workers_median'):.1f} s",
+             f"{f('wide_36_radials_build_2_workers'):.1f} s", ""),
+            ("over half the sum of the raw BELLHOP runs", f"{f('shelf_break_2_workers_over_half_raw'):.2f}",
+             f"{f('wide_36_radials_2_workers_over_half_raw'):.2f}", "<= 1.10"),
+            ("the raw runs two at a time, over half their sum (what the machine allows)",
+             f"{f('shelf_break_raw_two_at_a_time_over_half_raw'):.2f}",
+             f"{f('wide_36_radials_raw_two_at_a_time_over_half_raw'):.2f}", ""),
+            ("2 workers vs 1", f"{f('shelf_break_speedup_2_vs_1'):.2f}x", "", ">= 1.8x"),
+            ("the command's fixed cost (1 worker less the raw sum)",
+             f"{f('shelf_break_fixed_cost_w1_minus_raw'):.1f} s", "", ""),
+            ("peak memory (largest process)", "", f"{f('wide_36_radials_peak_rss'):.0f} MiB", "< 1 GiB"),
+            ("K with the default 25 m ray step against 5 m, median / 95th percentile",
+             f"{f('step_25m_vs_5m_k_median_abs_diff'):.2f} / {f('step_25m_vs_5m_k_p95_abs_diff'):.2f} dB", "", "")]
+    return _table(rows) + "\n" + _source(d, "radials.json")
+
+
 def grids_check(root: Path) -> str:
     d = _load(root, "grids-check.json")
     rows = [("area", "doubled", "K moves: median (worst class and band), dB", "converged"),
@@ -185,10 +237,225 @@ def grids_check(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "grids-check.json")
 
 
+def _whole(case: dict) -> dict:
+    """(class, band) -> the comparison's row over all bearings of a models-study case."""
+    return {(r["class"], r["band"]): r for r in case["rows"] if r["bearing_deg"] is None}
+
+
+def _per_class(values: list[str], classes: list[str]) -> str:
+    """One value when every class has it, else each with its class."""
+    if len(set(values)) == 1:
+        return values[0]
+    return ", ".join(f"{v} ({c})" for v, c in zip(values, classes))
+
+
+def _cut(case: dict) -> str:
+    bearings = sorted({r["bearing_deg"] for r in case["rows"] if r["bearing_deg"] is not None})
+    base = case["area"].split("-fb")[0].removesuffix("-crossover")
+    bands = "/".join(b[0] for b in case["bands"])
+    where = (f", radial{'s' if len(bearings) > 1 else ''} {'/'.join(f'{b:g}' for b in bearings)} deg"
+             if bearings else "")
+    return f"{base} {bands}{where} to {case['range_max_m'] / 1000:g} km"
+
+
+def models_areas(root: Path) -> str:
+    d = _load(root, "models-areas.json")
+    rows = [("area, band, cut", "\\|dTL\\| median / p90", "\\|dK\\| median / p90, NPS (200 m)", "SW (6 m)",
+             "TV (8 m)", "rms dK, NPS / SW / TV", "RAM runs, run time", "BELLHOP runs, run time"),
+            ("---",) * 8]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        band = case["bands"][0][0]
+        tl = [f"{whole[(c, band)]['tl_median_db']:.2f} / {whole[(c, band)]['tl_p90_db']:.2f} dB" for c in classes]
+        k = [f"{whole[(c, band)]['k_median_db']:.2f} / {whole[(c, band)]['k_p90_db']:.2f} dB" for c in classes]
+        rms = " / ".join(f"{whole[(c, band)]['k_rms_db']:.2f}" for c in classes) + " dB"
+        ram, bh = case["ram"], case["bellhop"]
+        rows.append((_cut(case), _per_class(tl, classes), *k, rms,
+                     f"{ram['runs']}, {ram['run_seconds']:.0f} s ({ram['wall_s']:.0f} s wall)",
+                     f"{bh['runs']}, {_secs(bh['run_seconds'])} s ({case.get('bellhop_mode', 'incoherent')}, "
+                     f"{case.get('bellhop_beams', '?')} beams)"))
+    return _table(rows) + "\n" + _source(d, "models-areas.json")
+
+
+def _secs(x: float) -> str:
+    return f"{x:.2g}" if x < 10.0 else f"{x:.0f}"
+
+
+def ram_crossover(root: Path) -> str:
+    d = _load(root, "ram-crossover.json")
+    rows = [("band", "\\|dTL\\| median / p90", "\\|dK\\| median, NPS / SW / TV", "rms dK, NPS / SW / TV"),
+            ("---",) * 4]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        for name, low, high in case["bands"]:
+            tl = [f"{whole[(c, name)]['tl_median_db']:.2f} / {whole[(c, name)]['tl_p90_db']:.2f} dB" for c in classes]
+            rows.append((f"{low:.0f}-{high:.0f} Hz", _per_class(tl, classes),
+                         " / ".join(f"{whole[(c, name)]['k_median_db']:.2f}" for c in classes) + " dB",
+                         " / ".join(f"{whole[(c, name)]['k_rms_db']:.2f}" for c in classes) + " dB"))
+    return _table(rows) + "\n" + _source(d, "ram-crossover.json")
+
+
+def surface_compare(root: Path) -> str:
+    d = _load(root, "surface-compare.json")
+    rows = [("area", "class", "FB1 / FB2 / FB3 (or the band): \\|dK\\| median (p90), signed median dK, dB"),
+            ("---",) * 3]
+    for area, entry in d["areas"].items():
+        by = entry["by_class_band"]
+        classes = list(dict.fromkeys(k.split()[0] for k in by))
+        for cls_name in classes:
+            cells = [f"{v['k_median_db']:.2f} ({v['k_p90_db']:.2f}), {v['k_signed_median_db']:+.2f}"
+                     for k, v in by.items() if k.split()[0] == cls_name]
+            rows.append((area, cls_name, " / ".join(cells)))
+    return _table(rows) + "\n" + _source(d, "surface-compare.json")
+
+
+#: The sensitivity command's studies of ocean-deep that docs/sensitivity.md quotes: set -> its label.
+SENSITIVITY_SETS = {"profile": "profile measured well", "bottom": "bottom only", "default": "the default set (both)"}
+
+
+def _range_span(values: list[float], digits: int, unit: str) -> str:
+    lo, hi = min(values), max(values)
+    return f"{lo:.{digits}f} {unit}".strip() if round(lo, digits) == round(hi, digits) else \
+        f"{lo:.{digits}f}-{hi:.{digits}f} {unit}".strip()
+
+
+def sensitivity_sets(root: Path) -> str:
+    rows = [("perturbation set", "NPS (200 m)", "SW (6 m)", "TV (8 m)", "constant share", "median sd of dK(r)"),
+            ("---",) * 6,
+            ("paper (constant offset, profile measured well)", "2.0 dB", "1.5 dB", "1.5 dB", "100 % (assumed)", "–")]
+    sources = []
+    for name, label in SENSITIVITY_SETS.items():
+        file = f"sensitivity/ocean-deep-{name}.json"
+        d = _load(root, file)
+        specs = ", ".join(f"`{p}`" for p in d["perturbations"]) if name != "default" else ""
+        sd = d["k_error_sd_db"]
+        share = [100.0 * v["constant_fraction"] for v in d["k"].values()]
+        spread = [v["sd_db_median"] for v in d["k"].values()]
+        share_text = "< 1 %" if max(share) < 1.0 else _range_span(share, 0, "%")
+        rows.append((f"{label}: {specs}" if specs else label, *(f"{sd[c]:.2f} dB" for c in ("NPS", "SW", "TV")),
+                     share_text, _range_span(spread, 2 if max(spread) < 1 else 1, "dB")))
+        sources.append(_made(d, file))
+    return _table(rows) + "\n*From " + "; ".join(sources) + " (each by the command above, through "\
+        "`python -m bench.record`).*\n"
+
+
+def _made(data: dict, file: str) -> str:
+    """A result file named with the commit, date and load average it was made at."""
+    prov = data["provenance"]
+    load = (prov.get("load_average") or {}).get("before")
+    load = load[0] if isinstance(load, list) else load
+    shown = f", load average {load:g}" if isinstance(load, (int, float)) else ""
+    pending = ", to be made again after the sea-surface change" if prov.get("rerun_pending") else ""
+    when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"
+    return f"`docs/results/{file}` ({when}{shown}{pending})"
+
+
+def sensitivity_ranges(root: Path) -> str:
+    rows = [("set", "class", "5 km", "10 km", "20 km", "50 km", "100 km"), ("---",) * 7]
+    for name, label in SENSITIVITY_SETS.items():
+        d = _load(root, f"sensitivity/ocean-deep-{name}.json")
+        for cls_name in ("NPS", "SW"):
+            err = d["range_error"][cls_name]
+            km = [err[r]["rms_m"] / 1000.0 for r in ("5", "10", "20", "50", "100")]
+            rows.append((label, cls_name, *(f"{x:.2f} km" if x < 10.0 else f"{x:.1f} km" for x in km)))
+    return _table(rows) + "\n" + "*From the same files.*\n"
+
+
+def sensitivity_speed(root: Path) -> str:
+    d = _load(root, "sensitivity.json")
+    w1, w2 = _fig(d, "study_1_worker_wall"), _fig(d, "study_2_workers_wall")
+    rows = [("figure", "measured", "target"), ("---",) * 3,
+            ("2 workers vs 1 (median of the side-by-side pairs)",
+             f"{_fig(d, 'speedup_2_vs_1_workers'):.2f}x ({w1:.1f} s -> {w2:.1f} s)", ">= 1.7x"),
+            ("overhead, 1 worker: wall / sum of BELLHOP - 1",
+             f"{_fig(d, 'overhead_1_worker_wall_over_bellhop_sum'):.1f} %", "<= 10 %"),
+            ("overhead, 2 workers: 2 x wall / sum of BELLHOP - 1",
+             f"{_fig(d, 'overhead_2_workers_wall_x2_over_bellhop_sum'):.1f} %", "<= 10 %"),
+            ("results with 1 and 2 workers",
+             "identical (bitwise)" if _fig(d, "results_identical_1_vs_2_workers") else "NOT identical", "identical")]
+    return _table(rows) + "\n" + _source(d, "sensitivity.json")
+
+
+def reciprocity(root: Path) -> str:
+    sens, acc = _load(root, "sensitivity.json"), _load(root, "accuracy.json")
+    rows = [("class (depth)", "how its K is computed", "against its own runs: median", "p95"), ("---",) * 4]
+    for key in (k for k in (sens.get("figures") or sens["results"]) if k.startswith("reciprocity_vs_direct_")
+                and k.endswith("_median")):
+        cls_name, depth = key.removeprefix("reciprocity_vs_direct_").removesuffix("_median").split("_")
+        rows.append((f"{cls_name} ({depth.removesuffix('m')} m)", "by reciprocity (source at the observer)",
+                     f"{_fig(sens, key):.2f} dB", f"{_fig(sens, key.replace('_median', '_p95')):.2f} dB"))
+    for key in (k for k in (acc.get("figures") or acc["results"])
+                if k.startswith("k_error_observer_table_semicoherent_") and k.endswith("_median")):
+        cls_name, depth = key.removeprefix("k_error_observer_table_semicoherent_").removesuffix("_median").split("_")
+        inc = key.replace("_semicoherent_", "_incoherent_")
+        rows.append((f"{cls_name} ({depth.removesuffix('m')} m)",
+                     "directly here; from the observer in a bearing-dependent grid or an atlas (incoherent beams "
+                     "in brackets)", f"{_fig(acc, key):.2f} dB ({_fig(acc, inc):.2f} dB)",
+                     f"{_fig(acc, key.replace('_median', '_p95')):.2f} dB "
+                     f"({_fig(acc, inc.replace('_median', '_p95')):.2f} dB)"))
+    return _table(rows) + "\n" + _source(sens, "sensitivity.json") + _source(acc, "accuracy.json")
+
+
+def models_bench(root: Path) -> str:
+    d = _load(root, "models.json")
+    runs = _fig(d, "ram_runs")
+    rows = [("figure", "value"), ("---", "---"),
+            (f"RAM runs ({runs // 21} radials x 21 frequencies)", f"{runs}"),
+            ("BELLHOP build, 2 workers",
+             f"{_fig(d, 'bellhop_w2_wall'):.2f} s, peak {_fig(d, 'bellhop_w2_peak_rss'):.0f} MiB"),
+            ("RAM build, 1 worker",
+             f"{_fig(d, 'ram_w1_wall'):.1f} s ({_fig(d, 'ram_run_seconds_sum_w1'):.1f} s of runs), "
+             f"peak {_fig(d, 'ram_w1_peak_rss'):.0f} MiB"),
+            ("RAM build, 2 workers", f"{_fig(d, 'ram_w2_wall'):.1f} s, peak {_fig(d, 'ram_w2_peak_rss'):.0f} MiB"),
+            ("RAM on 2 workers over BELLHOP on 2 workers", f"{_fig(d, 'ram_w2_over_bellhop_w2'):.0f}x"),
+            ("RAM, 2 workers against 1", f"{_fig(d, 'ram_speedup_2_vs_1'):.2f}x (target >= 1.8x)")]
+    return _table(rows) + "\n" + _source(d, "models.json")
+
+
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
                                              "surface": surface, "surface-cost": surface_cost,
-                                             "grids-check": grids_check, "manoeuvres": manoeuvres}
+                                             "grids-check": grids_check, "models-areas": models_areas,
+                                             "ram-crossover": ram_crossover, "surface-compare": surface_compare,
+                                             "sensitivity-sets": sensitivity_sets,
+                                             "sensitivity-ranges": sensitivity_ranges,
+                                             "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
+                                             "models-bench": models_bench, "manoeuvres": manoeuvres,
+                                             "radials": radials, "stonesoup": stonesoup}
+
+#: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
+QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
+    *(("README.md", "atlas.json", ("speed", key), fmt) for key, fmt in (
+        ("tables", "{:d} tables"), ("runs", "({:d} runs"), ("per_run_ms", "{:.0f} ms each"),
+        ("build_2_workers_s", "took {:.1f} s on 2 workers"), ("raw_serial_bellhop_s", "against {:.1f} s of raw"),
+        ("two_workers_over_half_raw", "{:.2f} x half of it"), ("two_vs_one_worker", "{:.2f}x faster than 1 worker"),
+        ("bellhop_2_workers_s", "({:.1f} s summed"), ("two_workers_over_half_their_own_bellhop", "{:.3f} x half"))),
+    *(("README.md", "atlas.json", ("memory", key), fmt) for key, fmt in (
+        ("small_peak_rss_mib", "{:.0f} MiB for"), ("small_tables", "for {:d} tables"),
+        ("large_peak_rss_mib", "{:.0f} MiB for"), ("large_tables", "for {:d} (flat"))),
+    *(("README.md", "atlas.json", ("store", key), fmt) for key, fmt in (
+        ("open_s", "open {:.2f} s"), ("slab_read_ms_median", "slab read {:.1f} ms"),
+        ("sample_10000_points_s", "sampled in {:.2f} s"), ("store_over_raw", "the store is {:.2f} of its raw"))),
+    ("README.md", "icechunk.json", ("median_seconds_per_table", "icechunk"), "cost {:.3f} s"),
+    ("README.md", "icechunk.json", ("median_seconds_per_table", "zarr"), "against {:.3f} s for the atlas's"),
+    ("README.md", "icechunk.json", ("icechunk_over_zarr",), "({:.2f}x)"),
+)
+
+
+def stale_quotes(root: Path) -> list[str]:
+    """The `QUOTES` whose printed value the page no longer holds, as ``page: file key (printed)``."""
+    out, texts = [], {}
+    for page, file, keys, fmt in QUOTES:
+        text = texts.setdefault(page, (root / page).read_text())
+        value = _load(root, file)
+        for key in keys:
+            value = value[key]
+        printed = fmt.format(value)
+        if " ".join(printed.split()) not in " ".join(text.split()):  # line breaks in prose are free
+            out.append(f"{page}: {file} {'.'.join(keys)} ({printed!r})")
+    return out
 
 
 def _table(rows) -> str:
@@ -229,7 +496,10 @@ def main(argv=None) -> int:
             page.write_text(new)
     for line in stale:
         print(("differs from its result file: " if args.check else "rewrote ") + line)
-    return 1 if stale and args.check else 0
+    quotes = stale_quotes(args.root)
+    for line in quotes:  # prose is the author's to rewrite: named, never changed
+        print(f"quoted in prose, not what its result file gives: {line}")
+    return 1 if (stale and args.check) or quotes else 0
 
 
 if __name__ == "__main__":

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +20,7 @@ from envdata.casts import read_cast
 from envdata.classes import F_MINUS_2_DB_PER_OCTAVE, SourceLevelModel, TargetClass
 from envdata.datafiles import BathymetrySource, ClimatologySource, DataFile
 from envdata.errors import AreaError
+from envdata.files import builtin_names, builtin_or_path
 from envdata.geometry import Bearings, Origin
 from envdata.names import check_name
 from envdata.noise import Noise
@@ -30,20 +30,12 @@ from envdata.tomlfile import TomlTable, read_toml
 
 
 def builtin_area_names() -> list[str]:
-    folder = resources.files("envdata") / "areas"
-    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+    return builtin_names("areas")
 
 
 def area_path(name_or_path: str | Path) -> Path:
     """Resolve a built-in area name or a path to a TOML file."""
-    text = str(name_or_path)
-    if text in builtin_area_names():
-        return Path(str(resources.files("envdata") / "areas" / f"{text}.toml"))
-    path = Path(text)
-    if path.suffix != ".toml" and not path.exists():
-        raise AreaError(f"{text}: no built-in area of that name (built-in: "
-                        f"{', '.join(builtin_area_names())}) and no such file")
-    return path
+    return builtin_or_path(name_or_path, "areas", "area", AreaError)
 
 
 def load_area(name_or_path: str | Path) -> Area:

@@ -149,14 +149,7 @@ class BathymetryFile:
         AreaError
             A position outside the file's cells (check ``axes.contains`` first to say which).
         """
-        lat = np.asarray(lat_deg, dtype=float)
-        inside = self.axes.contains(lat, lon_deg)
-        if not np.all(inside):
-            i = int(np.argmin(inside))
-            raise AreaError(f"{self.path}: position {lat.ravel()[i]:.5f} N "
-                            f"{np.asarray(lon_deg, dtype=float).ravel()[i]:.5f} E is outside the file "
-                            f"({self.axes.describe()})")
-        lat_slice, lon_slice, lat_flip, lon_flip = self.axes.box(lat, lon_deg, MARGIN_CELLS)
+        lat_slice, lon_slice, lat_flip, lon_flip = self.axes.box_inside(self.path, lat_deg, lon_deg, MARGIN_CELLS)
         ny, nx = lat_slice.stop - lat_slice.start, lon_slice.stop - lon_slice.start
         check_memory(3.0 * 8 * ny * nx, f"{self.path}: the {ny} x {nx} cells of bathymetry the radials cross")
         block = self._ds[self.variable].isel({self.axes.lat_dim: lat_slice, self.axes.lon_dim: lon_slice})

@@ -43,7 +43,15 @@ import numpy as np
 
 from envdata.datafiles import ClimatologySource, DataFile
 from envdata.errors import AreaError
-from envdata.geogrid import METRE_UNITS, LatLonAxes, bilinear_corners, distance_m, open_dataset, units_of
+from envdata.geogrid import (
+    METRE_UNITS,
+    LatLonAxes,
+    bilinear_corners,
+    distance_m,
+    named_variable,
+    open_dataset,
+    units_of,
+)
 from envdata.limits import check_memory
 from envdata.seawater import SALINITY_STANDARD_NAMES as SALINITY_KINDS
 from envdata.seawater import TEMPERATURE_STANDARD_NAMES as TEMPERATURE_KINDS
@@ -219,14 +227,8 @@ class ClimatologyFiles:
         AreaError
             A position outside the files' cells, or T or S outside the sea's range.
         """
-        lat = np.asarray(lat_deg, dtype=float)
-        inside = self.axes.contains(lat, lon_deg)
-        if not np.all(inside):
-            i = int(np.argmin(inside))
-            raise AreaError(f"{self.path}: position {lat.ravel()[i]:.5f} N "
-                            f"{np.asarray(lon_deg, dtype=float).ravel()[i]:.5f} E is outside the "
-                            f"climatology ({self.axes.describe()})")
-        lat_slice, lon_slice, lat_flip, lon_flip = self.axes.box(lat, lon_deg, MARGIN_CELLS)
+        lat_slice, lon_slice, lat_flip, lon_flip = self.axes.box_inside(self.path, lat_deg, lon_deg, MARGIN_CELLS,
+                                                                        "the climatology")
         box = (lat_slice, lon_slice, lat_flip, lon_flip)
         t = self.temperature.load(*box)
         s = self.salinity.load(*box)
@@ -403,14 +405,9 @@ def _find(ds, path: Path, what: str, given: str | None) -> str:
     names, kinds = ((TEMPERATURE_NAMES, TEMPERATURE_KINDS) if what == "temperature"
                     else (SALINITY_NAMES, SALINITY_KINDS))
     key = f"[water] {what}_variable"
-    if given is not None:
-        if given not in ds.data_vars:
-            raise AreaError(f"{path}: no variable {given!r} (the {what}, {key}); the file has "
-                            f"{', '.join(sorted(map(str, ds.data_vars))) or 'no data variables'}")
-        return given
-    for name in names:
-        if name in ds.data_vars:
-            return name
+    found = named_variable(ds, path, f"the {what}, {key}", names, given)
+    if found is not None:
+        return found
     for standard_name in kinds:  # in-situ (or practical) first
         matches = [str(n) for n, v in ds.data_vars.items() if v.attrs.get("standard_name") == standard_name]
         if len(matches) == 1:

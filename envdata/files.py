@@ -14,6 +14,7 @@ import shutil
 import stat
 import tempfile
 from collections.abc import Iterator, Sequence
+from importlib import resources
 from pathlib import Path
 
 from envdata.errors import InputError
@@ -149,3 +150,25 @@ def atomic_paths(paths: Sequence[str | os.PathLike]) -> Iterator[list[Path]]:
         for _, backup in done:
             if backup is not None:
                 backup.unlink(missing_ok=True)
+
+
+def builtin_names(folder: str) -> list[str]:
+    """The names of the TOML files shipped in ``envdata/FOLDER`` (built-in areas, scenarios)."""
+    return sorted(p.name[:-5] for p in (resources.files("envdata") / folder).iterdir() if p.name.endswith(".toml"))
+
+
+def builtin_or_path(name_or_path: str | os.PathLike, folder: str, what: str,
+                    error: type[ValueError] = InputError) -> Path:
+    """A built-in file's path (``envdata/FOLDER/NAME.toml``) by its name, or the path given.
+
+    ``error`` names the built-in ones when ``name_or_path`` is neither one of them nor a TOML
+    path nor an existing file (``what``: "area", "scenario").
+    """
+    text = str(name_or_path)
+    names = builtin_names(folder)
+    if text in names:
+        return Path(str(resources.files("envdata") / folder / f"{text}.toml"))
+    path = Path(text)
+    if path.suffix != ".toml" and not path.exists():
+        raise error(f"{text}: no built-in {what} of that name (built-in: {', '.join(names)}) and no such file")
+    return path

@@ -52,6 +52,19 @@ def units_of(var) -> str:
     return str(var.attrs.get("units", "")).strip()
 
 
+def named_variable(ds, path: Path, label: str, names: tuple[str, ...], given: str | None,
+                   pool=None) -> str | None:
+    """``given`` (AreaError naming ``label`` when ``pool``, the data variables by default, lacks
+    it), else the first of ``names`` among the data variables, else None."""
+    pool = ds.data_vars if pool is None else pool
+    if given is not None:
+        if given not in pool:
+            raise AreaError(f"{path}: no variable {given!r} ({label}); the file has "
+                            f"{', '.join(sorted(map(str, ds.data_vars))) or 'no data variables'}")
+        return given
+    return next((name for name in names if name in ds.data_vars), None)
+
+
 def find_variable(ds, path: Path, what: str, names: tuple[str, ...], standard_names: tuple[str, ...],
                   given: str | None = None) -> str:
     """The name of a data variable: ``given``, else the first of ``names``, else the one variable
@@ -62,14 +75,9 @@ def find_variable(ds, path: Path, what: str, names: tuple[str, ...], standard_na
     AreaError
         The given name is missing, no variable matches, or several match by standard_name.
     """
-    if given is not None:
-        if given not in ds.variables:
-            raise AreaError(f"{path}: no variable {given!r} (the {what}); the file has "
-                            f"{', '.join(sorted(map(str, ds.data_vars))) or 'no data variables'}")
-        return given
-    for name in names:
-        if name in ds.data_vars:
-            return name
+    found = named_variable(ds, path, f"the {what}", names, given, ds.variables)
+    if found is not None:
+        return found
     matches = [str(name) for name, var in ds.data_vars.items()
                if var.attrs.get("standard_name") in standard_names]
     if len(matches) == 1:
@@ -198,6 +206,19 @@ class LatLonAxes:
         nx = math.radians(self.lon_step_deg) * EARTH_RADIUS_M * math.cos(math.radians(lat_deg))
         sizes = [v for v in (ny, nx) if v > 0]
         return min(sizes) if sizes else math.inf
+
+    def box_inside(self, source, lat_deg, lon_deg, margin: int, what: str = "the file"
+                   ) -> tuple[slice, slice, bool, bool]:
+        """`box` of positions that must all lie within the file's cells; AreaError naming the
+        first that does not (``source``: the file, ``what``: what it is in the message)."""
+        lat = np.asarray(lat_deg, dtype=float)
+        inside = self.contains(lat, lon_deg)
+        if not np.all(inside):
+            i = int(np.argmin(inside))
+            raise AreaError(f"{source}: position {lat.ravel()[i]:.5f} N "
+                            f"{np.asarray(lon_deg, dtype=float).ravel()[i]:.5f} E is outside {what} "
+                            f"({self.describe()})")
+        return self.box(lat, lon_deg, margin)
 
     def box(self, lat_deg, lon_deg, margin: int = 2) -> tuple[slice, slice, bool, bool]:
         """Index slices (as stored) of the cells around the positions, ``margin`` cells wider.

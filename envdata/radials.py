@@ -394,6 +394,40 @@ def _check_inside(axes: LatLonAxes, describe: str, area: Area, columns, what: st
                             f"and the {what} does not continue across it")
 
 
+def one_profile(area: Area, max_depth_m: float, where: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """The area's one profile (a table, or T and S of a cast continued down) to ``max_depth_m``:
+    the section's depths and the speed there, m/s; None where the water is a climatology's.
+    A table that stops above the deepest bottom is an AreaError (``where``: which bottom)."""
+    water = area.water
+    if water.ssp is not None:
+        ssp = water.ssp
+        if ssp.bottom_m < max_depth_m - 1e-6:
+            raise AreaError(f"[water] sound-speed profile: ends at {ssp.bottom_m:g} m, above the deepest "
+                            f"bottom{where}; give a table to that depth, or T and S (which continue down)")
+        z = section_depths(ssp.depth_m, max_depth_m, extend=False)
+        return z, np.interp(z, ssp.depth_m, ssp.speed_mps)
+    if water.ts is not None:
+        z = section_depths(water.ts.depth_m, max_depth_m, extend=True)
+        return z, water.ts.speed_mps(z, latitude_deg=area.origin.lat_deg, longitude_deg=area.origin.lon_deg)
+    return None
+
+
+def column_speeds(ts_field, columns, points, max_depth_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sound speed down the climatology's columns (TEOS-10): the section's depths (`section_depths`,
+    continued down) and the speed there at each column, (Z, P), m/s.
+
+    ``columns`` (lat, lon) are where T and S are read (the water of each point), ``points``
+    (lat, lon) where the speed is (TEOS-10 takes the pressure and the absolute salinity there).
+    """
+    levels = ts_field.depth_m
+    z = section_depths(levels, max_depth_m, extend=True)
+    t_levels, s_levels = ts_field.columns_at(*columns)  # (L, P)
+    t = np.stack([np.interp(z, levels, t_levels[:, j]) for j in range(t_levels.shape[1])], axis=1)
+    s = np.stack([np.interp(z, levels, s_levels[:, j]) for j in range(s_levels.shape[1])], axis=1)
+    lat, lon = points
+    return z, teos10_speed_mps(z[:, None], t, s, latitude_deg=lat[None, :], longitude_deg=lon[None, :])
+
+
 def section_depths(levels_m, max_depth_m: float, extend: bool) -> np.ndarray:
     """Depths of a section: 0, the levels above ``max_depth_m``, (with ``extend``) every
     `EXTENSION_STEP_M` below the deepest level, and ``max_depth_m`` itself, m."""
@@ -408,27 +442,12 @@ def section_depths(levels_m, max_depth_m: float, extend: bool) -> np.ndarray:
 
 
 def _speed_section(area: Area, section: _Section, ranges, lat, lon, ts_field, clim, water_lat, water_lon):
-    water = area.water
     max_depth = float(np.max(section.bottom_depth_m))
-    if water.ssp is not None:
-        ssp = water.ssp
-        if ssp.bottom_m < max_depth - 1e-6:
-            raise AreaError(f"[water] sound-speed profile: ends at {ssp.bottom_m:g} m, above the deepest "
-                            f"bottom, {max_depth:.1f} m, of the radial at bearing {section.bearing_deg:g} deg; "
-                            f"give a table to that depth, or T and S (which continue down)")
-        z = section_depths(ssp.depth_m, max_depth, extend=False)
-        column = np.interp(z, ssp.depth_m, ssp.speed_mps)
+    one = one_profile(area, max_depth, f", {max_depth:.1f} m, of the radial at bearing {section.bearing_deg:g} deg")
+    if one is not None:
+        z, column = one
         return z, np.repeat(column[:, None], ranges.size, axis=1)
-    if water.ts is not None:
-        z = section_depths(water.ts.depth_m, max_depth, extend=True)
-        column = water.ts.speed_mps(z, latitude_deg=area.origin.lat_deg, longitude_deg=area.origin.lon_deg)
-        return z, np.repeat(column[:, None], ranges.size, axis=1)
-    levels = ts_field.depth_m
-    z = section_depths(levels, max_depth, extend=True)
-    t_levels, s_levels = ts_field.columns_at(water_lat, water_lon)  # (L, P)
-    t = np.stack([np.interp(z, levels, t_levels[:, j]) for j in range(ranges.size)], axis=1)
-    s = np.stack([np.interp(z, levels, s_levels[:, j]) for j in range(ranges.size)], axis=1)
-    speed = teos10_speed_mps(z[:, None], t, s, latitude_deg=lat[None, :], longitude_deg=lon[None, :])
+    z, speed = column_speeds(ts_field, (water_lat, water_lon), (lat, lon), max_depth)
     if not np.all(np.isfinite(speed)):
         raise AreaError(f"{clim.describe()}: TEOS-10 gives no sound speed on the radial at bearing "
                         f"{section.bearing_deg:g} deg (T or S out of range)")

@@ -26,6 +26,22 @@ def munk_speed_mps(depth_m):
     return MUNK_AXIS_SPEED_MPS * (1.0 + MUNK_EPSILON * (eta - 1.0 + np.exp(-eta)))
 
 
+def speed_outside(speed_mps) -> int | None:
+    """Index of the first speed outside [`MIN_SPEED_MPS`, `MAX_SPEED_MPS`], None when all are in."""
+    c = np.asarray(speed_mps, dtype=float)
+    bad = (c < MIN_SPEED_MPS) | (c > MAX_SPEED_MPS)
+    return int(np.argmax(bad)) if np.any(bad) else None
+
+
+def _check_depths_and_option(z: np.ndarray, interpolation: str, what: str) -> None:
+    """A profile's depths strictly increasing and its BELLHOP SSP option one BELLHOP has."""
+    if np.any(np.diff(z) <= 0):
+        i = int(np.argmax(np.diff(z) <= 0))
+        raise AreaError(f"{what}: depths must increase strictly, got {z[i]} m then {z[i + 1]} m")
+    if interpolation not in ("C", "S", "N", "P"):
+        raise AreaError(f"{what}: interpolation must be one of C, S, N, P, got {interpolation!r}")
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SoundSpeedProfile:
     """A tabulated profile from the surface to the bottom, interpolated linearly (BELLHOP 'C')."""
@@ -47,18 +63,11 @@ class SoundSpeedProfile:
             raise AreaError("sound-speed profile: depths and speeds must be finite (no NaN)")
         if z[0] != 0.0:
             raise AreaError(f"sound-speed profile: must start at the surface, 0 m, got {z[0]} m")
-        if np.any(np.diff(z) <= 0):
-            i = int(np.argmax(np.diff(z) <= 0))
-            raise AreaError(f"sound-speed profile: depths must increase strictly, "
-                            f"got {z[i]} m then {z[i + 1]} m")
-        bad = (c < MIN_SPEED_MPS) | (c > MAX_SPEED_MPS)
-        if np.any(bad):
-            i = int(np.argmax(bad))
+        _check_depths_and_option(z, self.interpolation, "sound-speed profile")
+        i = speed_outside(c)
+        if i is not None:
             raise AreaError(f"sound-speed profile: speed {c[i]} m/s at {z[i]} m is outside "
                             f"[{MIN_SPEED_MPS:g}, {MAX_SPEED_MPS:g}] m/s")
-        if self.interpolation not in ("C", "S", "N", "P"):
-            raise AreaError(f"sound-speed profile: interpolation must be one of C, S, N, P, "
-                            f"got {self.interpolation!r}")
 
     @property
     def bottom_m(self) -> float:
@@ -154,12 +163,7 @@ class TsProfile:
             raise AreaError("T/S profile: depths must be finite (no NaN)")
         if z[0] != 0.0:
             raise AreaError(f"T/S profile: must start at the surface, 0 m, got {z[0]} m")
-        if np.any(np.diff(z) <= 0):
-            i = int(np.argmax(np.diff(z) <= 0))
-            raise AreaError(f"T/S profile: depths must increase strictly, got {z[i]} m then {z[i + 1]} m")
-        if self.interpolation not in ("C", "S", "N", "P"):
-            raise AreaError(f"T/S profile: interpolation must be one of C, S, N, P, "
-                            f"got {self.interpolation!r}")
+        _check_depths_and_option(z, self.interpolation, "T/S profile")
 
     @property
     def bottom_m(self) -> float:

@@ -37,8 +37,12 @@ def tiny_grid(tiny_area) -> "xr.Dataset":  # noqa: F821
 
 @pytest.fixture(scope="session")
 def tiny_grid_file(tiny_grid, tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("grid") / "tiny-munk-bellhop.nc"
-    acoustics.write_grid(tiny_grid, path)
+    return _written(tiny_grid, tmp_path_factory.mktemp("grid") / "tiny-munk-bellhop.nc")
+
+
+def _written(grid, path: Path) -> Path:
+    """A grid written to ``path`` (a session's grid file)."""
+    acoustics.write_grid(grid, path)
     return path
 
 
@@ -54,11 +58,10 @@ def tiny_depth_area(tiny_area) -> envdata.Area:
 
 @pytest.fixture(scope="session")
 def tiny_depth_grid(tiny_depth_area) -> "xr.Dataset":  # noqa: F821
+    """The grid of the tiny area with the submarine's depth uncertain (``tl_obs_db`` in it)."""
     return acoustics.build_grid(tiny_depth_area, workers=2)
 
 
 @pytest.fixture(scope="session")
 def tiny_depth_grid_file(tiny_depth_grid, tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("depth-grid") / "tiny-munk-depth.nc"
-    acoustics.write_grid(tiny_depth_grid, path)
-    return path
+    return _written(tiny_depth_grid, tmp_path_factory.mktemp("depth-grid") / "tiny-munk-depth.nc")

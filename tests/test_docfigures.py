@@ -26,12 +26,17 @@ def test_every_committed_table_is_what_its_result_file_gives():
     assert done.returncode == 0, done.stdout + done.stderr
 
 
-def test_a_table_that_differs_from_its_file_is_found(tmp_path):
-    # the check above could pass by comparing nothing: a page copied with one figure changed fails
+def _copied_pages(folder: Path) -> Path:
+    """README and docs/ (the result files with them) copied into ``folder``; the copy's README."""
     for part in ("README.md", "docs"):
         src = REPO / part
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / part)
-    readme = tmp_path / "README.md"
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, folder / part)
+    return folder / "README.md"
+
+
+def test_a_table_that_differs_from_its_file_is_found(tmp_path):
+    # the check above could pass by comparing nothing: a page copied with one figure changed fails
+    readme = _copied_pages(tmp_path)
     text = readme.read_text()
     start = text.index("<!-- docfigures grids -->")
     row = text.index("| 2 workers vs 1 |", start)
@@ -39,6 +44,19 @@ def test_a_table_that_differs_from_its_file_is_found(tmp_path):
     readme.write_text(text[:row] + "| 2 workers vs 1 | 9.99x | >= 1.7 |" + text[end:])
     done = _docfigures("--check", "--root", str(tmp_path))
     assert done.returncode == 1 and "README.md: grids" in done.stdout, done.stdout + done.stderr
+
+
+def test_a_figure_quoted_in_prose_that_differs_from_its_file_is_found(tmp_path):
+    # prose is checked, not rewritten: the atlas's store size ratio changed in a copied README
+    readme = _copied_pages(tmp_path)
+    text = readme.read_text()
+    assert "the store is 0.21 of its raw" in text
+    readme.write_text(text.replace("the store is 0.21 of its raw", "the store is 0.12 of its raw"))
+    done = _docfigures("--check", "--root", str(tmp_path))
+    assert done.returncode == 1 and "atlas.json store.store_over_raw" in done.stdout, done.stdout + done.stderr
+    # and a rewrite leaves the prose to its author
+    _docfigures("--root", str(tmp_path))
+    assert "the store is 0.12 of its raw" in readme.read_text()
 
 
 def _result_files():

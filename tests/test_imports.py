@@ -1,6 +1,8 @@
 """The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle;
-inside ``acoustics`` its sub-packages by role, inside ``tools`` the studies (which build tables
-and run the trackers) below the commands that run them, and the tracker never building tables.
+inside ``acoustics`` its sub-packages by role, inside ``acoustics.grid`` what a grid is and its
+face below the atlas store below the one way in, inside ``tools`` the studies (which build
+tables and run the trackers) below the commands that run them, the tracker never building
+tables and reading them through the face alone.
 
 Read from the source (every ``import`` statement, those inside functions too), so a lazy import
 that closes a circle is caught as well as one at the top of a module.
@@ -21,7 +23,14 @@ ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plot
                    "sensitivity": 5}
 #: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
 #: the tracker by the layers) below the command line and its command modules at the root.
-TOOLS_RANKS = {"studies": 0, "": 1}
+TOOLS_RANKS = {"studies": 0, "stonesoup": 0, "": 1}
+#: The optional Stone Soup glue (the ``stonesoup`` extra): the only package that imports Stone Soup.
+STONESOUP_GLUE = "tools.stonesoup"
+#: Inside ``acoustics.grid``: what a grid is, its face and their kernels (rank 0, every module not
+#: named), the atlas's store over them, and the one way in (``open_tables``) over both.
+GRID_RANKS = {"atlas": 1, "opentables": 2}
+#: What of ``acoustics.grid`` the tracker may import: the face and what it answers with.
+FACE_MODULES = ("acoustics.grid.face", "acoustics.grid.levelprofile", "acoustics.grid.targetdepth")
 #: What builds or computes tables: the tracker takes tables (the grid's face) and never these.
 TABLE_MAKERS = ("acoustics.bellhop", "acoustics.ram", "acoustics.builder", "acoustics.nx2d",
                 "acoustics.sensitivity")
@@ -125,7 +134,7 @@ def test_no_layer_imports_a_higher_one():
 def test_the_layer_check_finds_an_upward_arrow():
     # planted: the tracker importing a study (the studies rank above it, in tools/) and the
     # formulas importing the tracker; the studies' own downward arrows stay unflagged
-    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.tables"},
+    graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.face"},
              "acoustics.kcurve": {"tracker.ranging"},
              "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"}}
     assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"), ("tracker.track", "tools.studies.gm")]
@@ -159,9 +168,52 @@ def test_the_rank_check_finds_an_upward_arrow():
     # the builders, and one from the root formulas up to the figures, are found; downward ones not
     graph = {"acoustics.bellhop.runner": {"acoustics.builder.executor", "acoustics.errors"},
              "acoustics.kcurve": {"acoustics.plots.figures"},
-             "acoustics.plots.figures": {"acoustics.grid.tables", "acoustics.kcurve"}}
+             "acoustics.plots.figures": {"acoustics.grid.face", "acoustics.kcurve"}}
     assert upward_in_acoustics(graph) == [("acoustics.bellhop.runner", "acoustics.builder.executor"),
                                           ("acoustics.kcurve", "acoustics.plots.figures")]
+
+
+def grid_rank(module: str) -> int:
+    """Rank of an ``acoustics.grid`` module (`GRID_RANKS`; 0 for what a grid is and its face)."""
+    parts = module.split(".")
+    return GRID_RANKS.get(parts[2], 0) if len(parts) > 2 else max(GRID_RANKS.values()) + 1
+
+
+def upward_in_grid(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows inside ``acoustics.grid`` from a lower rank to a higher one."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.startswith("acoustics.grid.") and b.startswith("acoustics.grid.")
+                  and grid_rank(b) > grid_rank(a))
+
+
+def tracker_past_the_face(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Arrows from the tracker into ``acoustics.grid`` beyond the face (`FACE_MODULES`)."""
+    return sorted((a, b) for a, targets in graph.items() for b in targets
+                  if a.split(".")[0] == "tracker" and b.startswith("acoustics.grid") and b not in FACE_MODULES)
+
+
+def test_the_grid_core_the_atlas_and_the_way_in_stand_in_order():
+    assert upward_in_grid(_graph(_modules())) == []
+    mods = _modules()
+    assert {"acoustics.grid.face", "acoustics.grid.opentables", "acoustics.grid.atlas.store",
+            "acoustics.grid.atlas.follow", "acoustics.grid.atlas.format"} <= set(mods)
+
+
+def test_the_tracker_reads_tables_through_the_face():
+    assert tracker_past_the_face(_graph(_modules())) == []
+
+
+def test_the_grid_and_face_checks_find_their_arrows():
+    # planted: the face importing the atlas's following tables, the store importing the way in, the
+    # tracker opening a store; allowed arrows (the atlas on the face, the way in on the store) unflagged
+    graph = {"acoustics.grid.face": {"acoustics.grid.atlas.follow", "acoustics.grid.lookup"},
+             "acoustics.grid.atlas.store": {"acoustics.grid.opentables", "acoustics.grid.checked"},
+             "acoustics.grid.opentables": {"acoustics.grid.atlas.store", "acoustics.grid.face"},
+             "tracker.track": {"acoustics.grid.atlas.store", "acoustics.grid.face"},
+             "tracker.simulate": {"acoustics.grid.levelprofile", "acoustics.errors"}}
+    assert upward_in_grid(graph) == [("acoustics.grid.atlas.store", "acoustics.grid.opentables"),
+                                     ("acoustics.grid.face", "acoustics.grid.atlas.follow")]
+    assert tracker_past_the_face(graph) == [("tracker.track", "acoustics.grid.atlas.store")]
 
 
 def tools_rank(module: str) -> int:
@@ -202,10 +254,42 @@ def test_the_tools_and_tracker_checks_find_their_arrows():
     # the studies used to draw from tracker/), and allowed arrows that must stay unflagged
     graph = {"tools.studies.shelf": {"tools.experiment_cmd", "tools.studies.shelf_plot", "tracker.track"},
              "tools.experiment_cmd": {"tools.studies.shelf", "tools.report"},
-             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.tables"},
-             "tracker.simulate": {"acoustics.grid.tables", "acoustics.levelrange"}}
+             "tracker.studies.depth": {"acoustics.builder.gridfile", "acoustics.grid.face"},
+             "tracker.simulate": {"acoustics.grid.face", "acoustics.levelrange"}}
     assert upward_in_tools(graph) == [("tools.studies.shelf", "tools.experiment_cmd")]
     assert tracker_table_makers(graph) == [("tracker.studies.depth", "acoustics.builder.gridfile")]
+
+
+def external_imports(path: Path) -> set[str]:
+    """The top-level names of every module ``path`` imports (those inside functions too)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            out.add(node.module.split(".")[0])
+    return out
+
+
+def stonesoup_importers(mods: dict[str, Path]) -> list[str]:
+    """Modules outside the Stone Soup glue that import Stone Soup."""
+    return sorted(name for name, path in mods.items()
+                  if not (name == STONESOUP_GLUE or name.startswith(STONESOUP_GLUE + "."))
+                  and "stonesoup" in external_imports(path))
+
+
+def test_only_the_glue_imports_stone_soup():
+    # the core runs without the optional extra; `make demo` does not install it
+    mods = _modules()
+    assert stonesoup_importers(mods) == []
+    assert "stonesoup" in external_imports(mods["tools.stonesoup.model"])  # the scan sees the glue's
+
+
+def test_the_stone_soup_check_finds_an_importer(tmp_path):
+    planted = tmp_path / "face.py"
+    planted.write_text("def f():\n    from stonesoup.types.state import State\n")
+    assert stonesoup_importers({"acoustics.grid.face": planted, "tools.stonesoup.x": planted}) == \
+        ["acoustics.grid.face"]
 
 
 def test_the_import_graph_has_no_circle():

@@ -52,7 +52,7 @@ def register(sub, common) -> None:
 
 
 def _check_store_out(out: Path, force: bool) -> None:
-    from acoustics.grid.atlasstore import is_atlas_store
+    from acoustics.grid.atlas.format import is_atlas_store
     from tools.outputs import check_output_dir
 
     try:
@@ -91,53 +91,53 @@ def run_build(args) -> Report:
 
 
 def run_show(args) -> Report:
-    from acoustics.grid.atlas import open_atlas
+    from acoustics.grid.atlas.store import open_store
 
-    atlas = open_atlas(args.store)
+    store = open_store(args.store)
     size = sum(f.stat().st_size for f in Path(args.store).rglob("*") if f.is_file())
-    info = {"file": str(args.store), "area": atlas.area.name, "months": atlas.months.tolist(),
-            "positions": int(atlas.lat_deg.size), "classes": list(atlas.class_names), "bands": list(atlas.band_names),
-            "bearings": int(atlas.bearing_deg.size), "depths": int(atlas.depth_m.size),
-            "ranges": int(atlas.range_m.size), "range_max_m": float(atlas.range_m[-1]),
-            "tables_done": int(atlas.done.sum()), "tables": int(atlas.done.size), "left_out": atlas.left_out,
-            "store_bytes": size, "tmakit_format": atlas.attrs.get("tmakit_format")}
-    lines = [f"{args.store}: atlas of area {atlas.area.name} (tmakit format {info['tmakit_format']})",
+    info = {"file": str(args.store), "area": store.area.name, "months": store.months.tolist(),
+            "positions": int(store.lat_deg.size), "classes": list(store.class_names), "bands": list(store.band_names),
+            "bearings": int(store.bearing_deg.size), "depths": int(store.depth_m.size),
+            "ranges": int(store.range_m.size), "range_max_m": float(store.range_m[-1]),
+            "tables_done": int(store.done.sum()), "tables": int(store.done.size), "left_out": store.left_out,
+            "store_bytes": size, "tmakit_format": store.attrs.get("tmakit_format")}
+    lines = [f"{args.store}: atlas of area {store.area.name} (tmakit format {info['tmakit_format']})",
              f"  months {', '.join(map(str, info['months']))}; {info['positions']} positions; classes "
              f"{', '.join(info['classes'])}; bands {', '.join(info['bands'])}",
              f"  {info['bearings']} radials x {info['depths']} depths x {info['ranges']} ranges to "
              f"{info['range_max_m'] / 1000:g} km; {size / 2**20:.1f} MiB on disk",
              f"  tables complete: {info['tables_done']} of {info['tables']}"]
-    if atlas.left_out:
-        lines.append(f"  left out ({len(atlas.left_out)}):")
-        lines += [f"    {p['lat_deg']:.4f} N {p['lon_deg']:.4f} E: {p['reason']}" for p in atlas.left_out]
+    if store.left_out:
+        lines.append(f"  left out ({len(store.left_out)}):")
+        lines += [f"    {p['lat_deg']:.4f} N {p['lon_deg']:.4f} E: {p['reason']}" for p in store.left_out]
     return Report("\n".join(lines), info)
 
 
 def run_plot(args) -> Report:
-    from acoustics.grid.atlas import open_atlas
+    from acoustics.grid.atlas.store import open_store
     from acoustics.plots.atlasmap import coverage_figure
     from acoustics.plots.figures import save_figure
 
     out = check_output_file(args.out, Kind.PNG, force=args.force)
     if args.range_km is not None and not (args.range_km > 0 and args.range_km < 1e5):
         raise InputError(f"--range-km: must be > 0 km, got {args.range_km}")
-    atlas = open_atlas(args.store)
-    fig, values = coverage_figure(atlas, what=args.what, cls_name=args.cls_name, band=args.band, month=args.month,
+    store = open_store(args.store)
+    fig, values = coverage_figure(store, what=args.what, cls_name=args.cls_name, band=args.band, month=args.month,
                                   range_m=None if args.range_km is None else 1000.0 * args.range_km)
     save_figure(fig, out)
-    return Report(f"wrote {out}: coverage map of {atlas.area.name} ({args.what})",
+    return Report(f"wrote {out}: coverage map of {store.area.name} ({args.what})",
                   {"file": str(out), "values": [None if v != v else float(v) for v in values]})
 
 
 def run_sample(args) -> Report:
-    from acoustics.grid.atlas import open_atlas
-    from acoustics.grid.atlassample import read_points, sample_atlas
+    from acoustics.grid.atlas.sample import read_points, sample_store
+    from acoustics.grid.atlas.store import open_store
     from envdata.files import atomic_path
 
     out = check_output_file(args.out, Kind.CSV, force=args.force)
     points = read_points(args.points)
-    atlas = open_atlas(args.store)
-    result = sample_atlas(atlas, points, str(args.points))
+    store = open_store(args.store)
+    result = sample_store(store, points, str(args.points))
     with atomic_path(out) as tmp:
         result.to_csv(tmp, index=False, float_format="%.4f")
     return Report(f"wrote {out}: {len(result)} rows with k_db and tl_db from {args.store}",

@@ -49,14 +49,14 @@ def run(args) -> Report:
     from acoustics.plots.gridplots import PlotRequest, plot_grid
     from acoustics.plots.radialplots import plot_map_set
 
-    tables = acoustics.open_grid(grid_path)
+    tables = acoustics.open_tables(grid_path)
     plots = []
     for cls_name in tables.class_names:
         png = args.out / f"{envdata.DEFAULT_AREA}-{cls_name}.png"
         plot_grid(tables, png, PlotRequest(cls_name=cls_name))
         plots.append(str(png))
     map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
-    plot_map_set(acoustics.open_grid(map_grid), map_pngs, grid_path=map_grid)
+    plot_map_set(acoustics.open_tables(map_grid), map_pngs, grid_path=map_grid)
     plots.extend(str(p) for p in map_pngs.values())
     state = "up to date" if info.up_to_date else f"built in {info.wall_seconds:.1f} s"
     map_state = "up to date" if map_info.up_to_date else f"built in {map_info.wall_seconds:.1f} s"

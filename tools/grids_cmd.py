@@ -140,7 +140,7 @@ def run_show(args) -> Report:
     import acoustics
     from acoustics.grid.summary import grid_summary
 
-    s = grid_summary(acoustics.open_grid(args.file))
+    s = grid_summary(acoustics.open_tables(args.file))
     lines = [f"{args.file}: area {s.area}, model {s.model}, observer at {s.observer_depth_m:g} m",
              "  dims: " + ", ".join(f"{k} {v}" for k, v in s.sizes.items()),
              f"  range {s.range_m[0]:g}-{s.range_m[1]:g} m, depth {s.depth_m[0]:g}-{s.depth_m[1]:g} m",
@@ -173,7 +173,7 @@ def run_plot(args) -> Report:
     import acoustics
     from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 
-    tables = acoustics.open_grid(args.file)
+    tables = acoustics.open_tables(args.file)
     request = PlotRequest(cls_name=args.cls_name, band=args.band,
                           what=None if args.what is None else What(args.what), bearing_deg=args.bearing,
                           bathymetry=args.bathymetry, grid_path=args.file)
@@ -207,7 +207,7 @@ def run_compare(args) -> Report:
 
     if args.plot is not None:
         check_output_file(args.plot, Kind.PNG, force=args.force)
-    comparison = compare_grids(acoustics.open_grid(args.file_a), acoustics.open_grid(args.file_b))
+    comparison = compare_grids(acoustics.open_tables(args.file_a), acoustics.open_tables(args.file_b))
     data = comparison.to_dict()
     lines = [f"{args.file_b} ({comparison.model_b}) against {args.file_a} ({comparison.model_a}), "
              f"area {comparison.area}: |dTL| and |dK|, median / 90th percentile, dB",

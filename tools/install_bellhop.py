@@ -24,22 +24,14 @@ import zipfile
 from pathlib import Path
 
 from acoustics.bellhop.exe import INSTALL_DIR, MANIFEST_NAME, installed_exe3d_path, installed_exe_path
-from acoustics.bellhop.selftest import TINY_ENV
+from acoustics.bellhop.selftest import TINY_CHANNEL, TINY_ENV
 
 VERSION = "0.2.1"
 WHEEL_PLATFORMS = {"x86_64": "manylinux_2_28_x86_64", "aarch64": "manylinux_2_28_aarch64"}
 EXECUTABLES = ("bellhop.exe", "bellhop3d.exe")
 
 # The 2-D self-test's isovelocity channel for BELLHOP3D: Nx2D, two bearings, a flat bottom.
-TINY_ENV3D = """'tmakit self-test 3D'
-100.0
-1
-'CVW '
-0 0.0 100.0
-0.0 1500.0 /
-100.0 1500.0 /
-'A' 0.0
-100.0 1600.0 0.0 1.8 0.8 /
+TINY_ENV3D = "'tmakit self-test 3D'\n" + TINY_CHANNEL + """100.0 1600.0 0.0 1.8 0.8 /
 1
 0.0 /
 1

@@ -1,7 +1,7 @@
 """ln L of depth from the levels of every band along a track (`tracker.depthpost`'s model),
 read from the tables: `TrackDepthLikelihood`.
 
-For each band the table of K against target depth and range (``GridTables.target_depth_k``,
+For each band the table of K against target depth and range (``Tables.target_depth_k``,
 per radial) is averaged over the range uncertainty with its spread (`tracker.kstructure`), on
 the rows of the depth axis the span needs, once. Along a track (the target's estimated
 positions, the observer's) the residuals W - (P0 + K_s + G) and the variances eq. 11's
@@ -23,7 +23,7 @@ class TrackDepthLikelihood:
 
     Parameters
     ----------
-    tables : GridTables
+    tables : Tables
         Tables that serve any target depth (``serves_target_depth``).
     ic : int
         The class.

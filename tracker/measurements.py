@@ -276,6 +276,14 @@ def read_measurements(path: str | os.PathLike, grid_band_names: Sequence[str] | 
     def number(cell: str, where: str, column: str, unit: str, *, blank_ok: bool) -> float:
         return parse_number(cell, f"{src}: {where}, column {column}", unit, blank_ok=blank_ok)
 
+    def decibels(cell: str, where: str, column: str, bounds: tuple[float, float], unit: str) -> float:
+        """A level or SNR cell: blank (NaN), or a number of dB within ``bounds``."""
+        v = number(cell, where, column, "dB", blank_ok=True)
+        if not math.isnan(v) and not bounds[0] <= v <= bounds[1]:
+            raise MeasurementFileError(f"{src}: {where}, column {column}: {v:g} dB is outside "
+                                       f"[{bounds[0]:g}, {bounds[1]:g}] {unit}")
+        return v
+
     for row in reader:
         if not any(cell.strip() for cell in row):
             continue
@@ -309,20 +317,8 @@ def read_measurements(path: str | os.PathLike, grid_band_names: Sequence[str] | 
         sigma.append(s)
         lv, sn = [], []
         for band, lc, sc in zip(band_names, level_cols, snr_cols):
-            v = number(row[lc], where, LEVEL_PREFIX + band, "dB", blank_ok=True)
-            if not math.isnan(v) and not LEVEL_RANGE_DB[0] <= v <= LEVEL_RANGE_DB[1]:
-                raise MeasurementFileError(f"{src}: {where}, column {LEVEL_PREFIX + band}: {v:g} "
-                                           f"dB is outside [{LEVEL_RANGE_DB[0]:g}, "
-                                           f"{LEVEL_RANGE_DB[1]:g}] dB re 1 uPa")
-            lv.append(v)
-            q = math.nan
-            if sc is not None:
-                q = number(row[sc], where, SNR_PREFIX + band, "dB", blank_ok=True)
-                if not math.isnan(q) and not SNR_RANGE_DB[0] <= q <= SNR_RANGE_DB[1]:
-                    raise MeasurementFileError(f"{src}: {where}, column {SNR_PREFIX + band}: "
-                                               f"{q:g} dB is outside [{SNR_RANGE_DB[0]:g}, "
-                                               f"{SNR_RANGE_DB[1]:g}] dB")
-            sn.append(q)
+            lv.append(decibels(row[lc], where, LEVEL_PREFIX + band, LEVEL_RANGE_DB, "dB re 1 uPa"))
+            sn.append(math.nan if sc is None else decibels(row[sc], where, SNR_PREFIX + band, SNR_RANGE_DB, "dB"))
         levels.append(lv)
         snrs.append(sn)
     if n_row == 0:

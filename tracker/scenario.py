@@ -37,12 +37,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
 from envdata.errors import AreaError
+from envdata.files import builtin_names, builtin_or_path
 from envdata.limits import MAX_POSITION_M, MAX_TIME_S
 from envdata.names import check_name
 from envdata.tomlfile import TomlTable, read_toml
@@ -130,19 +130,12 @@ def target_track(sc: Scenario, t_s):
 
 
 def builtin_scenario_names() -> list[str]:
-    folder = resources.files("envdata") / "scenarios"
-    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+    return builtin_names("scenarios")
 
 
 def scenario_path(name_or_path) -> Path:
-    text = str(name_or_path)
-    if text in builtin_scenario_names():
-        return Path(str(resources.files("envdata") / "scenarios" / f"{text}.toml"))
-    path = Path(text)
-    if path.suffix != ".toml" and not path.exists():
-        raise ScenarioError(f"{text}: no built-in scenario of that name (built-in: "
-                            f"{', '.join(builtin_scenario_names())}) and no such file")
-    return path
+    """Resolve a built-in scenario name or a path to a TOML file."""
+    return builtin_or_path(name_or_path, "scenarios", "scenario", ScenarioError)
 
 
 def load_scenario(name_or_path) -> Scenario:

@@ -20,7 +20,8 @@ import numpy as np
 import pandas as pd
 
 from acoustics.detection import indicator_snr
-from acoustics.grid.tables import GridTables
+from acoustics.errors import ObserverPositionError
+from acoustics.grid.face import Tables
 from envdata.errors import InputError
 from envdata.files import atomic_paths
 from envdata.limits import check_memory
@@ -78,10 +79,10 @@ class TruePaths:
     target_depth_m: float
 
 
-def tables_k(tables: GridTables):
+def tables_k(tables: Tables):
     """The K provider of the tables: K of the class at the target's bearing and range, from the
-    tables where the observer is each cycle (``GridTables.at_observer``), with the target at
-    its own depth (``GridTables.at_target_depth``) when it is off its class's; (E, T, M), dB."""
+    tables where the observer is each cycle (``Tables.at_observer``), with the target at
+    its own depth (``Tables.at_target_depth``) when it is off its class's; (E, T, M), dB."""
 
     def k_of(p: TruePaths) -> np.ndarray:
         cls = tables.classes[p.ic]
@@ -100,19 +101,19 @@ def tables_k(tables: GridTables):
     return k_of
 
 
-def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *,
+def simulate_batch(sc: Scenario, tables: Tables, rng: np.random.Generator, *,
                    dv_mps=0.0, dp0_db=0.0, dk_db=None, k_provider=None) -> SimBatch:
     """Simulate E runs of a scenario.
 
     Parameters
     ----------
     sc : Scenario
-    tables : GridTables
+    tables : Tables
         Propagation grid of the scenario's area; its K(r) of the scenario's class at the
-        scenario's observer depth (`acoustics.grid.tables.GridTables.k_db`) is the "actual" transfer
+        scenario's observer depth (`acoustics.grid.face.Tables.k_db`) is the "actual" transfer
         characteristic, linear in range and held at the ends of the range axis. A target at
         another depth than its class's (``[target] depth_m``) is heard with K at its own depth,
-        from the tables' depth axis (`acoustics.grid.tables.GridTables.at_target_depth`).
+        from the tables' depth axis (`acoustics.grid.face.Tables.at_target_depth`).
     rng : numpy.random.Generator
         Measurement errors (levels, bearings) and, when ``dk_db`` is None, dK.
     dv_mps, dp0_db : array_like, shape (E,) or scalar
@@ -147,10 +148,10 @@ def simulate_batch(sc: Scenario, tables: GridTables, rng: np.random.Generator, *
     ox, oy, _, _ = observer_track(sc, t)
     try:
         tables.check_observers(ox, oy)
+    except ObserverPositionError as exc:  # the position's index is the cycle's
+        raise ScenarioError(f"{sc.source}: the observer's path at t = {t[exc.index]:g} s: {exc.reason}") from None
     except InputError as exc:
-        head, _, rest = str(exc).partition(":")  # "observer 12: ..." -> the cycle at t[12]
-        when = f" at t = {t[int(head.split()[1])]:g} s" if head.startswith("observer ") else ""
-        raise ScenarioError(f"{sc.source}: the observer's path{when}:{rest}") from None
+        raise ScenarioError(f"{sc.source}: the observer's path: {exc}") from None
     # target path per run: offsets change every tack's speed
     xs, ys, cs, vs, ps = [], [], [], [], []
     for j in range(e):
@@ -223,7 +224,7 @@ def truth_of(sim: SimBatch, sc: Scenario, run: int = 0) -> pd.DataFrame:
                          "tack": sim.tack})
 
 
-def simulate(sc: Scenario, tables: GridTables, rng: np.random.Generator, *, k_provider=None):
+def simulate(sc: Scenario, tables: Tables, rng: np.random.Generator, *, k_provider=None):
     """One run: (Measurements, truth DataFrame); dK drawn from the class's k_error_sd_db.
     ``k_provider``: as `simulate_batch`'s."""
     sim = simulate_batch(sc, tables, rng, k_provider=k_provider)

@@ -15,7 +15,8 @@ from enum import StrEnum
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import OBSERVER_DEPTH_TOLERANCE_M, GridTables
+from acoustics.errors import ObserverPositionError
+from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, Tables
 from envdata.errors import InputError
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
@@ -29,7 +30,7 @@ class TargetDepth(StrEnum):
     UNKNOWN = "unknown"  # estimated with the motion (docs/depth.md)
 
 
-def track(tables: GridTables, measurements: Measurements, *, method: Method | str = "ml",
+def track(tables: Tables, measurements: Measurements, *, method: Method | str = "ml",
           rng: np.random.Generator | None = None, cls_name: str | None = None,
           band: str | None = None, ml_params=None, rpf_config=None,
           target_depth: TargetDepth | str | float = TargetDepth.CLASS) -> pd.DataFrame:
@@ -37,8 +38,8 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
 
     Parameters
     ----------
-    tables : GridTables
-        The propagation grid (``acoustics.open_grid``, or ``acoustics.as_tables`` of a dataset).
+    tables : Tables
+        The propagation grid (``acoustics.open_tables``, or ``acoustics.open_tables`` of a dataset).
     measurements : Measurements
         Bearings and band levels (``tracker.measurements.read_measurements``).
     method : {"ml", "rpf", "rpf-bot", "rpf-vp"}
@@ -54,7 +55,7 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
     rpf_config : tracker.rpf.RpfConfig, optional
     target_depth : TargetDepth or float
         ``"class"``: K with the target at its class's depth (the tables as built); a depth, m:
-        K with the target there (``GridTables.at_target_depth``); ``"unknown"``: the depth is
+        K with the target there (``Tables.at_target_depth``); ``"unknown"``: the depth is
         estimated (the particle filters carry it as a state, the ML analysis weighs depth
         hypotheses; the choice and its likelihood ratio are in ``DataFrame.attrs["depth"]``).
         The rows' ``depth_m`` is the depth used or estimated, ``depth_sd_m`` its sd (blank where
@@ -118,15 +119,14 @@ def track(tables: GridTables, measurements: Measurements, *, method: Method | st
     return df if unknown else _assumed_depth(df, tables, depth)
 
 
-def _check_observers(tables: GridTables, m: Measurements) -> None:
+def _check_observers(tables: Tables, m: Measurements) -> None:
     """Every observer position served by the tables (an atlas's: inside its positions)."""
     try:
         tables.check_observers(m.obs_x_m, m.obs_y_m)
+    except ObserverPositionError as exc:  # the position's index -> the file's row, from 1
+        raise MeasurementFileError(f"{m.source}: row {exc.index + 1}, observer position: {exc.reason}") from None
     except InputError as exc:
-        head, _, rest = str(exc).partition(":")  # "observer 12: ..." -> the file's row 13
-        row = int(head.split()[1]) + 1 if head.startswith("observer ") else None
-        raise MeasurementFileError(f"{m.source}: row {row}, observer position:{rest}" if row
-                                   else f"{m.source}: {exc}") from None
+        raise MeasurementFileError(f"{m.source}: {exc}") from None
 
 
 def _target_depth(value) -> TargetDepth | float:
@@ -147,7 +147,7 @@ def _target_depth(value) -> TargetDepth | float:
     return value
 
 
-def _check_target_depth(tables: GridTables, m: Measurements, method: Method, depth) -> None:
+def _check_target_depth(tables: Tables, m: Measurements, method: Method, depth) -> None:
     """The measurements and method a target depth other than the class's needs."""
     if depth is TargetDepth.UNKNOWN and method is Method.RPF_BOT:
         raise InputError("target depth unknown: bearings alone say nothing of the depth; use a "
@@ -162,7 +162,7 @@ def _check_target_depth(tables: GridTables, m: Measurements, method: Method, dep
             f"the class's the grid's TL from the observer serves that depth only")
 
 
-def _assumed_depth(df: pd.DataFrame, tables: GridTables, depth) -> pd.DataFrame:
+def _assumed_depth(df: pd.DataFrame, tables: Tables, depth) -> pd.DataFrame:
     """The rows' ``depth_m``: the depth the tables assumed (the class's, or the one given)."""
     by_class = {c.name: c.depth_m for c in tables.classes}
     df["depth_m"] = ([float(depth)] * len(df) if not isinstance(depth, TargetDepth)

@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from acoustics.plots.figures import new_figure
 from acoustics.plots.setting import draw_setting
 from envdata.geometry import local_plane_to_lat_lon
@@ -31,7 +31,7 @@ ELLIPSES = 8
 FAN_LINES = 24
 
 
-def track_figure(track: pd.DataFrame, measurements: Measurements, tables: GridTables, *,
+def track_figure(track: pd.DataFrame, measurements: Measurements, tables: Tables, *,
                  truth: Truth | None = None, grid_path=None):
     """The figure (module docstring); artists carry gids ``observer``, ``track:CLASS``,
     ``truth``, ``error:CLASS`` (metres against minutes)."""

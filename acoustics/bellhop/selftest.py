@@ -10,16 +10,18 @@ import numpy as np
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 
-# Isovelocity 100 m channel, 100 Hz source at 50 m, receivers at 10 and 90 m out to 1 km.
-TINY_ENV = """'tmakit self-test'
-100.0
+#: The self-tests' isovelocity 100 m channel: 100 Hz, the water's profile and the bottom's kind
+#: (the lines after an .env's title, for BELLHOP and BELLHOP3D alike).
+TINY_CHANNEL = """100.0
 1
 'CVW '
 0 0.0 100.0
 0.0 1500.0 /
 100.0 1500.0 /
 'A' 0.0
-100.0 1600.0 0.0 1.8 0.8 0.0 /
+"""
+# The channel, a source at 50 m, receivers at 10 and 90 m out to 1 km.
+TINY_ENV = "'tmakit self-test'\n" + TINY_CHANNEL + """100.0 1600.0 0.0 1.8 0.8 0.0 /
 1
 50.0 /
 2

@@ -1,10 +1,34 @@
-"""The image pairs of ``acoustics.builder.surfaceimage``, compiled (numba): per receiver, each
-arrival matched with its surface twin, the pair's intensity restored from its stronger member."""
+"""The image pairs of ``acoustics.builder.surfaceimage``, compiled (numba): each arrival's band
+averages, and per receiver each arrival matched with its surface twin, the pair's intensity
+restored from its stronger member."""
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+
+@njit(cache=True)
+def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weights):
+    """Per class and arrival, the band averages of I(f) / A^2 and of I(f) G(theta, f) / A^2:
+    ``attenuation`` is each arrival's volume attenuation at the run frequency (intensity ratio),
+    at frequency f raised to ``ratio[f]``; G = 2 sin^2(2 pi f z sin(theta) / c) at the arrival's
+    receiver depth ``depth_m`` and sound speed ``speed_mps``; ``weights`` (class, frequency)."""
+    n_class, n_freq = weights.shape
+    n = attenuation.size
+    plain = np.zeros((n_class, n))
+    lloyd = np.zeros((n_class, n))
+    for i in range(n):
+        log_a = np.log(max(attenuation[i], 1e-300))
+        path = np.sin(np.radians(angle_deg[i])) * depth_m[i] / speed_mps[i]  # z sin(theta) / c, s
+        for j in range(n_freq):
+            a = np.exp(ratio[j] * log_a)
+            s = np.sin(2.0 * np.pi * freqs_hz[j] * path)
+            g = 2.0 * s * s
+            for c in range(n_class):
+                plain[c, i] += weights[c, j] * a
+                lloyd[c, i] += weights[c, j] * a * g
+    return plain, lloyd
 
 
 @njit(cache=True)

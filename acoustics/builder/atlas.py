@@ -3,11 +3,12 @@
 README "Atlases". The plan (this process): read the area's ``[atlas]``, the box of bathymetry
 every table's radials cross (once), and each month's climatology box (once per month); leave
 out positions on land or shallower than the observer; write the store's template
-(``acoustics.grid.atlasstore``). Then one task per (month, origin) table runs on local threads
+(``acoustics.grid.atlas.format``). Then one task per (month, origin) table runs on local threads
 or Dask workers (``acoustics.builder.executor.run_tasks``; the boxes reach each worker once):
-it samples its radials from the boxes, builds the grid of the area with ``[origin]`` at that
-position exactly as ``acoustics.builder.radial`` builds any such grid, and writes it into its
-own chunks of the store, then its ``done`` flag and the hash of its inputs. Nothing gathers the
+it samples its radials from the boxes, builds the tables of the area with ``[origin]`` at that
+position with the radial-table builder of every bearing-dependent grid
+(``acoustics.builder.radial.radial_tables``: arrays, no dataset), and writes them into its own
+chunks of the store, then its ``done`` flag and the hash of its inputs. Nothing gathers the
 atlas in one process. A rebuild recomputes the tables not done, whose hash changed, or whose
 chunks are missing or fail their checksum.
 """
@@ -23,13 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.bandruns import BuildStats, Model, source_hash
 from acoustics.builder.executor import TaskStats, run_tasks
-from acoustics.builder.radial import DEFAULT_STEP_M, build_radial_grid, depth_axis_m
-from acoustics.grid.atlasstore import (
-    ATLAS_KIND,
+from acoustics.builder.radial import DEFAULT_STEP_M, depth_axis_m, radial_tables
+from acoustics.grid.atlas.format import (
     AtlasFileError,
     check_format,
     clear_done,
@@ -37,16 +36,14 @@ from acoustics.grid.atlasstore import (
     read_attrs,
     remove_store,
     set_done,
+    store_template,
     table_hash_u64,
     table_readable,
-    template_dataset,
     write_table,
     write_template,
 )
-from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.grid.formats import ATLAS_FORMAT
 from acoustics.surface import with_surface_rows
-from acoustics.urick import k_urick_db
 from envdata.area import Area, TlMode
 from envdata.atlasarea import LeftOut, area_for_month, radial_reach, screen_positions, table_area
 from envdata.datafiles import input_file_digests
@@ -79,7 +76,6 @@ class TableContext:
     depth_m: np.ndarray  # the atlas's depth axis
     own_depth_axis: bool  # True: each table on the grid's own axis (no [atlas] depth setting)
     sources: tuple[WaterSources, ...]  # per month
-    inputs: tuple[dict, ...]  # per month
     hashes: np.ndarray  # (months, origins) uint64
 
 
@@ -200,79 +196,27 @@ def compute_table(item: tuple[int, int], context: TableContext) -> dict:
         own = common[common <= deepest + 1e-9]
         own = own if own.size else common[:1]
     stats = BuildStats()
-    ds = build_radial_grid(area_t, model=context.model, workers=1, radials=radials, depth_m=own,
-                           inputs=context.inputs[m], stats=stats)
+    arrays = radial_tables(area_t, model=context.model, workers=1, radials=radials, depth_m=own, stats=stats)
     at = np.searchsorted(common, own)
     on_axis = (at < common.size) & (common[np.minimum(at, common.size - 1)] == own)
-    tl_own = ds["tl_db"].transpose("class", "band", "bearing", "depth", "range").values
+    tl_own = arrays.tl_db
     tl = np.full(tl_own.shape[:3] + (common.size,) + tl_own.shape[4:], np.nan, dtype=np.float32)
     tl[:, :, :, at[on_axis], :] = tl_own[:, :, :, on_axis, :]
-    k = ds["k_db"].transpose("class", "band", "bearing", "range").values
-    bottom = ds["bottom_depth_m"].transpose("bearing", "range").values if m == 0 else None
-    write_table(context.store, m, o, tl, k, bottom)
+    write_table(context.store, m, o, tl, arrays.k_db, arrays.bottom_depth_m if m == 0 else None)
     set_done(context.store, m, o, int(context.hashes[m, o]))
     return {"month": int(context.months[m]), "origin": int(o), "runs": len(stats.runs),
             "bellhop_seconds": float(stats.bellhop_seconds), "seconds": time.perf_counter() - start}
 
 
 def _template(plan: AtlasPlan, store: Path) -> None:
-    area = plan.area
-    rng, depth = plan.range_m, plan.depth_m
-    base = grid_coords(area, depth, rng)
-    coords = {
-        "month": ("month", np.asarray(plan.months, dtype=np.int64),
-                  {"long_name": "month of the climatology (0: the data files' own)"}),
-        "origin": ("origin", np.arange(plan.lat_deg.size, dtype=np.int64),
-                   {"long_name": "observer position index"}),
-        "origin_lat_deg": ("origin", plan.lat_deg, {"units": "degree_north", "standard_name": "latitude",
-                                                   "long_name": "observer position, WGS84"}),
-        "origin_lon_deg": ("origin", plan.lon_deg, {"units": "degree_east", "standard_name": "longitude",
-                                                   "long_name": "observer position, WGS84"}),
-        "origin_row": ("origin", plan.row_col[:, 0], {"long_name": "lattice row, south first (-1: listed)"}),
-        "origin_col": ("origin", plan.row_col[:, 1], {"long_name": "lattice column, west first (-1: listed)"}),
-        "class": ("class", np.arange(len(area.classes), dtype=np.int64),
-                  {"long_name": "target class hypothesis", "labels": json.dumps([c.name for c in area.classes])}),
-        "band": ("band", np.arange(len(area.bands), dtype=np.int64),
-                 {"long_name": "frequency band", "labels": json.dumps([b.name for b in area.bands])}),
-        "bearing": ("bearing", plan.bearing_deg, {"units": "degree", "long_name": "bearing from the observer, "
-                                                                                  "clockwise from true north"}),
-        "depth": ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down", "axis": "Z",
-                                   "long_name": "depth of the point the observer looks at"}),
-        "range": ("range", rng, {"units": "m", "long_name": "range from the observer along the radial"}),
-    }
-    for name in ("band_low_hz", "band_high_hz", "band_center_hz", "source_depth_m"):
-        coords[name] = base[name]
-    prop = area.propagation
-    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
-    k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
-                                  for ib, band in enumerate(area.bands)]) for cls in area.classes])
-    small = {
-        "k_urick_db": (("class", "band", "range"), k_urick,
-                       {"units": "dB", "long_name": "transfer characteristic K(r), Urick approximate formula",
-                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
-        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
-                                             "long_name": "volume attenuation at the band centre"}),
-    }
-    attrs = grid_attrs(area, plan.model, plan.digest, plan.exe_info, water_depth_m=float(depth[-1]),
-                       ssp_interpolation="Q")
-    attrs.update({
-        "tmakit_format": ATLAS_FORMAT, "tmakit_kind": ATLAS_KIND,
-        "title": f"tmakit atlas of bearing-dependent propagation tables for area {area.name}",
-        "history": attrs["created"] + " created by tmakit atlas build",
-        "ray_step_m": float(prop.step_m if prop.step_m is not None else DEFAULT_STEP_M),
-        "left_out": json.dumps([{"lat_deg": p.lat_deg, "lon_deg": p.lon_deg, "reason": p.reason}
-                                for p in plan.left_out]),
-        "input_files": json.dumps({str(m): inp for m, inp in zip(plan.months, plan.inputs)}, sort_keys=True),
-        "depth_axis": "grid" if area.atlas.depth_m is None and area.atlas.depth_step_m is None else "atlas",
-    })
-    if area.atlas.is_lattice:
-        dlat, dlon = area.atlas.step_deg
-        rows, cols = area.atlas.lattice_shape
-        attrs["lattice"] = json.dumps({"lat0_deg": area.atlas.lat_deg[0], "lon0_deg": area.atlas.lon_deg[0],
-                                       "dlat_deg": dlat, "dlon_deg": dlon, "rows": rows, "cols": cols})
-    sizes = {"month": len(plan.months), "origin": plan.lat_deg.size, "class": len(area.classes),
-             "band": len(area.bands), "bearing": plan.bearing_deg.size, "depth": depth.size, "range": rng.size}
-    write_template(store, template_dataset(sizes, coords, small, attrs))
+    """Write the store's template: its format's (``acoustics.grid.atlas.format.store_template``)
+    for the plan."""
+    prop = plan.area.propagation
+    write_template(store, store_template(
+        plan.area, months=plan.months, lat_deg=plan.lat_deg, lon_deg=plan.lon_deg, row_col=plan.row_col,
+        bearing_deg=plan.bearing_deg, depth_m=plan.depth_m, range_m=plan.range_m, model=plan.model,
+        digest=plan.digest, exe_info=plan.exe_info, left_out=plan.left_out, inputs=plan.inputs,
+        ray_step_m=float(prop.step_m if prop.step_m is not None else DEFAULT_STEP_M)))
 
 
 def _differences(store: Path, plan: AtlasPlan) -> str | None:
@@ -357,7 +301,7 @@ def build_atlas_file(area: Area, out: str | Path, *, model: Model | str = Model.
     context = TableContext(store=str(out.resolve()), area=plan.area, model=str(plan.model), months=plan.months,
                            lat_deg=plan.lat_deg, lon_deg=plan.lon_deg, depth_m=plan.depth_m,
                            own_depth_axis=area.atlas.depth_m is None and area.atlas.depth_step_m is None,
-                           sources=plan.sources, inputs=plan.inputs, hashes=plan.hashes)
+                           sources=plan.sources, hashes=plan.hashes)
     # the months of one position one after another; positions interleaved longest first is moot:
     # tables of one area cost about the same
     stats = TaskStats()

@@ -21,7 +21,7 @@ import numpy as np
 from acoustics.builder.bandruns import BuildStats, uses_shortcut
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.radial import DEFAULT_STEP_M, radial_k_db
-from acoustics.builder.surfaceimage import BEAM_FACTOR
+from acoustics.builder.surfaceimage import image_beams
 from envdata.area import Area, TlMode
 from envdata.geometry import Bearings
 
@@ -69,7 +69,7 @@ def build_settings(area: Area) -> dict:
     return {"mode": str(prop.mode), "n_beams": prop.n_beams, "angle_min_deg": prop.angle_min_deg,
             "angle_max_deg": prop.angle_max_deg, "step_m": step, "freqs_per_band": prop.freqs_per_band,
             "one_run_per_band": uses_shortcut(area),
-            "surface_image_beams": prop.n_beams * BEAM_FACTOR if prop.mode is TlMode.SEMICOHERENT else None}
+            "surface_image_beams": image_beams(prop.n_beams) if prop.mode is TlMode.SEMICOHERENT else None}
 
 
 def _sample(area: Area) -> tuple[Area, str]:

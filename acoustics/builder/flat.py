@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.envfile import env_text
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import tl_from_pressure
@@ -47,7 +46,7 @@ from acoustics.grid.dataset import flat_dataset
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
 from acoustics.surface import SURFACE_ROW_M, with_surface_rows
-from acoustics.urick import k_urick_db, spherical_tl_db
+from acoustics.urick import spherical_tl_db, urick_tables
 from envdata.area import Area, TlMode
 from envdata.limits import check_memory
 
@@ -178,7 +177,6 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     if surface:
         depth = with_surface_rows(depth)
     rng = area.grid.range_m()
-    prop = area.propagation
     exe = find_bellhop() if model is Model.BELLHOP else None
     n_cls, n_band = len(area.classes), len(area.bands)
     tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
@@ -186,12 +184,7 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
     # says its depth is uncertain (the extra source depth costs a third more runs on ocean-deep)
     tl_obs = np.empty_like(tl) if needs_observer_tl(area) else None
     k = np.empty((n_cls, n_band, rng.size))
-    k_urick = np.empty((n_cls, n_band, rng.size))
-    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
-
-    for ic, cls in enumerate(area.classes):
-        for ib, band in enumerate(area.bands):
-            k_urick[ic, ib] = k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
+    k_urick, beta = urick_tables(area, rng)
 
     if model is Model.BELLHOP:
         rz = np.unique(np.concatenate([depth, [area.observer.depth_m], [SURFACE_ROW_M] if surface else []]))
@@ -260,9 +253,7 @@ def _build_with_ram(area: Area, model: Model, *, workers: int, scheduler: str | 
     n_cls, n_band = len(area.classes), len(area.bands)
     tl = np.empty((n_cls, n_band, depth.size, rng.size), dtype=np.float32)
     k = np.empty((n_cls, n_band, rng.size))
-    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
-    k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
-                                  for ib, band in enumerate(area.bands)]) for cls in area.classes])
+    k_urick, beta = urick_tables(area, rng)
 
     def on_source(sd, ram_tl, bh_tl) -> None:
         for ic, cls in enumerate(area.classes):

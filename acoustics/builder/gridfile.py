@@ -16,7 +16,8 @@ import envdata
 from acoustics.builder.bandruns import incoherent_surface_notes
 from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
 from acoustics.errors import GridFileError
-from acoustics.grid.io import open_grid, write_grid
+from acoustics.grid.io import write_grid
+from acoustics.grid.opentables import open_tables
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -102,7 +103,7 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
     notes = incoherent_surface_notes(area) if model.runs_bellhop else []
     if out.exists() and not force:
         try:
-            existing = open_grid(out)
+            existing = open_tables(out)
         except GridFileError:
             existing = None  # unreadable: rebuilt below
         if existing is not None and existing.dataset.attrs.get("source_hash") == digest:

@@ -24,12 +24,12 @@ run per radial instead of one per target position.
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.shdfile import tl_from_pressure
@@ -59,7 +59,7 @@ from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
 from acoustics.surface import SURFACE_ROW_M, with_surface_rows
-from acoustics.urick import k_urick_db
+from acoustics.urick import urick_tables
 from envdata.area import Area, TlMode
 from envdata.datafiles import input_file_digests
 from envdata.fieldchange import FieldChange
@@ -197,6 +197,40 @@ def radial_grid_bytes(area: Area, n_depth: int) -> float:
     return 8.0 * len(area.classes) * len(area.bands) * n_bearing * cells + 64.0 * len(area.bands) * cells
 
 
+@dataclass(frozen=True, eq=False, kw_only=True)
+class RadialArrays:
+    """The tables of a bearing-dependent area as arrays: what a grid file and an atlas's table
+    are both made of (`build_radial_grid` wraps them in the grid dataset, an atlas writes them
+    into its store's chunks).
+
+    Attributes
+    ----------
+    bearing_deg : ndarray, shape (N,)
+    depth_m : ndarray, shape (D,)
+    range_m : ndarray, shape (R,)
+    tl_db : ndarray, shape (C, M, N, D, R), float32
+        Band TL between the observer and a point at depth, dB; NaN below the bottom and beyond land.
+    k_db : ndarray, shape (C, M, N, R)
+        K(r) of a target of the class along each radial, dB.
+    bottom_depth_m : ndarray, shape (N, R)
+        Water depth along each radial, m; NaN beyond land.
+    k_urick_db : ndarray, shape (C, M, R)
+    beta_db_per_km : ndarray, shape (M,)
+    exe_info : dict or None
+        The BELLHOP executable that ran (``BellhopExe.describe``), None without BELLHOP.
+    """
+
+    bearing_deg: np.ndarray
+    depth_m: np.ndarray
+    range_m: np.ndarray
+    tl_db: np.ndarray
+    k_db: np.ndarray
+    bottom_depth_m: np.ndarray
+    k_urick_db: np.ndarray
+    beta_db_per_km: np.ndarray
+    exe_info: dict | None
+
+
 def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
                       scheduler: str | None = None, cache_dir: str | Path | None = None,
                       progress: bool = False, stats: BuildStats | None = None,
@@ -208,22 +242,42 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     Parameters as ``acoustics.build_grid``, which calls this for such an area; ``change`` (a
     sensitivity member's change to the data the area reads, ``envdata.fieldchange``) is applied
     before the radials are cut; ``exe`` names the BELLHOP executable (default ``find_bellhop``);
-    and, for a caller that builds many such grids (an atlas, ``acoustics.builder.atlas``):
+    ``radials`` and ``depth_m`` as for `radial_tables`; and
+
+    inputs : dict, optional
+        The data files' digests (``input_file_digests(area.water)``), already computed.
+    """
+    model = Model(model)
+    inputs = inputs if inputs is not None else input_file_digests(area.water)
+    exe_sha = find_bellhop().sha256 if model.runs_bellhop else None
+    digest = source_hash(area, model, exe_sha, inputs, model_settings(model))
+    arrays = radial_tables(area, model=model, workers=workers, scheduler=scheduler, cache_dir=cache_dir,
+                           progress=progress, stats=stats, radials=radials, depth_m=depth_m, change=change,
+                           exe=exe)
+    ds = _dataset(area, model, arrays, digest, inputs)
+    return with_ram_attrs(ds, model) if model.runs_ram else ds
+
+
+def radial_tables(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
+                  scheduler: str | None = None, cache_dir: str | Path | None = None,
+                  progress: bool = False, stats: BuildStats | None = None,
+                  radials: list[Radial] | None = None, depth_m: np.ndarray | None = None,
+                  change: FieldChange | None = None, exe: str | None = None) -> RadialArrays:
+    """The tables of a bearing-dependent area, as arrays: the one radial-table builder of grid
+    files (`build_radial_grid`) and atlases (``acoustics.builder.atlas``, one call per table).
+
+    Parameters as `build_radial_grid`, and
 
     radials : list of Radial, optional
         The area's radials, already sampled (default: ``area_radials(area)``).
     depth_m : ndarray, optional
         The TL depth axis, m (default: ``depth_axis_m``, 0 to the deepest bottom every
         ``[grid] depth_step_m``).
-    inputs : dict, optional
-        The data files' digests (``input_file_digests(area.water)``), already computed.
     """
     model = Model(model)
     exe_path = exe
     stats = stats if stats is not None else BuildStats()
-    inputs = inputs if inputs is not None else input_file_digests(area.water)
     exe = find_bellhop() if model.runs_bellhop else None
-    digest = source_hash(area, model, exe.sha256 if exe else None, inputs, model_settings(model))
     radials = radials if radials is not None else area_radials(area, progress=progress, change=change)
     depth = np.asarray(depth_m, dtype=float) if depth_m is not None else depth_axis_m(area, radials)
     if not model.runs_ram:
@@ -240,9 +294,7 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     tl = np.full((n_c, n_b, n_n, depth.size, rng.size), np.nan, dtype=np.float32)
     k = np.full((n_c, n_b, n_n, rng.size), np.nan)
     prop = area.propagation
-    beta = np.array([float(absorption_db_per_km(b.center_hz, prop.absorption)) for b in area.bands])
-    k_urick = np.stack([np.stack([k_urick_db(rng, band, cls, beta_db_per_km=beta[ib])
-                                  for ib, band in enumerate(area.bands)]) for cls in area.classes])
+    k_urick, beta = urick_tables(area, rng)
 
     def fill(j: int, band_tl_db) -> None:
         """Radial ``j``'s cells from ``band_tl_db(ic, ib)``, the band TL on the receivers."""
@@ -309,9 +361,9 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
                 below = (depth[:, None] > bottom[j][None, :]) | ~np.isfinite(bottom[j])[None, :]
                 tl[:, ib, j] = np.where(below, np.nan, sph[None, :])[None]
                 k[:, ib, j] = np.where(np.isfinite(bottom[j]), k_urick[:, ib], np.nan)
-    ds = _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest,
-                  exe.describe() if exe else None, inputs)
-    return with_ram_attrs(ds, model) if model.runs_ram else ds
+    return RadialArrays(bearing_deg=np.array([rad.bearing_deg for rad in radials]), depth_m=depth, range_m=rng,
+                        tl_db=tl, k_db=k, bottom_depth_m=bottom, k_urick_db=k_urick, beta_db_per_km=beta,
+                        exe_info=exe.describe() if exe else None)
 
 
 def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int = 1,
@@ -349,10 +401,10 @@ def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int =
     return k, bottom
 
 
-def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, digest, exe_info,
-             input_files) -> xr.Dataset:
+def _dataset(area: Area, model: Model, arrays: RadialArrays, digest: str, input_files: dict) -> xr.Dataset:
+    depth, rng, k, k_urick = arrays.depth_m, arrays.range_m, arrays.k_db, arrays.k_urick_db
     coords = grid_coords(area, depth, rng)
-    coords["bearing"] = ("bearing", np.array([rad.bearing_deg for rad in radials]),
+    coords["bearing"] = ("bearing", arrays.bearing_deg,
                          {"units": "degree", "long_name": "bearing from the origin, clockwise from "
                                                          "true north"})
     coords["range"] = ("range", rng, {"units": "m", "long_name": "range from the origin along the "
@@ -365,7 +417,7 @@ def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, dig
     dims4 = ("class", "band", "bearing", "range")
     dims3 = ("class", "band", "range")
     data_vars = {
-        "tl_db": (dims5, tl, {"units": "dB", "long_name": "band transmission loss between the "
+        "tl_db": (dims5, arrays.tl_db, {"units": "dB", "long_name": "band transmission loss between the "
                                                           "observer and a point at depth",
                               "reference": "1 m from the source", "fixed_end": "observer",
                               "comment": "BELLHOP from the observer at the origin (reciprocity); "
@@ -382,13 +434,13 @@ def _dataset(area, model, radials, depth, rng, tl, k, k_urick, bottom, beta, dig
         "anomaly_db": (dims4, k - k_urick[:, :, None, :],
                        {"units": "dB", "long_name": "propagation anomaly 10 lg A implied by the model",
                         "reference": "K(r) minus the Urick K(r) with A = 1"}),
-        "bottom_depth_m": (("bearing", "range"), bottom,
+        "bottom_depth_m": (("bearing", "range"), arrays.bottom_depth_m,
                            {"units": "m", "long_name": "water depth along the radial", "positive": "down",
                             "comment": "bathymetry sampled bilinearly along WGS84 geodesics; NaN beyond land"}),
-        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
+        "beta_db_per_km": (("band",), arrays.beta_db_per_km, {"units": "dB km-1",
                                              "long_name": "volume attenuation at the band centre"}),
     }
-    attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=float(depth[-1]),
+    attrs = grid_attrs(area, model, digest, arrays.exe_info, water_depth_m=float(depth[-1]),
                        ssp_interpolation="Q")
     attrs.update({
         "title": f"tmakit bearing-dependent propagation grid for area {area.name}",

@@ -8,8 +8,8 @@ on one leg of its reflection only, so with the default fan K of a 6 m target fro
 came out 2.1 dB lossier than from the target (ocean-deep, 60 km; 1.5 dB at 12 m, 0.8 dB at
 20 m, nothing below 40 m).
 
-One arrivals run (run type 'a') from the observer, with ``BEAM_FACTOR`` times the fan's beams
-and receivers only at the depths within the surface's reach, gives every arrival's intensity
+One arrivals run (run type 'a') from the observer, with more beams than the fan
+(``image_beams``) and receivers only at the depths within the surface's reach, gives every arrival's intensity
 I (spreading and bottom loss; volume attenuation at the run's frequency, rescaled to each
 frequency of a band through its path's attenuation), its angle theta at the receiver and its
 surface reflections. Each arrival and its surface image form a pair that carries the Lloyd
@@ -37,10 +37,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.bellhop.arrfile import Arrivals
-from acoustics.surface import lloyd_factor
 
-#: The arrivals run's beams, times the area's fan (same angles); see the module's measurements.
-BEAM_FACTOR = 4
+#: The arrivals run's beams (the fan's angles): at least this many, and at least twice the fan's.
+#: Measured (docs/results/surface.json and the module's measurements above): K of ocean-deep's
+#: 6-8 m ships from the observer to 40 km against their own runs, worst class and band, 0.20 dB
+#: median with 6000 beams, 0.49 dB with 3000.
+IMAGE_MIN_BEAMS = 6000
+
+
+def image_beams(n_beams: int) -> int:
+    """Beams of the arrivals run for a fan of ``n_beams``."""
+    return max(IMAGE_MIN_BEAMS, 2 * int(n_beams))
+
+
 #: Two arrivals at one receiver are a pair when their angles' magnitudes differ by less than this,
 #: deg, or than 1.5 times the angle 2 z / r that separates a ray from its image at depth z and range r.
 PAIR_ANGLE_DEG = 0.5
@@ -94,16 +103,9 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     n_class = len(image.bands[0].weights) if image.bands else 0
     out = np.empty((n_class, len(image.bands), nz, nr), dtype=np.float32)
     for ib, band in enumerate(image.bands):
-        weights = np.asarray(band.weights, dtype=float)  # (class, frequency)
         # each arrival's band averages of I(f) and of I(f) G(theta, f): attenuation and the Lloyd
         # factor vary together over the band
-        plain = np.zeros((n_class, amplitude2.size))
-        lloyd = np.zeros((n_class, amplitude2.size))
-        for i, (f, rf) in enumerate(zip(band.freqs_hz, band.attenuation_ratio)):
-            a = attenuation ** rf
-            plain += weights[:, i:i + 1] * a[None, :]
-            g = lloyd_factor(depth, speed, [f], [1.0], arrivals.receiver_angle_deg)
-            lloyd += weights[:, i:i + 1] * (a * g)[None, :]
+        plain, lloyd = _band_sums(attenuation, depth, speed, arrivals.receiver_angle_deg, band)
         for ic in range(n_class):
             intensity = amplitude2 * plain[ic]
             factor = lloyd[ic] / np.maximum(plain[ic], 1e-300)
@@ -111,6 +113,17 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
                                offsets, tolerance)
             out[ic, ib] = (-10.0 * np.log10(np.maximum(total, floor))).reshape(nz, nr)
     return out
+
+
+def _band_sums(attenuation, depth, speed, angle_deg, band: ImageBand) -> tuple[np.ndarray, np.ndarray]:
+    """Each arrival's band averages per class (``acoustics.builder._pairs``, numba)."""
+    from acoustics.builder._pairs import band_sums  # compiled on first use, in the worker
+
+    def arr(x):
+        return np.ascontiguousarray(x, dtype=np.float64)
+
+    return band_sums(arr(attenuation), arr(depth), arr(speed), arr(angle_deg), arr(band.freqs_hz),
+                     arr(band.attenuation_ratio), arr(band.weights))
 
 
 def _pair_sums(intensity, factor, angle_deg, bounces, offsets, tolerance_deg) -> np.ndarray:

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.errors import GridFileError
-from acoustics.grid.tables import GridTables, RadialTables
+from acoustics.grid.face import Tables
+from acoustics.grid.radialtables import RadialTables
 
 #: A TL at or above this is a capped shadow (the grids' ``tl_max_db``, 200 dB by default) less a
 #: margin: compared apart, as an empty cell.
@@ -117,13 +118,13 @@ class GridComparison:
                      "tl_cells": r.tl_cells, "tl_one_sided": r.tl_one_sided} for r in self.rows]}
 
 
-def compare_grids(a: GridTables, b: GridTables) -> GridComparison:
+def compare_grids(a: Tables, b: Tables) -> GridComparison:
     """The differences B - A of two grids of one area.
 
     Parameters
     ----------
-    a, b : GridTables
-        The two grids (``acoustics.open_grid``).
+    a, b : Tables
+        The two grids (``acoustics.open_tables``).
 
     Raises
     ------
@@ -177,7 +178,7 @@ def _row(cls_name: str, band: str, bearing: float | None, d_tl: np.ndarray, d_k:
                      tl_cells=int(tl.size), tl_one_sided=int(np.count_nonzero(one_sided)))
 
 
-def _check_same_axes(a: GridTables, b: GridTables) -> None:
+def _check_same_axes(a: Tables, b: Tables) -> None:
     def refuse(what: str, va, vb) -> None:
         raise GridMismatchError(f"{a.source} and {b.source} are not grids of one area on the same axes: "
                                 f"{what} {va} against {vb}")

@@ -2,7 +2,8 @@
 
 ``flat_dataset`` makes the grid of an area without ``[origin]`` (``tl_db(class, band, depth,
 range)`` from the class's depth); ``acoustics.builder.radial`` makes the bearing-dependent one from
-the same coordinates and attributes (``grid_coords``, ``grid_attrs``).
+the same coordinates and attributes (``grid_coords``, ``grid_attrs``); ``with_k_error_sd`` writes
+a measured K error into a grid (``tmakit sensitivity --into``).
 """
 
 from __future__ import annotations
@@ -117,3 +118,36 @@ def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info
     attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=area.water.depth_m,
                        ssp_interpolation=area.water.ssp.interpolation)
     return xr.Dataset(data_vars, coords=grid_coords(area, depth, rng), attrs=attrs)
+
+
+def with_k_error_sd(ds: xr.Dataset, sd_db: np.ndarray, comment: str, source: str = "<grid>") -> xr.Dataset:
+    """A grid dataset with ``k_error_sd_db`` set (replaced if there), shaped like ``k_db``.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The grid (``Tables.dataset``).
+    sd_db : ndarray
+        (class, band, range), or (class, band, bearing, range) with bearings, in the grid's
+        order; dB, >= 0, NaN unknown.
+    comment : str
+        Where the values come from (a study's file and source_hash), for the attribute.
+    source : str
+        The grid's name in messages.
+
+    Raises
+    ------
+    GridFileError
+        ``sd_db`` not of K's shape.
+    """
+    from acoustics.errors import GridFileError
+
+    canonical = ("class", "band", "bearing", "range") if "bearing" in ds.dims else ("class", "band", "range")
+    sd = np.asarray(sd_db, dtype=float)
+    shape = tuple(ds.sizes[d] for d in canonical)
+    if sd.shape != shape:
+        raise GridFileError(f"{source}: k_error_sd_db of shape {sd.shape} does not fit the grid's K {shape}")
+    dims = ds["k_db"].dims
+    return ds.assign(k_error_sd_db=(dims, np.transpose(sd, [canonical.index(d) for d in dims]), {
+        "units": "dB", "long_name": "sd of the transfer-characteristic error K - K_true",
+        "comment": f"{comment}; NaN where unknown: the class's k_error_sd_db serves there"}))

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.detection import DetectionTerms, detection_terms, farthest_m
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -41,18 +41,18 @@ class DetectionMap:
     range_m: np.ndarray
 
 
-def class_terms(tables: GridTables, cls_name: str) -> DetectionTerms:
+def class_terms(tables: Tables, cls_name: str) -> DetectionTerms:
     """The detection terms of a class of a grid in the grid's bands."""
     return detection_terms(tables.area, tables.classes[tables.class_index(cls_name)], tables.bands)
 
 
-def detection_map(tables: GridTables, cls_name: str, bearing_deg) -> DetectionMap:
+def detection_map(tables: Tables, cls_name: str, bearing_deg) -> DetectionMap:
     """Detection ranges of a class at its mean level along bearings from the grid's observer.
 
     Parameters
     ----------
-    tables : GridTables
-        A grid (``acoustics.open_grid``).
+    tables : Tables
+        A grid (``acoustics.open_tables``).
     cls_name : str
         A class of the grid.
     bearing_deg : array_like, shape (B,)

@@ -1,4 +1,4 @@
-"""A grid without bearings: one profile over a flat bottom (the face of ``acoustics.grid.face``)."""
+"""A grid without bearings: one profile over a flat bottom (a face, ``acoustics.grid.face``)."""
 
 from __future__ import annotations
 
@@ -6,16 +6,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.depthinterp import tl_at_depths
-from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, GridTables, OriginOffset, _bilinear, _range_cells
+from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, OriginOffset, Tables
+from acoustics.grid.lookup import at_ranges, bilinear, tl_at_depths
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class FlatTables(GridTables):
+class FlatTables(Tables):
     """A grid without bearings: one profile over a flat bottom, the same along every bearing.
 
-    Attributes (beyond `GridTables`)
-    --------------------------------
+    Attributes (beyond `Tables`)
+    ----------------------------
     tl_obs_db : ndarray, shape (C, M, D, R), or None
         Band TL from a source at the observer depth to a receiver at ``depth_m``, dB (by
         reciprocity the loss from a target there to the observer); None in grids built before
@@ -44,7 +44,7 @@ class FlatTables(GridTables):
     def serves_target_depth(self) -> bool:
         return self.tl_obs_db is not None
 
-    def _observer_tl_db(self) -> np.ndarray:
+    def observer_tl_db(self) -> np.ndarray:
         return self.tl_obs_db
 
     def _tl_rows(self, depth_m: float) -> np.ndarray:
@@ -67,26 +67,21 @@ class FlatTables(GridTables):
         return self._cache[key]
 
     def k_at(self, ic: int, range_m, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
-        r = np.asarray(range_m, dtype=float)
-        i, i1, fr = _range_cells(self.range_m, r)
-        kc = self.k_db(depth_m)[ic]                                     # (M, R)
-        return np.moveaxis((1.0 - fr) * kc[:, i] + fr * kc[:, i1], 0, -1)
+        return at_ranges(self.k_db(depth_m)[ic], self.range_m, range_m)
 
     def tl_at(self, ic: int, ib: int, depth_m, range_m, bearing_deg=None) -> np.ndarray:
         d, r = np.broadcast_arrays(np.asarray(depth_m, dtype=float), np.asarray(range_m, dtype=float))
         self.check_depth(d)
-        return _bilinear(self.tl_db[ic, ib], self.depth_m, self.range_m, d, r)
+        return bilinear(self.tl_db[ic, ib], self.depth_m, self.range_m, d, r)
 
     def k_typical_db(self, ic: int, ib: int, range_m) -> np.ndarray:
         return np.interp(np.asarray(range_m, dtype=float), self.range_m, self.k_grid_db[ic, ib])
 
-    def _bearing_key(self, bearing_deg):
+    def bearing_key(self, bearing_deg):
         return None
 
-    def _k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
-        i, i1, fr = _range_cells(self.range_m, range_m)
-        sd = self.k_error_sd_grid_db[ic]                                # (M, R)
-        return np.moveaxis((1.0 - fr) * sd[:, i] + fr * sd[:, i1], 0, -1)
+    def k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
+        return at_ranges(self.k_error_sd_grid_db[ic], self.range_m, range_m)
 
     def geometry(self) -> dict[str, float | int | str]:
         return {}

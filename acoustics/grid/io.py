@@ -1,4 +1,5 @@
-"""Grid files: CF-1.8 netCDF4, written atomically; ``open_grid`` is the only way in."""
+"""netCDF files: CF-1.8 netCDF4, written atomically, and loaded with every way they can be
+unreadable turned into one error; grid files are opened by ``acoustics.open_tables``."""
 
 from __future__ import annotations
 
@@ -7,8 +8,6 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from acoustics.errors import GridFileError
-from acoustics.grid.tables import GridTables, as_tables
 from envdata.files import atomic_path, check_input_file
 
 
@@ -61,13 +60,3 @@ def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Data
 def write_grid(ds: xr.Dataset, path: str | Path) -> Path:
     """Write a grid dataset as netCDF4 to ``path`` via a temporary file."""
     return write_netcdf(ds, path)
-
-
-def open_grid(path: str | Path) -> GridTables:
-    """Open a grid file, load it into memory, check it and return its typed face.
-
-    The one way in (``acoustics.grid.tables.as_tables``): dimensions, variables, attributes and
-    their types are checked, ``area_json`` is read back with ``envdata`` (validated like an area
-    file) and checked against the coordinates, and the tables must hold finite values.
-    """
-    return as_tables(load_netcdf(path, GridFileError, "grid"), str(path))

@@ -1,5 +1,6 @@
-"""A bearing-dependent grid: N x 2D radials from the observer at an origin (the face of
-``acoustics.grid.face``)."""
+"""A bearing-dependent grid: N x 2D radials from the observer at an origin (a face,
+``acoustics.grid.face``); an atlas's tables at one observer position are such tables, mixed in dB
+from the positions around it (``acoustics.grid.atlas.follow``)."""
 
 from __future__ import annotations
 
@@ -7,29 +8,38 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, GridTables, OriginOffset, _bilinear, _range_cells
-from acoustics.grid.radialinterp import at_bearings, bearing_weights, mix, nearest_radial
+from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, OriginOffset, Tables
+from acoustics.grid.lookup import along_radials, at_bearings, bearing_weights, bilinear, mix, nearest_radial
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class RadialTables(GridTables):
+class RadialTables(Tables):
     """A bearing-dependent grid: N x 2D radials from the observer at an origin.
 
-    Attributes (beyond `GridTables`)
-    --------------------------------
+    Attributes (beyond `Tables`)
+    ----------------------------
     bearing_deg : ndarray, shape (N,)
         Radials, deg clockwise from true north at the origin.
     bottom_depth_m : ndarray, shape (N, R)
         Water depth along each radial, m; NaN beyond land.
     origin_lat_deg, origin_lon_deg : float
         The origin (WGS84).
+    tl_parts : tuple of (float, ndarray)
+        Tables mixed from others (an atlas's at a position): the weights and TL slabs (C, M, N,
+        D, R) of the tables mixed, ``tl_db`` None; the weighted TL is formed the first time it
+        is asked for (K at another target depth), never for K alone.
     """
 
     bearing_deg: np.ndarray
     bottom_depth_m: np.ndarray
     origin_lat_deg: float
     origin_lon_deg: float
+    tl_parts: tuple = ()
     _depth_role = "observer"
+
+    @property
+    def bearing_axis_deg(self) -> np.ndarray:
+        return self.bearing_deg
 
     @property
     def depth_range_m(self) -> tuple[float, float]:
@@ -45,8 +55,13 @@ class RadialTables(GridTables):
     def serves_target_depth(self) -> bool:
         return True
 
-    def _observer_tl_db(self) -> np.ndarray:
-        return self.tl_db
+    def observer_tl_db(self) -> np.ndarray:
+        if self.tl_db is not None:
+            return self.tl_db
+        key = ("mixed-tl",)
+        if key not in self._cache:
+            self._cache[key] = weighted_sum(self.tl_parts)
+        return self._cache[key]
 
     def _need_bearing(self, bearing_deg) -> None:
         if bearing_deg is None:
@@ -62,25 +77,19 @@ class RadialTables(GridTables):
 
     def k_at(self, ic: int, range_m, depth_m: float | None = None, bearing_deg=None) -> np.ndarray:
         self._need_bearing(bearing_deg)
-        r = np.asarray(range_m, dtype=float)
-        i, i1, fr = _range_cells(self.range_m, r)
         if depth_m is not None:
             self.check_depth(depth_m)
-        kc = self.k_grid_db[ic]                                         # (M, N, R)
-        j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, r.shape))
-        along0 = (1.0 - fr) * kc[:, j0, i] + fr * kc[:, j0, i1]
-        along1 = (1.0 - fr) * kc[:, j1, i] + fr * kc[:, j1, i1]
-        return np.moveaxis(mix(along0, along1, w1), 0, -1)
+        return along_radials(self.k_grid_db[ic], self.bearing_deg, self.range_m, range_m, bearing_deg)
 
     def tl_at(self, ic: int, ib: int, depth_m, range_m, bearing_deg=None) -> np.ndarray:
         self._need_bearing(bearing_deg)
         d, r = np.broadcast_arrays(np.asarray(depth_m, dtype=float), np.asarray(range_m, dtype=float))
-        self._check_point_depth(d)
+        self.check_point_depth(d)
         j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, d.shape))
-        t = self._observer_tl_db()[ic, ib]                              # (N, D, R)
+        t = self.observer_tl_db()[ic, ib]                               # (N, D, R)
         out = np.zeros(d.shape)
         for j in np.unique(np.concatenate([j0.ravel(), j1.ravel()])):
-            a = _bilinear(t[j], self.depth_m, self.range_m, d, r)
+            a = bilinear(t[j], self.depth_m, self.range_m, d, r)
             for jj, w in ((j0, 1.0 - w1), (j1, w1)):
                 take = (jj == j) & (w > 0)  # a radial of weight 0 adds nothing, even a NaN
                 out = out + np.where(take, w * a, 0.0)
@@ -94,18 +103,13 @@ class RadialTables(GridTables):
         out[finite] = np.nanmedian(along[:, finite], axis=0)
         return out
 
-    def _bearing_key(self, bearing_deg):
+    def bearing_key(self, bearing_deg):
         self._need_bearing(bearing_deg)
         return round(float(bearing_deg), 3)
 
-    def _k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
+    def k_error_lookup(self, ic: int, range_m: np.ndarray, bearing_deg) -> np.ndarray:
         self._need_bearing(bearing_deg)
-        i, i1, fr = _range_cells(self.range_m, range_m)
-        sd = self.k_error_sd_grid_db[ic]                                # (M, N, R)
-        j0, j1, w1 = bearing_weights(self.bearing_deg, np.broadcast_to(bearing_deg, range_m.shape))
-        along0 = (1.0 - fr) * sd[:, j0, i] + fr * sd[:, j0, i1]
-        along1 = (1.0 - fr) * sd[:, j1, i] + fr * sd[:, j1, i1]
-        return np.moveaxis(mix(along0, along1, w1), 0, -1)
+        return along_radials(self.k_error_sd_grid_db[ic], self.bearing_deg, self.range_m, range_m, bearing_deg)
 
     def geometry(self) -> dict[str, float | int | str]:
         bottom = self.bottom_depth_m
@@ -129,3 +133,13 @@ class RadialTables(GridTables):
     def nearest_radial(self, bearing_deg: float) -> int:
         """Index of the radial nearest to a bearing (a TL section does not mix two bottoms)."""
         return nearest_radial(self.bearing_deg, bearing_deg)
+
+
+def weighted_sum(parts) -> np.ndarray:
+    """The weighted sum of arrays ``[(weight, array), ...]``, float64 (NaN where any array of
+    weight > 0 is NaN): how tables are mixed in dB."""
+    out = None
+    for w, a in parts:
+        term = w * np.asarray(a, dtype=float)
+        out = term if out is None else out + term
+    return out

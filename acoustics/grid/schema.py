@@ -1,4 +1,4 @@
-"""The grid contract (docs/formats.md "What `open_grid` checks"), checked: what ``open_grid`` lets in.
+"""The grid contract (docs/formats.md "What `open_tables` checks"), checked: what ``open_tables`` lets in.
 
 A grid is refused (``GridFileError``, one line naming the file and what is wrong) when a
 dimension, variable, coordinate or attribute is missing or of the wrong type, when its
@@ -45,8 +45,12 @@ REQUIRED_ATTRS = {"Conventions": str, "area": str, "model": str, "observer_depth
                   "source_hash": str, "area_json": str}
 
 
-def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
-    """Raise GridFileError unless ``ds`` is a grid (docs/formats.md); return the area it stores."""
+def check_grid(ds: xr.Dataset, source: str = "<grid>", *, area: Area | None = None) -> Area:
+    """Raise GridFileError unless ``ds`` is a grid (docs/formats.md); return the area it stores.
+
+    ``area``: the area the dataset was made from in this process; its ``area_json`` is then
+    taken as that area (not parsed again) and still checked against the coordinates.
+    """
     for dim in REQUIRED_DIMS:
         if dim not in ds.dims:
             raise GridFileError(f"{source}: missing dimension {dim!r}")
@@ -76,10 +80,11 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>") -> Area:
     _check_axes(ds, source)
     if by_bearing:
         _check_bearings(ds, source)
-    try:
-        area = area_from_json(ds.attrs["area_json"], source)
-    except AreaError as exc:
-        raise GridFileError(str(exc)) from None
+    if area is None:
+        try:
+            area = area_from_json(ds.attrs["area_json"], source)
+        except AreaError as exc:
+            raise GridFileError(str(exc)) from None
     _check_consistent(ds, area, source)
     _check_optional(ds, source, by_bearing)
     for name in ("tl_db", "k_db"):

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 
 #: Ranges at which a summary gives K, km (those within the grid's range axis).
 SUMMARY_RANGES_KM = (1, 5, 10, 30, 60, 110)
@@ -38,7 +38,7 @@ class GridSummary:
     attrs : dict
         The global attributes but ``area_json``, as plain values.
     geometry : dict
-        ``GridTables.geometry()``: {} for a flat grid, the origin and radials otherwise.
+        ``Tables.geometry()``: {} for a flat grid, the origin and radials otherwise.
     ranges_km : tuple of int
     k : tuple of KSummary
         Per class and band, in grid order.
@@ -57,7 +57,7 @@ class GridSummary:
     k: tuple[KSummary, ...]
 
 
-def grid_summary(tables: GridTables) -> GridSummary:
+def grid_summary(tables: Tables) -> GridSummary:
     """Summarise a grid (`GridSummary`)."""
     ds = tables.dataset
     ranges_km = tuple(r for r in SUMMARY_RANGES_KM if r * 1000 <= tables.range_m[-1])

@@ -10,11 +10,15 @@ observer at the origin), on a flat grid ``tl_obs_db`` (runs with the source at t
 depth; by reciprocity the loss from a target at z to the observer). `TargetDepthK` holds it
 for one class and band, bearing by bearing: a (depth, range) slab per radial (one slab on a
 flat grid), NaN below the bottom and beyond land. Between depths and ranges it is bilinear,
-between radials linear (``acoustics.grid.radialinterp``: a radial of weight 0 does not count).
+between radials linear (``acoustics.grid.lookup``: a radial of weight 0 does not count).
 
 The trackers' rule for where the table has no value (`level_table`): as
-``acoustics.grid.tables.LevelProfile``, the smallest K less ``BEYOND_GRID_PENALTY_DB`` (no
+``acoustics.grid.levelprofile.LevelProfile``, the smallest K less ``BEYOND_GRID_PENALTY_DB`` (no
 target gives that level), and beyond the range axis the last value less the same penalty.
+
+The faces answer through the functions below (``Tables.target_depth_k``,
+``Tables.target_depth_span_m``, ``Tables.at_target_depth``): K from the TL the face holds from
+the observer (``Tables.observer_tl_db``) and the classes' spectral terms.
 """
 
 from __future__ import annotations
@@ -23,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.radialinterp import bearing_weights, nearest_radial
+from acoustics.grid.lookup import bearing_weights, mix, nearest_radial, slab_bilinear, tl_at_depths
+from acoustics.kcurve import spectral_term_db
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 
 
@@ -74,9 +79,9 @@ class TargetDepthK:
                                       np.asarray(range_m, dtype=float),
                                       np.asarray(bearing_deg, dtype=float))
         j0, j1, w1 = self.cells(b)
-        k0 = _bilinear(self.k_db, j0, self.depth_m, self.range_m, d, r)
-        k1 = _bilinear(self.k_db, j1, self.depth_m, self.range_m, d, r)
-        return np.where(w1 <= 0.0, k0, np.where(w1 >= 1.0, k1, (1.0 - w1) * k0 + w1 * k1))
+        k0 = slab_bilinear(self.k_db, j0, self.depth_m, self.range_m, d, r)
+        k1 = slab_bilinear(self.k_db, j1, self.depth_m, self.range_m, d, r)
+        return mix(k0, k1, w1)
 
     def water_depth_m(self) -> float:
         """The deepest depth of the axis with a finite K at some range and bearing, m."""
@@ -93,20 +98,39 @@ class TargetDepthK:
         return k
 
 
-def _bilinear(k: np.ndarray, j: np.ndarray, z: np.ndarray, x: np.ndarray, d: np.ndarray,
-              r: np.ndarray) -> np.ndarray:
-    """Slab ``j`` of ``k`` (J, Z, R) at depths ``d`` and ranges ``r``, ends held."""
-    rc = np.clip(r, x[0], x[-1])
-    i = np.clip(np.searchsorted(x, rc, side="right") - 1, 0, max(x.size - 2, 0))
-    i1 = np.minimum(i + 1, x.size - 1)
-    fr = (rc - x[i]) / (x[i1] - x[i]) if x.size > 1 else np.zeros(r.shape)
-    dc = np.clip(d, z[0], z[-1])
-    m = np.clip(np.searchsorted(z, dc, side="right") - 1, 0, max(z.size - 2, 0))
-    m1 = np.minimum(m + 1, z.size - 1)
-    fz = (dc - z[m]) / (z[m1] - z[m]) if z.size > 1 else np.zeros(d.shape)
-    low = (1.0 - fr) * k[j, m, i] + fr * k[j, m, i1]
-    high = (1.0 - fr) * k[j, m1, i] + fr * k[j, m1, i1]
-    return np.where(fz <= 0.0, low, np.where(fz >= 1.0, high, (1.0 - fz) * low + fz * high))
+def spectral_db(tables) -> np.ndarray:
+    """The spectral term S of every class and band of a face, (C, M), dB (eq. 13)."""
+    return np.array([[spectral_term_db(cls, band) for band in tables.bands] for cls in tables.classes])
 
 
-__all__ = ["TargetDepthK"]
+def target_depth_table(tables, ic: int, ib: int) -> TargetDepthK:
+    """K of one class and band with the target at every depth of a face's axis, per radial:
+    K(z, r) = S - TL_obs(z, r), S the class's spectral term in the band (eq. 13), TL_obs the band
+    TL between the observer and a point at depth z (docs/formats.md, ``tl_obs_db``)."""
+    tl = tables.observer_tl_db()[ic, ib]
+    k = spectral_term_db(tables.classes[ic], tables.bands[ib]) - (tl if tl.ndim == 3 else tl[None])
+    bearings = tables.bearing_axis_deg
+    return TargetDepthK(bearing_deg=np.zeros(0) if bearings is None else np.asarray(bearings, dtype=float),
+                        depth_m=tables.depth_m, range_m=tables.range_m, k_db=k)
+
+
+def target_depth_span(tables, ic: int) -> tuple[float, float]:
+    """Depths a target of class ``ic`` may be at, m: the class's ``depth_range_m``, else the
+    water column a face holds (the top of the depth axis to the deepest water)."""
+    cls = tables.classes[ic]
+    if cls.depth_range_m is not None:
+        return cls.depth_range_m
+    wet = np.isfinite(tables.observer_tl_db()[ic, 0])
+    wet = wet.any(axis=tuple(a for a in range(wet.ndim) if a != wet.ndim - 2))
+    return float(tables.depth_m[0]), float(tables.depth_m[wet][-1] if wet.any() else tables.depth_m[-1])
+
+
+def k_at_target_depth(tables, depth_m: float) -> np.ndarray:
+    """K of every class and band of a face with the target at ``depth_m``, shaped like its
+    ``k_grid_db``, dB: S - TL_obs at that depth (linear in depth)."""
+    s = spectral_db(tables)
+    tl = tl_at_depths(tables.observer_tl_db(), tables.depth_m, [float(depth_m)])[..., 0, :]
+    return s.reshape(s.shape + (1,) * (tl.ndim - 2)) - tl
+
+
+__all__ = ["TargetDepthK", "k_at_target_depth", "spectral_db", "target_depth_span", "target_depth_table"]

@@ -34,8 +34,7 @@ from envdata.bathymetry import open_bathymetry
 from envdata.climatology import open_climatology
 from envdata.errors import AreaError
 from envdata.limits import check_memory
-from envdata.radials import MAX_COLUMN_SPACING_M, SHORE_DEPTH_M, section_depths
-from envdata.ssp import teos10_speed_mps
+from envdata.radials import MAX_COLUMN_SPACING_M, SHORE_DEPTH_M, column_speeds, one_profile
 
 #: Most bathymetry nodes along one side of the box; a larger box samples more coarsely.
 MAX_NODES_PER_SIDE = 2001
@@ -183,14 +182,9 @@ def _bottom_grid(area: Area, bathy, half: float, step_m: float | None):
     x = _axis(half, step_m)
     y = x.copy()
     check_memory(6.0 * 8 * x.size * y.size, f"the {x.size} x {y.size} bathymetry nodes of the box")
-    xx, yy = np.meshgrid(x, y)
-    lat, lon = box_positions(area, xx.ravel(), yy.ravel())
-    inside = bathy.axes.contains(lat, lon)
-    if not inside.all():
-        i = int(np.argmin(inside))
-        raise AreaError(f"{bathy.path}: the box about the origin (half width {half:.0f} m) leaves the "
-                        f"bathymetry file at x = {xx.ravel()[i]:.0f} m, y = {yy.ravel()[i]:.0f} m "
-                        f"({lat[i]:.4f} N {lon[i]:.4f} E; {bathy.axes.describe()})")
+    xx, yy, lat, lon = _nodes_inside(area, x, y, bathy.axes, lambda i, px, py, la, lo: (
+        f"{bathy.path}: the box about the origin (half width {half:.0f} m) leaves the bathymetry file at "
+        f"x = {px:.0f} m, y = {py:.0f} m ({la:.4f} N {lo:.4f} E; {bathy.axes.describe()})"))
     elevation = bathy.load_box(lat, lon).elevation_at(lat, lon)
     if not np.all(np.isfinite(elevation)):
         i = int(np.argmin(np.isfinite(elevation)))
@@ -200,41 +194,33 @@ def _bottom_grid(area: Area, bathy, half: float, step_m: float | None):
     return x, y, bottom
 
 
+def _nodes_inside(area: Area, x: np.ndarray, y: np.ndarray, axes, message):
+    """The box's nodes (x east, y north of the origin, m) as grids and their latitudes and
+    longitudes; AreaError with ``message(i, x, y, lat, lon)`` of the first node outside ``axes``."""
+    xx, yy = np.meshgrid(x, y)
+    lat, lon = box_positions(area, xx.ravel(), yy.ravel())
+    inside = axes.contains(lat, lon)
+    if not inside.all():
+        i = int(np.argmin(inside))
+        raise AreaError(message(i, xx.ravel()[i], yy.ravel()[i], lat[i], lon[i]))
+    return xx, yy, lat, lon
+
+
 def _speed_grid(area: Area, clim, half: float, step_m: float | None, max_depth: float):
-    water = area.water
     corners = np.array([-half, half])
-    if water.ssp is not None:
-        ssp = water.ssp
-        if ssp.bottom_m < max_depth - 1e-6:
-            raise AreaError(f"[water] sound-speed profile: ends at {ssp.bottom_m:g} m, above the deepest "
-                            f"bottom in the box about the origin, {max_depth:.1f} m; give a table to that "
-                            f"depth, or T and S (which continue down)")
-        z = section_depths(ssp.depth_m, max_depth, extend=False)
-        column = np.interp(z, ssp.depth_m, ssp.speed_mps)
-        return corners, corners.copy(), z, np.broadcast_to(column[:, None, None], (z.size, 2, 2))
-    if water.ts is not None:
-        z = section_depths(water.ts.depth_m, max_depth, extend=True)
-        column = water.ts.speed_mps(z, latitude_deg=area.origin.lat_deg, longitude_deg=area.origin.lon_deg)
+    one = one_profile(area, max_depth, f" in the box about the origin, {max_depth:.1f} m")
+    if one is not None:
+        z, column = one
         return corners, corners.copy(), z, np.broadcast_to(column[:, None, None], (z.size, 2, 2))
     if step_m is None:
         step_m = min(MAX_COLUMN_SPACING_M, clim.axes.cell_m(area.origin.lat_deg))
     n = max(2, math.ceil(2.0 * half / step_m - 1e-9) + 1)
     sx = np.linspace(-half, half, n)
     sy = sx.copy()
-    xx, yy = np.meshgrid(sx, sy)
-    lat, lon = box_positions(area, xx.ravel(), yy.ravel())
-    inside = clim.axes.contains(lat, lon)
-    if not inside.all():
-        i = int(np.argmin(inside))
-        raise AreaError(f"{clim.describe()}: the box about the origin (half width {half:.0f} m) leaves the "
-                        f"climatology at {lat[i]:.4f} N {lon[i]:.4f} E")
-    field = clim.load_box(lat, lon)
-    levels = field.depth_m
-    z = section_depths(levels, max_depth, extend=True)
-    t_levels, s_levels = field.columns_at(lat, lon)  # (L, M)
-    t = np.stack([np.interp(z, levels, t_levels[:, m]) for m in range(lat.size)], axis=1)
-    s = np.stack([np.interp(z, levels, s_levels[:, m]) for m in range(lat.size)], axis=1)
-    speed = teos10_speed_mps(z[:, None], t, s, latitude_deg=lat[None, :], longitude_deg=lon[None, :])
+    _, _, lat, lon = _nodes_inside(area, sx, sy, clim.axes, lambda i, px, py, la, lo: (
+        f"{clim.describe()}: the box about the origin (half width {half:.0f} m) leaves the climatology at "
+        f"{la:.4f} N {lo:.4f} E"))
+    z, speed = column_speeds(clim.load_box(lat, lon), (lat, lon), (lat, lon), max_depth)
     if not np.all(np.isfinite(speed)):
         raise AreaError(f"{clim.describe()}: TEOS-10 gives no sound speed in the box about the origin "
                         f"(T or S out of range)")

@@ -1,1 +1,1 @@
-"""How a grid is drawn: every figure, on the grid's typed face (``acoustics.grid.tables``)."""
+"""How a grid is drawn: every figure, on the grid's typed face (``acoustics.grid.face``)."""

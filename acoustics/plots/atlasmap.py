@@ -12,7 +12,7 @@ from enum import StrEnum
 
 import numpy as np
 
-from acoustics.grid.atlas import AtlasTables
+from acoustics.grid.atlas.store import AtlasStore
 from acoustics.grid.detectionmap import detection_map
 from acoustics.plots.figures import new_figure
 from envdata.errors import InputError
@@ -24,54 +24,54 @@ class AtlasWhat(StrEnum):
     K = "k"
 
 
-def coverage_values(atlas: AtlasTables, *, what: AtlasWhat, cls_name: str, band: str | None, month: int,
+def coverage_values(store: AtlasStore, *, what: AtlasWhat, cls_name: str, band: str | None, month: int,
                     range_m: float | None) -> np.ndarray:
     """The map's value at every position (NaN where the table is not built), km or dB."""
-    m = atlas.month_index(month)
-    out = np.full(atlas.lat_deg.size, np.nan)
-    for o in range(atlas.lat_deg.size):
-        if not atlas.done[m, o]:
+    m = store.month_index(month)
+    out = np.full(store.lat_deg.size, np.nan)
+    for o in range(store.lat_deg.size):
+        if not store.done[m, o]:
             continue
-        tables = atlas.sel(month=month, origin=o)
+        tables = store.sel(month=month, origin=o)
         if what is AtlasWhat.DETECTION:
-            dm = detection_map(tables, cls_name, atlas.bearing_deg)
+            dm = detection_map(tables, cls_name, store.bearing_deg)
             ranges = dm.range_m if band is None else dm.band_range_m[tables.band_index(band)]
             out[o] = np.nanmedian(np.where(np.isfinite(ranges), ranges, 0.0)) / 1000.0
         else:
             ib = tables.band_index(band) if band is not None else 0
-            k = tables.k_at(tables.class_index(cls_name), np.full(atlas.bearing_deg.size, range_m),
-                            bearing_deg=atlas.bearing_deg)[ib]
+            k = tables.k_at(tables.class_index(cls_name), np.full(store.bearing_deg.size, range_m),
+                            bearing_deg=store.bearing_deg)[ib]
             out[o] = np.nanmedian(k) if np.isfinite(k).any() else np.nan
     return out
 
 
-def coverage_figure(atlas: AtlasTables, *, what: AtlasWhat | str = AtlasWhat.DETECTION, cls_name: str | None = None,
+def coverage_figure(store: AtlasStore, *, what: AtlasWhat | str = AtlasWhat.DETECTION, cls_name: str | None = None,
                     band: str | None = None, month: int | None = None, range_m: float | None = None):
     """The coverage map (a ``Figure``). Raises InputError for a class, band or month not in the atlas."""
     what = AtlasWhat(what)
-    cls_name = cls_name if cls_name is not None else atlas.class_names[0]
-    if cls_name not in atlas.class_names:
-        raise InputError(f"{atlas.path}: class {cls_name!r} is not in the atlas ({', '.join(atlas.class_names)})")
-    if band is not None and band not in atlas.band_names:
-        raise InputError(f"{atlas.path}: band {band!r} is not in the atlas ({', '.join(atlas.band_names)})")
-    month = int(atlas.months[0]) if month is None else month
-    atlas.month_index(month)
+    cls_name = cls_name if cls_name is not None else store.class_names[0]
+    if cls_name not in store.class_names:
+        raise InputError(f"{store.path}: class {cls_name!r} is not in the atlas ({', '.join(store.class_names)})")
+    if band is not None and band not in store.band_names:
+        raise InputError(f"{store.path}: band {band!r} is not in the atlas ({', '.join(store.band_names)})")
+    month = int(store.months[0]) if month is None else month
+    store.month_index(month)
     if what is AtlasWhat.K:
-        range_m = float(atlas.range_m[atlas.range_m.size // 2]) if range_m is None else range_m
-        if not atlas.range_m[0] <= range_m <= atlas.range_m[-1]:
-            raise InputError(f"{atlas.path}: range {range_m / 1000:g} km is outside the tables' "
-                             f"{atlas.range_m[0] / 1000:g}-{atlas.range_m[-1] / 1000:g} km")
-    values = coverage_values(atlas, what=what, cls_name=cls_name, band=band, month=month, range_m=range_m)
+        range_m = float(store.range_m[store.range_m.size // 2]) if range_m is None else range_m
+        if not store.range_m[0] <= range_m <= store.range_m[-1]:
+            raise InputError(f"{store.path}: range {range_m / 1000:g} km is outside the tables' "
+                             f"{store.range_m[0] / 1000:g}-{store.range_m[-1] / 1000:g} km")
+    values = coverage_values(store, what=what, cls_name=cls_name, band=band, month=month, range_m=range_m)
     fig = new_figure(figsize=(7.5, 6.0), layout="constrained")
     ax = fig.add_subplot()
     # the water depth where the atlas's radials sampled it, from the tables of the first month
     lats, lons, depths = [], [], []
-    for o in range(atlas.lat_deg.size):
-        if not atlas.done[0, o]:
+    for o in range(store.lat_deg.size):
+        if not store.done[0, o]:
             continue
-        bottom = atlas.slab(0, o)[2]
-        for j, bearing in enumerate(atlas.bearing_deg):
-            la, lo = geodesic_points(atlas.lat_deg[o], atlas.lon_deg[o], bearing, atlas.range_m)
+        bottom = store.slab(0, o)[2]
+        for j, bearing in enumerate(store.bearing_deg):
+            la, lo = geodesic_points(store.lat_deg[o], store.lon_deg[o], bearing, store.range_m)
             lats.append(la)
             lons.append(lo)
             depths.append(bottom[j])
@@ -82,15 +82,15 @@ def coverage_figure(atlas: AtlasTables, *, what: AtlasWhat | str = AtlasWhat.DET
             cf = ax.tricontourf(lo[wet], la[wet], d[wet], levels=12, cmap="Blues")
             fig.colorbar(cf, ax=ax, label="water depth, m", shrink=0.8)
     label = (f"median detection range of {cls_name} ({band or 'any band'}), km" if what is AtlasWhat.DETECTION
-             else f"median K of {cls_name} in {band or atlas.band_names[0]} at {range_m / 1000:g} km, dB")
-    sc = ax.scatter(atlas.lon_deg, atlas.lat_deg, c=values, s=120, cmap="viridis", edgecolors="k", zorder=3)
+             else f"median K of {cls_name} in {band or store.band_names[0]} at {range_m / 1000:g} km, dB")
+    sc = ax.scatter(store.lon_deg, store.lat_deg, c=values, s=120, cmap="viridis", edgecolors="k", zorder=3)
     fig.colorbar(sc, ax=ax, label=label, shrink=0.8)
-    if atlas.left_out:
-        ax.scatter([p["lon_deg"] for p in atlas.left_out], [p["lat_deg"] for p in atlas.left_out], marker="x",
+    if store.left_out:
+        ax.scatter([p["lon_deg"] for p in store.left_out], [p["lat_deg"] for p in store.left_out], marker="x",
                    c="0.3", label="left out (land, shallow)", zorder=3)
         ax.legend(loc="lower left", fontsize=8)
     ax.set_xlabel("longitude, deg E")
     ax.set_ylabel("latitude, deg N")
-    ax.set_aspect(1.0 / np.cos(np.radians(float(np.mean(atlas.lat_deg)))))
-    ax.set_title(f"atlas {atlas.area.name}, month {month}: {atlas.lat_deg.size} positions")
+    ax.set_aspect(1.0 / np.cos(np.radians(float(np.mean(store.lat_deg)))))
+    ax.set_title(f"atlas {store.area.name}, month {month}: {store.lat_deg.size} positions")
     return fig, values

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from acoustics.errors import GridFileError
-from acoustics.grid.tables import RadialTables
+from acoustics.grid.radialtables import RadialTables
 from envdata.areafile import area_path, builtin_area_names
 from envdata.bathymetry import ElevationGrid, open_bathymetry
 from envdata.datafiles import BathymetrySource, DataFile, file_sha256

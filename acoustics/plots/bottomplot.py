@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from acoustics.grid.tables import RadialTables
+from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.figures import new_figure
 from acoustics.plots.style import DEG, LAND_COLOR, ORIGIN_STYLE, contour_levels, label_depth, origin_label
 

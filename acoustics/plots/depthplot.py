@@ -1,7 +1,7 @@
 """K against the target's depth and range along one bearing: what the trackers read with the
 target's depth unknown (``tmakit grids plot FILE --out PNG --what depth``).
 
-K(z, r) = S - TL_obs(z, r) of one class and band (``GridTables.target_depth_k``,
+K(z, r) = S - TL_obs(z, r) of one class and band (``Tables.target_depth_k``,
 ``acoustics.grid.targetdepth``): on a bearing-dependent grid along the radial nearest to the
 bearing asked for (not mixed between two radials, for the reason ``acoustics.plots.sectionplot``
 gives), on a flat grid built with ``tl_obs_db`` its one column (the same along every bearing).
@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from acoustics.plots.figures import new_figure, save_figure
 from acoustics.plots.style import DEG, DPI, ORIGIN_STYLE, band_label, check_plot_options, class_label
 
@@ -26,7 +26,7 @@ from acoustics.plots.style import DEG, DPI, ORIGIN_STYLE, band_label, check_plot
 K_PERCENTILES = (2.0, 98.0)
 
 
-def depth_k_figure(tables: GridTables, *, cls_name: str | None = None, band: str | None = None,
+def depth_k_figure(tables: Tables, *, cls_name: str | None = None, band: str | None = None,
                    bearing_deg: float | None = None) -> Figure:
     """K against target depth and range for a class (default: the first) and band (default: the
     first), on the radial nearest to ``bearing_deg`` (default: the first radial) or a flat
@@ -96,7 +96,7 @@ def depth_k_figure(tables: GridTables, *, cls_name: str | None = None, band: str
     return fig
 
 
-def plot_target_depth(tables: GridTables, out: str | Path, *, cls_name: str | None = None,
+def plot_target_depth(tables: Tables, out: str | Path, *, cls_name: str | None = None,
                       band: str | None = None, bearing_deg: float | None = None,
                       dpi: int = DPI) -> Path:
     """Write `depth_k_figure` as PNG to ``out`` (through a temporary file); returns the path."""

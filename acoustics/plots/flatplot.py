@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustics.grid.tables import FlatTables
+from acoustics.grid.flattables import FlatTables
 from acoustics.plots.figures import new_figure, save_figure
 
 

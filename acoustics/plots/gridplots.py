@@ -14,7 +14,9 @@ import functools
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from acoustics.grid.tables import FlatTables, GridTables, RadialTables
+from acoustics.grid.face import Tables
+from acoustics.grid.flattables import FlatTables
+from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.bathymetry import BathymetryChoice, find_bathymetry, load_around_origin
 from acoustics.plots.style import check_plot_options
 from acoustics.plots.what import What
@@ -64,7 +66,7 @@ class GridPlots:
 
 
 @functools.singledispatch
-def plot_paths(tables: GridTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
+def plot_paths(tables: Tables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
     """The files ``plot_grid`` writes for a request, {role: path}: to check before drawing."""
     raise TypeError(f"no figures for {type(tables).__name__}")
 
@@ -84,7 +86,7 @@ def _(tables: RadialTables, out: str | Path, request: PlotRequest) -> dict[str, 
 
 
 @functools.singledispatch
-def plot_grid(tables: GridTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
+def plot_grid(tables: Tables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
     """Write a grid's figures (module docstring), all or none.
 
     Raises
@@ -101,7 +103,7 @@ _BEARING_ONLY = {"band": "a map's band", "what": "a map (K or detection ranges)"
                  "bearing_deg": "a section's bearing", "bathymetry": "a bathymetry file"}
 
 
-def _depth_plot(tables: GridTables, out: str | Path, request: PlotRequest) -> GridPlots:
+def _depth_plot(tables: Tables, out: str | Path, request: PlotRequest) -> GridPlots:
     """K against target depth and range (`What.DEPTH`), on any grid's face."""
     from acoustics.plots.depthplot import plot_target_depth
 

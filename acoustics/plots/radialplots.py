@@ -14,7 +14,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from acoustics.grid.tables import RadialTables
+from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.bottomplot import bottom_figure
 from acoustics.plots.figures import save_figure
 from acoustics.plots.mapplot import map_figure
@@ -44,7 +44,7 @@ def plot_bearing_grid(tables: RadialTables, out: str | Path, *, what: What | str
     Parameters
     ----------
     tables : RadialTables
-        A bearing-dependent grid (``acoustics.open_grid``).
+        A bearing-dependent grid (``acoustics.open_tables``).
     out : path
         The map's PNG; the others go beside it (``bearing_plot_paths``).
     what : {"k", "detection"}

@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from acoustics.grid.detectionmap import class_terms
-from acoustics.grid.tables import RadialTables
+from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.figures import new_figure
 from acoustics.plots.style import (
     DEG,

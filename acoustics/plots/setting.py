@@ -13,8 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acoustics.grid.atlasfollow import FollowingTables
-from acoustics.grid.tables import FlatTables, GridTables, RadialTables
+from acoustics.grid.atlas.follow import FollowingTables
+from acoustics.grid.face import Tables
+from acoustics.grid.flattables import FlatTables
+from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.style import LAND_COLOR, ORIGIN_STYLE, contour_levels, label_depth
 from envdata.radials import geodesic_points
 
@@ -29,7 +31,7 @@ class Setting:
 
 
 @functools.singledispatch
-def draw_setting(tables: GridTables, ax, *, radius_m: float, grid_path=None) -> Setting:
+def draw_setting(tables: Tables, ax, *, radius_m: float, grid_path=None) -> Setting:
     """Draw the area under positions within ``radius_m`` of the origin (see the module)."""
     raise TypeError(f"no setting for {type(tables).__name__}")
 
@@ -62,8 +64,8 @@ def _(tables: RadialTables, ax, *, radius_m: float, grid_path=None) -> Setting:
 @draw_setting.register
 def _(tables: FollowingTables, ax, *, radius_m: float, grid_path=None) -> Setting:
     setting = draw_setting.dispatch(RadialTables)(tables, ax, radius_m=radius_m, grid_path=grid_path)
-    atlas = tables.atlas
-    ax.plot(atlas.lon_deg, atlas.lat_deg, "s", ms=5, mfc="none", mec="0.25", zorder=4,
+    store = tables.store
+    ax.plot(store.lon_deg, store.lat_deg, "s", ms=5, mfc="none", mec="0.25", zorder=4,
             label=f"atlas positions (month {tables.month})")
     return Setting(geographic=True, note=f"{setting.note}; the tables follow the observer through the atlas")
 

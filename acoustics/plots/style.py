@@ -2,7 +2,7 @@
 check, labels, land and depth contours.
 
 Bearings are clockwise from true north at the origin; between radials the figures show what the
-trackers use, values linear in bearing (``acoustics.grid.radialinterp``).
+trackers use, values linear in bearing (``acoustics.grid.lookup``).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from envdata.errors import InputError
 
 #: Depth contours drawn where the water reaches them, m.
@@ -25,7 +25,7 @@ DPI = 110
 DEG = "\N{DEGREE SIGN}"
 
 
-def check_plot_options(tables: GridTables, *, cls_name: str | None = None, band: str | None = None,
+def check_plot_options(tables: Tables, *, cls_name: str | None = None, band: str | None = None,
                        bearing_deg: float | None = None) -> None:
     """Refuse a class or band the grid does not have, or a bearing that is not in [0, 360) deg.
 

@@ -2,7 +2,8 @@
 
 ``perturbspec`` (what is uncertain), ``perturb`` (drawing it into member areas), ``spec`` (what
 determines a study), ``members`` (one member's K(r)), ``study`` (the ensemble on threads or a Dask
-cluster, and its dataset), ``summaries``, ``files``, ``writeback`` (the measured K error into an
+cluster, and its dataset), ``face`` (what a study's readers ask, ``Study``), ``summaries``,
+``files`` (study files, opened as the face), ``writeback`` (the measured K error into an
 area file), ``plot`` and ``studyfile`` (a study's files from the command line's options, written all
 or none).
 """
@@ -10,7 +11,8 @@ or none).
 from envdata.lazyexports import lazy_exports
 
 __getattr__, __dir__, __all__ = lazy_exports(__name__, {
-    "acoustics.sensitivity.files": ["StudyFileError", "open_study", "write_study"],
+    "acoustics.sensitivity.face": ["Study", "StudyFileError", "study_face"],
+    "acoustics.sensitivity.files": ["open_study", "write_study"],
     "acoustics.sensitivity.members": ["MemberResult", "compute_member"],
     "acoustics.sensitivity.perturbspec": ["PerturbationError", "parse_spec"],
     "acoustics.sensitivity.spec": ["RECIPROCITY_MIN_DEPTH_M", "StudySpec"],

@@ -3,7 +3,7 @@
 ``tmakit sensitivity ... --into GRID`` writes the study's ``k_rms_db`` (the rms over members of
 K - K_nominal at each class, band, bearing and range) into the grid of the same area as its
 ``k_error_sd_db`` (docs/formats.md); the trackers then take the sd at each measurement's bearing
-and range in place of the class's one number (``acoustics.grid.tables.GridTables.k_error_sd_at``).
+and range in place of the class's one number (``Tables.k_error_sd_at``).
 """
 
 from __future__ import annotations
@@ -14,12 +14,15 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
-from acoustics.grid.io import open_grid, write_netcdf
-from acoustics.grid.tables import GridTables
+from acoustics.grid.dataset import with_k_error_sd
+from acoustics.grid.face import Tables
+from acoustics.grid.io import write_netcdf
+from acoustics.grid.opentables import open_tables
+from acoustics.sensitivity.face import Study
 from envdata.area import Area
 
 
-def check_into_grid(path: str | Path, area: Area) -> GridTables:
+def check_into_grid(path: str | Path, area: Area) -> Tables:
     """Open the grid to write into and check it is the study area's, classes, bands and bearings
     (before the members run).
 
@@ -28,7 +31,7 @@ def check_into_grid(path: str | Path, area: Area) -> GridTables:
     GridFileError
         Not a grid, or another area, class, band or bearing set than the study's.
     """
-    tables = open_grid(path)
+    tables = open_tables(path)
     where = f"{path}"
     if tables.area.name != area.name:
         raise GridFileError(f"{where}: the grid is of area {tables.area.name!r}, the study of {area.name!r}")
@@ -50,7 +53,7 @@ def check_into_grid(path: str | Path, area: Area) -> GridTables:
     return tables
 
 
-def k_error_grid(tables: GridTables, summary: xr.Dataset, study: xr.Dataset, study_name: str) -> xr.Dataset:
+def k_error_grid(tables: Tables, summary: xr.Dataset, study: Study, study_name: str) -> xr.Dataset:
     """The grid dataset with the study's ``k_rms_db`` as ``k_error_sd_db`` on the grid's range axis
     (linear in range; NaN beyond the study's ranges, where the class's one number serves)."""
     dims = ("class", "band", "bearing", "range") if "bearing" in summary.dims else ("class", "band", "range")
@@ -63,9 +66,9 @@ def k_error_grid(tables: GridTables, summary: xr.Dataset, study: xr.Dataset, stu
         if ok.sum() >= 2:
             out[i] = np.interp(tables.range_m, r_study[ok], row[ok], left=np.nan, right=np.nan)
     sd = out.reshape(rms.shape[:-1] + (tables.range_m.size,))
-    comment = (f"rms over {study.sizes['member']} members of K - K_nominal, tmakit sensitivity study "
-               f"{study_name} (source_hash {study.attrs.get('source_hash', '?')[:12]})")
-    return tables.dataset_with_k_error_sd(sd, comment)
+    comment = (f"rms over {study.members} members of K - K_nominal, tmakit sensitivity study "
+               f"{study_name} (source_hash {study.source_hash[:12]})")
+    return with_k_error_sd(tables.dataset, sd, comment, tables.source)
 
 
 def write_k_error_grid(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:

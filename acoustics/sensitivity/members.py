@@ -27,7 +27,7 @@ from acoustics.builder.bandruns import BuildStats
 from acoustics.builder.flat import build_grid
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.radial import build_radial_grid, radial_k_db
-from acoustics.grid.depthinterp import tl_at_depths
+from acoustics.grid.lookup import tl_at_depths
 from acoustics.sensitivity.perturb import member_environment
 from acoustics.sensitivity.spec import StudySpec
 from envdata.radials import area_radials

@@ -23,7 +23,7 @@ from envdata.area import Area, Observer, Water
 from envdata.climatology import open_climatology
 from envdata.errors import AreaError
 from envdata.fieldchange import FieldChange, ReliefChange, SmoothField, WaterChange
-from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile
+from envdata.ssp import MAX_SPEED_MPS, MIN_SPEED_MPS, SoundSpeedProfile, speed_outside
 
 TRUNCATE_SD = 4.0  # draws beyond +-4 sd are redrawn
 MIN_VALID_FRACTION = 0.25  # a spec must give a valid area for this much of a normal's mass in +-4 sd
@@ -343,9 +343,8 @@ def _profile(p: Perturbation, ssp: SoundSpeedProfile, z, c) -> SoundSpeedProfile
         i = int(np.argmax(c <= 0))
         raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes a speed non-positive "
                                 f"({c[i]:.1f} m/s at {z[i]:g} m)")
-    bad = (c < MIN_SPEED_MPS) | (c > MAX_SPEED_MPS)
-    if np.any(bad):
-        i = int(np.argmax(bad))
+    i = speed_outside(c)
+    if i is not None:
         raise PerturbationError(f"{p.source}: perturbation {p.describe()}: makes the speed {c[i]:.1f} m/s "
                                 f"at {z[i]:g} m, outside [{MIN_SPEED_MPS:g}, {MAX_SPEED_MPS:g}] m/s")
     return _wrap(p, SoundSpeedProfile, depth_m=tuple(float(v) for v in z),

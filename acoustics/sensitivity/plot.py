@@ -9,15 +9,16 @@ import numpy as np
 import xarray as xr
 
 from acoustics.plots.figures import new_figure, save_figure
+from acoustics.sensitivity.face import Study
 
 
-def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:
+def plot_spread(study: Study, out: str | Path, *, atomic: bool = True) -> Path:
     """One panel per (class, band): nominal K(r), the 5-95 % member band and +-1 sd of K(r).
 
     Parameters
     ----------
-    ds : Dataset
-        A study (``k_db(member, class, band, range)``, ``k_nominal_db``).
+    study : Study
+        A study without bearings (or one radial of one, ``Study.along``).
     out : path
         PNG to write (atomically).
 
@@ -26,17 +27,15 @@ def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path
     Path
         ``out``.
     """
-    classes = [str(c) for c in ds["class"].values]
-    bands = [str(b) for b in ds["band"].values]
-    range_km = ds["range"].values / 1000.0
+    classes, bands = study.class_names, study.band_names
+    range_km = study.range_m / 1000.0
     fig = new_figure(figsize=(4.2 * len(bands), 2.9 * len(classes)))
     axes = fig.subplots(len(classes), len(bands), squeeze=False, sharex=True)
     for i, cls_name in enumerate(classes):
         for j, band in enumerate(bands):
             ax = axes[i, j]
-            sel = {"class": cls_name, "band": band}
-            k = ds["k_db"].sel(sel).values
-            nominal = ds["k_nominal_db"].sel(sel).values
+            k = study.k_db[:, i, j]
+            nominal = study.k_nominal_db[i, j]
             with np.errstate(invalid="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)  # ranges with no K (beyond land)
                 lo, hi = np.nanpercentile(k, [5, 95], axis=0)
@@ -53,19 +52,19 @@ def plot_spread(ds: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path
             if i == len(classes) - 1:
                 ax.set_xlabel("range, km")
     axes[0, 0].legend(fontsize=7, loc="upper right")
-    fig.suptitle(f"K(r) spread over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}", fontsize=10)
+    fig.suptitle(f"K(r) spread over {study.members} members, area {study.name}", fontsize=10)
     fig.tight_layout()
     return save_figure(fig, out, dpi=110, atomic=atomic)
 
 
-def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None,
+def plot_sd_map(study: Study, out: str | Path, *, band: str | None = None,
                 atomic: bool = True) -> Path:
     """Maps of the sd over members of band TL over depth and range, one per class.
 
     Parameters
     ----------
-    ds : Dataset
-        A study run with ``tl=True`` (``tl_db(member, class, band, depth, range)``).
+    study : Study
+        A study run with ``tl=True``, without bearings (or one radial of one, ``Study.along``).
     out : path
         PNG to write (atomically).
     band : str, optional
@@ -76,16 +75,16 @@ def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None,
     Path
         ``out``.
     """
-    if "tl_db" not in ds:
+    if study.tl_db is None:
         raise ValueError("the study has no tl_db (run it with --tl)")
-    band = str(ds["band"].values[0]) if band is None else band
-    classes = [str(c) for c in ds["class"].values]
+    band = study.band_names[0] if band is None else band
+    classes = study.class_names
     fig = new_figure(figsize=(5.2 * len(classes), 3.8))
     axes = fig.subplots(1, len(classes), squeeze=False)
-    range_km = ds["range"].values / 1000.0
-    depth = ds["depth"].values
-    for ax, cls_name in zip(axes[0], classes):
-        tl = ds["tl_db"].sel({"class": cls_name, "band": band}).values
+    range_km = study.range_m / 1000.0
+    depth = study.depth_m
+    for ic, (ax, cls_name) in enumerate(zip(axes[0], classes)):
+        tl = study.tl_db[:, ic, study.band_names.index(band)]
         sd = np.nanstd(tl, axis=0, ddof=1) if tl.shape[0] > 1 else np.zeros(tl.shape[1:])
         mesh = ax.pcolormesh(range_km, depth, sd, shading="auto", cmap="magma_r", vmin=0,
                              vmax=float(np.nanpercentile(sd, 99)) or 1.0)
@@ -98,14 +97,14 @@ def plot_sd_map(ds: xr.Dataset, out: str | Path, *, band: str | None = None,
     return save_figure(fig, out, dpi=110, atomic=atomic)
 
 
-def plot_polar_sd(ds: xr.Dataset, summary: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:
+def plot_polar_sd(study: Study, summary: xr.Dataset, out: str | Path, *, atomic: bool = True) -> Path:
     """A polar map of the sd over members of K per class (rows) and band (columns), around the
     origin of a bearing-dependent study (north up, bearings clockwise, range in km).
 
     Parameters
     ----------
-    ds : Dataset
-        A study with a ``bearing`` axis.
+    study : Study
+        A study with bearings.
     summary : Dataset
         Its summaries (``k_sd_db(class, band, bearing, range)``).
     out : path
@@ -116,11 +115,10 @@ def plot_polar_sd(ds: xr.Dataset, summary: xr.Dataset, out: str | Path, *, atomi
     Path
         ``out``.
     """
-    classes = [str(c) for c in ds["class"].values]
-    bands = [str(b) for b in ds["band"].values]
-    bearings = ds["bearing"].values
+    classes, bands = study.class_names, study.band_names
+    bearings = study.bearing_deg
     theta = np.radians(bearings)
-    r_km = ds["range"].values / 1000.0
+    r_km = study.range_m / 1000.0
     sd = summary["k_sd_db"].transpose("class", "band", "bearing", "range").values
     # each radial drawn as the wedge of bearings nearest to it (every degree, so the wedges are round)
     fine_deg = np.arange(0.0, 360.5, 1.0)
@@ -144,7 +142,7 @@ def plot_polar_sd(ds: xr.Dataset, summary: xr.Dataset, out: str | Path, *, atomi
             axes.append(ax)
     fig.colorbar(mesh, ax=axes, orientation="horizontal", shrink=0.6, aspect=40,
                  label="sd over members of K(r), dB (blank: no K, beyond land or the class below the bottom)")
-    fig.suptitle(f"sd of K over {ds.sizes['member']} members, area {ds.attrs.get('area', '?')}: each radial "
+    fig.suptitle(f"sd of K over {study.members} members, area {study.name}: each radial "
                  f"(dotted) drawn over the bearings nearest to it; north up, range in km", fontsize=10)
     return save_figure(fig, out, dpi=110, atomic=atomic)
 
@@ -157,9 +155,6 @@ def spread_bearing_deg(summary: xr.Dataset) -> float:
     return float(summary["bearing"].values[int(np.argmax(mean))])
 
 
-def plot_spread_along(ds: xr.Dataset, bearing_deg: float, out: str | Path, *, atomic: bool = True) -> Path:
+def plot_spread_along(study: Study, bearing_deg: float, out: str | Path, *, atomic: bool = True) -> Path:
     """`plot_spread` along one radial of a bearing-dependent study (the nearest to ``bearing_deg``)."""
-    j = int(np.argmin(np.abs((ds["bearing"].values - bearing_deg + 180.0) % 360.0 - 180.0)))
-    one = ds.isel(bearing=j)
-    one.attrs = {**ds.attrs, "area": f"{ds.attrs.get('area', '?')}, bearing {float(ds['bearing'].values[j]):g} deg"}
-    return plot_spread(one, out, atomic=atomic)
+    return plot_spread(study.along(study.radial_index(bearing_deg)), out, atomic=atomic)

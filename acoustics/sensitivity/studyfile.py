@@ -18,6 +18,7 @@ import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.gridfile import remove_cache, resume_dir
 from acoustics.sensitivity import writeback
+from acoustics.sensitivity.face import study_face
 from acoustics.sensitivity.files import write_study
 from acoustics.sensitivity.perturbspec import default_perturbations
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
@@ -100,7 +101,8 @@ def run_study_file(area_name: str, *, members: int, perturbations=None, seed: in
     ds = run_study(area, perturbations, members=members, seed=seed, tl=tl, scheduler=scheduler,
                         workers=workers, cache_dir=cache_dir, progress=progress, stats=stats,
                         reciprocity_min_depth_m=reciprocity_min_depth_m)
-    summary = summarize(ds, eval_ranges_m=eval_ranges,
+    study = study_face(ds, str(out))
+    summary = summarize(study, eval_ranges_m=eval_ranges,
                              range_min_m=None if range_min_km is None else range_min_km * 1000.0,
                              range_max_m=None if range_max_km is None else range_max_km * 1000.0)
     merged = xr.merge([ds, summary], combine_attrs="override")
@@ -111,7 +113,7 @@ def run_study_file(area_name: str, *, members: int, perturbations=None, seed: in
     if into_tables is not None:
         from acoustics.sensitivity.intogrid import k_error_grid
 
-        into_grid = k_error_grid(into_tables, summary, ds, Path(out).name)
+        into_grid = k_error_grid(into_tables, summary, study, Path(out).name)
     try:
         with atomic_paths([Path(p) for p in files.values()]) as temps:
             tmp = dict(zip(files, temps))
@@ -121,15 +123,15 @@ def run_study_file(area_name: str, *, members: int, perturbations=None, seed: in
 
                 if radial:
                     bearing = plots.spread_bearing_deg(summary)
-                    plots.plot_polar_sd(ds, summary, tmp["plot"], atomic=False)
-                    plots.plot_spread_along(ds, bearing, tmp["spread"], atomic=False)
+                    plots.plot_polar_sd(study, summary, tmp["plot"], atomic=False)
+                    plots.plot_spread_along(study, bearing, tmp["spread"], atomic=False)
                     if "sd_map" in files:
-                        j = int(np.argmin(np.abs(ds["bearing"].values - bearing)))
-                        plots.plot_sd_map(ds.isel(bearing=j), tmp["sd_map"], atomic=False)
+                        j = int(np.argmin(np.abs(study.bearing_deg - bearing)))
+                        plots.plot_sd_map(study.along(j), tmp["sd_map"], atomic=False)
                 else:
-                    plots.plot_spread(ds, tmp["plot"], atomic=False)
+                    plots.plot_spread(study, tmp["plot"], atomic=False)
                     if "sd_map" in files:
-                        plots.plot_sd_map(ds, tmp["sd_map"], atomic=False)
+                        plots.plot_sd_map(study, tmp["sd_map"], atomic=False)
             if into_grid is not None:
                 from acoustics.sensitivity.intogrid import write_k_error_grid
 

@@ -20,7 +20,7 @@ import xarray as xr
 
 from acoustics.detection import detection_terms, farthest_m
 from acoustics.levelrange import level_range
-from envdata.areafile import area_from_json
+from acoustics.sensitivity.face import Study
 from envdata.errors import InputError
 
 DEFAULT_EVAL_RANGES_M = (5000.0, 10000.0, 20000.0, 50000.0, 100000.0)
@@ -60,14 +60,14 @@ def level_range_m(k_levels_db: np.ndarray, k_table_db: np.ndarray, range_m: np.n
     return r_opt.reshape(levels.shape[:-1])
 
 
-def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_RANGES_M,
+def summarize(study: Study, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_RANGES_M,
               range_min_m: float | None = None, range_max_m: float | None = None) -> xr.Dataset:
     """Bias, sd, constant-offset share of dK(r) = K_member(r) - K_nominal(r), and the range error.
 
     Parameters
     ----------
-    ds : Dataset
-        A study from ``run_study`` or ``open_study``.
+    study : Study
+        A study's face (``open_study``, or ``study_face`` of ``run_study``'s dataset).
     eval_ranges_m : sequence of float
         True ranges at which the implied range error of level-based ranging (eq. 20) is given.
     range_min_m, range_max_m : float, optional
@@ -85,7 +85,8 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
         ``range_error_m(member, class, eval_range)``; ``k_offset_correlation(class, parameter)``
         says which drawn parameter moves the constant part.
     """
-    rng = ds["range"].values
+    ds = study.dataset
+    rng = study.range_m
     lo = rng[0] if range_min_m is None else range_min_m
     hi = rng[-1] if range_max_m is None else range_max_m
     inside = (rng >= lo) & (rng <= hi)
@@ -109,14 +110,14 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
     eval_r = np.asarray([r for r in eval_ranges_m if rng[0] <= r <= rng[-1]], dtype=float)
     idx = np.abs(rng[None, :] - eval_r[:, None]).argmin(axis=1) if eval_r.size else np.zeros(0, int)
     true_r = rng[idx]
-    err = _range_errors(ds, idx, true_r, rng)  # (member, class[, bearing], eval)
+    err = _range_errors(study, idx, true_r)  # (member, class[, bearing], eval)
     # which drawn parameter drives the constant part: correlation over members of each parameter
     # with the member's offset (mean over bands, bearings and the window)
-    params = [name for name, coord in ds.coords.items() if coord.dims == ("member",) and name != "member"]
+    params = list(study.parameters)
     band_offset = offset.mean([d for d in offset.dims if d not in ("member", "class")], skipna=True).values
     corr = np.full((ds.sizes["class"], len(params)), np.nan)
     for j, name in enumerate(params):
-        x = ds[name].values.astype(float)
+        x = study.parameters[name].astype(float)
         for ic in range(ds.sizes["class"]):
             y = band_offset[:, ic]
             if n > 2 and x.std() > 0 and y.std() > 0:
@@ -128,8 +129,8 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
         range_rms = np.sqrt(np.nanmean(err ** 2, axis=0))
     det_dims = ("class", "band", "bearing") if radial else ("class", "band")
     detection = {}
-    if "area_json" in ds.attrs:  # the detection rule needs the area's noise, sonar and levels
-        det, det_nominal = _detection_ranges(ds)
+    if study.area is not None:  # the detection rule needs the area's noise, sonar and levels
+        det, det_nominal = _detection_ranges(study)
         detection = {
             "detection_range_m": (("member",) + det_dims, det,
                                   {"units": "m", "long_name": "largest range at which the band is detected at "
@@ -169,7 +170,7 @@ def summarize(ds: xr.Dataset, *, eval_ranges_m: Sequence[float] = DEFAULT_EVAL_R
         coords={"member": ds["member"].values, "class": ds["class"].values, "band": ds["band"].values,
                 "range": rng, "parameter": ("parameter", np.array(params, dtype=object)),
                 "eval_range": ("eval_range", true_r, {"units": "m", "long_name": "true range"}),
-                **({"bearing": ds["bearing"].values} if radial else {})},
+                **({"bearing": study.bearing_deg} if radial else {})},
         attrs={"summary_range_min_m": float(lo), "summary_range_max_m": float(hi)})
     return out
 
@@ -181,14 +182,13 @@ def _nanstd_members(x: np.ndarray) -> np.ndarray:
         return np.where(np.isfinite(x).sum(axis=0) > 1, np.nanstd(x, axis=0, ddof=1), np.nan)
 
 
-def _range_errors(ds: xr.Dataset, idx: np.ndarray, true_r: np.ndarray, rng: np.ndarray) -> np.ndarray:
+def _range_errors(study: Study, idx: np.ndarray, true_r: np.ndarray) -> np.ndarray:
     """Error of level ranging (eq. 20) with the nominal tables in each member's sea, m:
     (member, class[, bearing], eval_range); NaN where the member has no K at the true range."""
-    k_all = ds["k_db"].values
-    k_nom_all = ds["k_nominal_db"].values
-    radial = "bearing" in ds.dims
-    n, n_class = ds.sizes["member"], ds.sizes["class"]
-    n_bearing = ds.sizes["bearing"] if radial else 1
+    k_all, k_nom_all, rng = study.k_db, study.k_nominal_db, study.range_m
+    radial = study.bearing_deg is not None
+    n, n_class = study.members, len(study.class_names)
+    n_bearing = study.bearing_deg.size if radial else 1
     est = np.full((n, n_class, n_bearing, idx.size), np.nan)
     for ic in range(n_class):
         for jb in range(n_bearing):
@@ -204,21 +204,21 @@ def _range_errors(ds: xr.Dataset, idx: np.ndarray, true_r: np.ndarray, rng: np.n
     return err if radial else err[:, :, 0]
 
 
-def _detection_ranges(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+def _detection_ranges(study: Study) -> tuple[np.ndarray, np.ndarray]:
     """Detection range of each member and of the nominal tables at each class's mean level, m:
     (member, class, band[, bearing]) and (class, band[, bearing]); NaN where never detected."""
-    area = area_from_json(ds.attrs["area_json"], "the study's area_json")
+    area = study.area
     by_name = {c.name: c for c in area.classes}
     bands_by_name = {b.name: b for b in area.bands}
-    bands = tuple(bands_by_name[str(b)] for b in ds["band"].values)
-    rng = ds["range"].values
-    radial = "bearing" in ds.dims
+    bands = tuple(bands_by_name[b] for b in study.band_names)
+    rng = study.range_m
+    radial = study.bearing_deg is not None
     members, nominal = [], []
-    for ic, name in enumerate(ds["class"].values):
-        cls = by_name[str(name)]
+    for ic, name in enumerate(study.class_names):
+        cls = by_name[name]
         terms = detection_terms(area, cls, bands)
-        k = ds["k_db"].values[:, ic]          # (member, band[, bearing], range)
-        k0 = ds["k_nominal_db"].values[ic]    # (band[, bearing], range)
+        k = study.k_db[:, ic]          # (member, band[, bearing], range)
+        k0 = study.k_nominal_db[ic]    # (band[, bearing], range)
         if radial:  # the band axis next to range for the rule, then back
             det = farthest_m(rng, terms.detected(np.moveaxis(k, 1, 2)))           # (member, bearing, band)
             det0 = farthest_m(rng, terms.detected(np.moveaxis(k0, 0, 1)))         # (bearing, band)

@@ -15,24 +15,15 @@ from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import read_shd, tl_from_pressure
 from acoustics.errors import BellhopError
+from tests.fixtures.isovelocity import isovelocity_doc
 
 pytestmark = pytest.mark.bellhop
 
 
 def isovelocity_area(depth_m: float = 5000.0) -> envdata.Area:
     """Isovelocity water over an impedance-matched bottom: only the surface reflects."""
-    return envdata.parse_area({
-        "area": {"name": "iso"},
-        "water": {"depth_m": depth_m, "ssp_depth_m": [0.0, depth_m], "ssp_speed_mps": [1500.0, 1500.0]},
-        "bottom": {"speed_mps": 1500.0, "density_gcc": 1.0, "attenuation_db_per_wavelength": 0.0},
-        "noise": {"spectrum_level_1khz_db": 57.0}, "observer": {"depth_m": 100.0},
-        "sonar": {"beamwidth_deg": 5.0, "directivity_index_db": 20.0, "integration_time_s": 10.0,
-                  "detection_threshold": 5.0},
-        "bands": [{"name": "F", "low_hz": 200.0, "high_hz": 200.0}],
-        "classes": [{"name": "C", "depth_m": 100.0, "speed_mean_mps": 5.0, "speed_sd_mps": 1.0,
-                     "noise_mean_db": 100.0}],
-        "grid": {"range_max_m": 3000.0, "range_step_m": 100.0, "depth_step_m": 50.0},
-    }, "iso")
+    return envdata.parse_area(isovelocity_doc("iso", depth_m=depth_m, observer_m=100.0, freq_hz=200.0,
+                                              range_max_m=3000.0, range_step_m=100.0, depth_step_m=50.0), "iso")
 
 
 def lloyd_mirror(mode: envdata.TlMode, beam_type: str):
@@ -109,7 +100,7 @@ def test_bellhop_failure_quotes_bellhop_and_leaves_no_files(tmp_path, monkeypatc
         run_env(bad_env)
     assert "*** FATAL ERROR ***" in info.value.prt_text
     assert info.value.returncode != 0 and info.value.command[-1] == "tmakit"
-    assert _leftover_dirs() == before
+    assert _leftover_dirs() == before == set()
 
 
 def test_missing_executable_is_a_clear_error():

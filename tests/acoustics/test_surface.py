@@ -96,7 +96,7 @@ def test_the_incoherent_error_line_estimates_the_surface_loss(tiny_area):
 
 def test_the_default_tables_are_semicoherent_and_the_grid_says_so(tiny_grid):
     assert envdata.Propagation().mode is envdata.TlMode.SEMICOHERENT
-    tables = acoustics.as_tables(tiny_grid)
+    tables = acoustics.open_tables(tiny_grid)
     assert tables.dataset.attrs["bellhop_settings"].count('"mode": "semicoherent"') == 1
 
 

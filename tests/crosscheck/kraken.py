@@ -11,7 +11,6 @@ here) the leaky ones have decayed by tens of dB.
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 from pathlib import Path
 
@@ -24,20 +23,14 @@ from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.builder.plan import run_spec
 from envdata.area import Area
+from tests.crosscheck.sidevenv import side_python
 
 SCRIPT = Path(__file__).with_name("kraken_tl.py")
 
 
 def kraken_python() -> str:
     """The KRAKEN environment's interpreter; a failure (not a skip) when there is none."""
-    python = os.environ.get("KRAKEN_PYTHON")
-    if not python:
-        pytest.fail("KRAKEN_PYTHON is not set: run the suite with 'make test', which makes "
-                    ".venv-kraken (pelagic) and sets it", pytrace=False)
-    if not (Path(python).is_file() and os.access(python, os.X_OK)):
-        pytest.fail(f"KRAKEN_PYTHON={python} is not an executable file: 'make test' makes .venv-kraken",
-                    pytrace=False)
-    return python
+    return side_python("KRAKEN_PYTHON", ".venv-kraken", "pelagic")
 
 
 def kraken_case(area: Area, freq_hz: float, source_depth_m: float, depth_m, range_m, *,

@@ -53,14 +53,15 @@ def _cut(name: str, *, range_max_m: float, bands: list[str] | None = None, beari
 def measure(area: envdata.Area, workers: int, cache: Path | None = None) -> dict:
     """Build ``area`` with BELLHOP and with RAM, compare, and time both."""
     out = {"area": area.name, "bands": [[b.name, b.low_hz, b.high_hz] for b in area.bands],
-           "range_max_m": area.grid.range_max_m}
+           "range_max_m": area.grid.range_max_m,
+           "bellhop_mode": str(area.propagation.mode), "bellhop_beams": area.propagation.n_beams}
     grids = {}
     for model in ("bellhop", "ram"):
         stats = BuildStats()
         start = time.perf_counter()
         grid = acoustics.build_grid(area, model=model, workers=workers, stats=stats,
                                     cache_dir=None if cache is None else cache / area.name)
-        grids[model] = acoustics.as_tables(grid, f"{area.name}-{model}")
+        grids[model] = acoustics.open_tables(grid, name=f"{area.name}-{model}")
         out[model] = {"wall_s": round(time.perf_counter() - start, 2), "runs": stats.runs_total,
                       "runs_reused": stats.runs_reused,
                       "run_seconds": round(stats.bellhop_seconds if model == "bellhop" else stats.ram_seconds, 2)}
@@ -119,7 +120,7 @@ def main(argv=None) -> int:
               "comparison": "acoustics.grid.compare: B = RAM, A = BELLHOP; dTL over cells both fill "
                             "below the shadow cap, dK over ranges both have"}
     if args.only in (None, "crossover"):
-        doc = {"what": "BELLHOP (incoherent) against RAM (21 coherent runs per band) in half-octave bands "
+        doc = {"what": "BELLHOP (the area's mode, bellhop_mode) against RAM (21 coherent runs per band) in half-octave bands "
                        "on the shelf-break radial at 0 deg to 10 km: agreement and cost per frequency",
                "crossover_hz_in_use": AUTO_CROSSOVER_HZ, **common, "cases": []}
         for area in crossover_cases():

@@ -17,7 +17,6 @@ munk-1000 area (source at 100 m), band 50-150 Hz, 1-10 km. RAM's default setting
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
@@ -27,7 +26,7 @@ import envdata
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
 from acoustics.ram import RamSettings, ram_tl_db
 from envdata.bands import Band
-from tests.crosscheck.ram_cases import munk_environment, pekeris_environment
+from tests.crosscheck.ram_cases import munk_environment, pekeris_environment, write_study_file
 
 OUT = Path("docs/results/ram-band.json")
 COUNTS = (1, 3, 5, 7, 11, 15, 21)
@@ -76,10 +75,7 @@ def main(argv=None) -> int:
     doc = {"what": "band TL from n coherent RAM runs against 41, |dTL| point-wise over the receivers",
            "script": "python -m tests.crosscheck.ram_band", "class_spectrum": "f^-2",
            "ranges_m": [1000.0, 10000.0, 50.0], "results": results}
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n")
-    tmp.replace(args.out)
+    write_study_file(args.out, doc)
     print(f"wrote {args.out}")
     return 0
 

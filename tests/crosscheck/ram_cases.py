@@ -14,6 +14,8 @@
 from __future__ import annotations
 
 import dataclasses
+import json
+from pathlib import Path
 
 import numpy as np
 
@@ -84,3 +86,11 @@ def range_average_tl_db(tl_db: np.ndarray, window: int) -> np.ndarray:
 
     mean = run(filled) / np.maximum(run(valid.astype(float)), 1.0)
     return np.where(valid, -10.0 * np.log10(np.maximum(mean, 1e-30)), np.nan)
+
+
+def write_study_file(out: Path, doc: dict) -> None:
+    """Write a study script's JSON result through a temporary file (its folder made)."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(".tmp")
+    tmp.write_text(json.dumps(doc, indent=1) + "\n")
+    tmp.replace(out)

@@ -14,14 +14,19 @@ receivers along range (20 lambda), over every receiver in the water; and the run
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 
 from acoustics.ram import RamSettings, ram_tl_db
-from tests.crosscheck.ram_cases import munk_environment, pekeris_environment, range_average_tl_db, wedge_environment
+from tests.crosscheck.ram_cases import (
+    munk_environment,
+    pekeris_environment,
+    range_average_tl_db,
+    wedge_environment,
+    write_study_file,
+)
 
 OUT = Path("docs/results/ram-convergence.json")
 REFERENCE = {"dz_wavelengths": 1 / 80, "dr_wavelengths": 1 / 8, "pade_terms": 8, "layer_wavelengths": 40.0}
@@ -102,10 +107,7 @@ def main(argv=None) -> int:
            "reference": REFERENCE, "rule": RULE, "window_receivers": WINDOW,
            "wavelength": "1500 m/s / f", "receivers": "ranges every 4 wavelengths from 500 m",
            "results": results}
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n")
-    tmp.replace(args.out)
+    write_study_file(args.out, doc)
     print(f"wrote {args.out}")
     return 0
 

@@ -17,7 +17,6 @@ modal interference and cut-off RAM computes. Compared at 30 m every 10 m from 10
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
@@ -38,6 +37,7 @@ from tests.crosscheck.ram_cases import (
     wedge_area,
     wedge_environment,
     wedge_radial,
+    write_study_file,
 )
 
 OUT = Path("docs/results/ram-wedge.json")
@@ -88,10 +88,7 @@ def main(argv=None) -> int:
            "tl_every_500m": {"range_m": RANGES_M[::50].tolist(),
                              "bellhop_db": np.round(r["bellhop_tl_db"][::50], 2).tolist(),
                              "ram_db": np.round(r["ram_tl_db"][::50], 2).tolist()}}
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n")
-    tmp.replace(args.out)
+    write_study_file(args.out, doc)
     print(f"median {doc['median_db']} dB, p90 {doc['p90_db']} dB (point-wise {doc['point_median_db']} / "
           f"{doc['point_p90_db']} dB); wrote {args.out}")
     return 0

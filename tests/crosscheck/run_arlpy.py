@@ -8,7 +8,6 @@ not hold arlpy.
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 from pathlib import Path
 
@@ -16,20 +15,14 @@ import numpy as np
 import pytest
 
 from acoustics.bellhop.exe import find_bellhop
+from tests.crosscheck.sidevenv import side_python
 
 SCRIPT = Path(__file__).with_name("arlpy_tl.py")
 
 
 def arlpy_python() -> str:
     """The cross-check environment's interpreter; a failure (not a skip) when there is none."""
-    python = os.environ.get("ARLPY_PYTHON")
-    if not python:
-        pytest.fail("ARLPY_PYTHON is not set: run the suite with 'make test', which makes "
-                    ".venv-arlpy (arlpy 1.9.3) and sets it", pytrace=False)
-    if not (Path(python).is_file() and os.access(python, os.X_OK)):
-        pytest.fail(f"ARLPY_PYTHON={python} is not an executable file: 'make test' makes "
-                    f".venv-arlpy", pytrace=False)
-    return python
+    return side_python("ARLPY_PYTHON", ".venv-arlpy", "arlpy 1.9.3")
 
 
 def arlpy_tl_db(case: dict, tmp_path: Path, *, timeout_s: float = 600.0) -> dict:

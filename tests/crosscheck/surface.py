@@ -157,7 +157,7 @@ def image_radial_case(band) -> dict:
     the image solution (reciprocity: the target at depth z, the observer the receiver)."""
     area = image_area(band, radial=True)
     grid = acoustics.build_grid(area, workers=2)
-    tables = acoustics.as_tables(grid)
+    tables = acoustics.open_tables(grid)
     r = grid["range"].values
     rs = r >= 1000.0
     k_tl = tables.spectral_db(0, 0) - grid["k_db"].values[0, 0, 0][rs]
@@ -190,7 +190,7 @@ def munk_radial_case(band, mode: str = "semicoherent") -> dict:
     area = munk_surface_area(band, radial=True, mode=mode)
     grid = acoustics.build_grid(area, workers=2)
     r = grid["range"].values
-    tl = acoustics.as_tables(grid).spectral_db(0, 0) - grid["k_db"].values[0, 0, 0]
+    tl = acoustics.open_tables(grid).spectral_db(0, 0) - grid["k_db"].values[0, 0, 0]
     with tempfile.TemporaryDirectory() as tmp:
         ref, rng = kraken_band_db(area, 6.0, np.array([area.observer.depth_m]), float(r[-1]), Path(tmp))
     ref = ref[0, np.searchsorted(rng, r)]

@@ -73,7 +73,7 @@ def test_build_show_plot_and_reuse(capsys, tmp_path, tiny_area_path, tiny_grid):
     out = tmp_path / "tiny.nc"
     built = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out), "--workers", "2"])
     assert built["up_to_date"] is False and built["runs"] == 4 and built["runs_reused"] == 0
-    xr.testing.assert_identical(acoustics.open_grid(out).dataset.drop_attrs(), tiny_grid.drop_attrs())
+    xr.testing.assert_identical(acoustics.open_tables(out).dataset.drop_attrs(), tiny_grid.drop_attrs())
     assert not any(p.name.startswith(".") for p in tmp_path.iterdir())  # cache removed
 
     again = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out)])
@@ -99,7 +99,7 @@ def test_urick_build_needs_no_bellhop(capsys, tmp_path, tiny_area_path):
     out = tmp_path / "u.nc"
     data = json_out(capsys, ["grids", "build", str(tiny_area_path), "--out", str(out), "--model", "urick"])
     assert data["runs"] == 0
-    ds = acoustics.open_grid(out).dataset
+    ds = acoustics.open_tables(out).dataset
     np.testing.assert_array_equal(ds["k_db"].values, ds["k_urick_db"].values)
 
 
@@ -190,7 +190,7 @@ def test_grids_check_reports_each_doubling_and_the_build_settings(capsys, tmp_pa
     names = [v["name"] for v in out["variants"]]
     assert names == ["beams", "ray_step", "freqs_per_band", "one_run_per_band"]
     assert out["settings"]["n_beams"] == 300 and out["settings"]["mode"] == "semicoherent"
-    assert out["settings"]["surface_image_beams"] == 1200
+    assert out["settings"]["surface_image_beams"] == 6000
     for v in out["variants"]:
         assert v["median_db"] >= 0.0 and v["worst_db"] >= v["median_db"] - 1e-9
         assert v["converged"] == (v["median_db"] <= 0.2)

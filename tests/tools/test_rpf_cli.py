@@ -33,7 +33,7 @@ def munk_path(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def munk(munk_path):
-    return acoustics.open_grid(munk_path)
+    return acoustics.open_tables(munk_path)
 
 
 @pytest.fixture(scope="module")

@@ -40,7 +40,7 @@ def test_small_study_writes_the_study_plots_and_the_measured_k_error(tmp_path, c
     data = json.loads(captured.out)
     assert data["members"] == 4 and data["workers"] == 2 and data["members_reused"] == 0
     assert data["perturbations"][-1] == "observer-depth:sd_m=3"
-    ds = sens.open_study(out)
+    ds = sens.open_study(out).dataset
     assert ds["k_db"].dims == ("member", "class", "band", "range") and ds.sizes["member"] == 4
     assert "observer_depth_m" in ds.coords and ds["observer_depth_m"].dims == ("member",)
     assert ds["k_sd_db"].dims == ("class", "band", "range")  # the summaries travel in the same file
@@ -69,7 +69,7 @@ def test_default_perturbations_run_on_an_ordinary_sandy_bottom(tmp_path, capsys)
     data = json.loads(capsys.readouterr().out)
     assert data["members"] == 4
     assert "bottom-attenuation:sd_db_per_wavelength=0.2" in data["perturbations"]
-    ds = sens.open_study(out)
+    ds = sens.open_study(out).dataset
     assert (ds["bottom_attenuation_db_per_wavelength"] >= 0).all()
 
 
@@ -191,10 +191,10 @@ def test_a_bearing_dependent_study_end_to_end_feeds_the_grid(capsys, tmp_path, t
     info = json.loads(proc.stdout)
     assert set(info["files"]) == {"study", "plot", "spread", "grid_with_k_error"}
     assert (tmp_path / "sd.png").stat().st_size > 0 and (tmp_path / "sd-spread.png").stat().st_size > 0
-    study = sens.open_study(out)
+    study = sens.open_study(out).dataset
     assert study["k_db"].dims == ("member", "class", "band", "bearing", "range")
     assert study["front_north_km"].values.tolist() == [3.0, 3.0, 3.0]  # a what-if: no draw
-    tables = acoustics.open_grid(grid)
+    tables = acoustics.open_tables(grid)
     assert tables.has_k_error_map
     # the grid now carries the study's rms dK per bearing and range, read where it is asked
     rms = study["k_rms_db"].sel({"class": "SW", "band": "FB2", "bearing": 180.0}).values
@@ -224,4 +224,4 @@ def test_an_interrupted_study_resumes_without_redoing_members(tmp_path, signum, 
     again = subprocess.run(args, cwd=REPO, capture_output=True, text=True, timeout=120)
     assert again.returncode == 0, again.stderr
     assert json.loads(again.stdout)["members_reused"] == kept
-    assert sens.open_study(out).sizes["member"] == 30
+    assert sens.open_study(out).members == 30

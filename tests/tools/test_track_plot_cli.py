@@ -37,7 +37,7 @@ def simulated(tiny_grid_file, tmp_path_factory):
 
 
 def test_the_picture_shows_the_files_it_was_given(tiny_grid_file, simulated, tmp_path, capsys):
-    from acoustics import open_grid
+    from acoustics import open_tables
     from tracker.measurements import read_measurements
     from tracker.trackfile import read_track
     from tracker.trackplot import track_figure
@@ -48,7 +48,7 @@ def test_the_picture_shows_the_files_it_was_given(tiny_grid_file, simulated, tmp
                  "--out", str(out), "--plot", str(png), "--truth", str(simulated / "truth.csv")]) == 0
     assert png_size(png)[0] > 800 and sorted(p.name for p in tmp_path.iterdir()) == ["t.csv", "t.png"]
     # the same figure from the files, read back by its artists (a flat grid: the local plane in km)
-    tables = open_grid(tiny_grid_file)
+    tables = open_tables(tiny_grid_file)
     m = read_measurements(simulated / "measurements.csv", list(tables.band_names))
     track, truth = read_track(out), read_truth(simulated / "truth.csv")
     fig = track_figure(track, m, tables, truth=truth)

@@ -13,10 +13,10 @@ import pytest
 import envdata
 from acoustics.builder.atlas import build_atlas_file
 from acoustics.builder.truthk import BellhopTruth
-from acoustics.errors import GridFileError
-from acoustics.grid.atlas import open_atlas
+from acoustics.errors import GridFileError, ObserverPositionError
+from acoustics.grid.atlas.sample import values_at
+from acoustics.grid.atlas.store import open_store
 from acoustics.grid.opentables import open_tables
-from envdata.errors import InputError
 from envdata.geometry import lat_lon_to_local_plane, local_plane_to_lat_lon
 from tests.acoustics.atlas.atlasarea import load_atlas_area
 from tools.cli import main
@@ -68,7 +68,7 @@ def atlas_dir(tmp_path_factory):
 
 
 def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
-    atlas = open_atlas(atlas_dir / "a.zarr")
+    atlas = open_store(atlas_dir / "a.zarr")
     tables = open_tables(atlas_dir / "a.zarr")  # one month: no month needed
     assert tables.follows_observer
     o = tables.area.origin
@@ -81,10 +81,10 @@ def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
     for _ in range(5):
         lat, lon = 42.98 + 0.06 * rng.random(), 4.91 + 0.18 * rng.random()
         b, r = 360.0 * rng.random(), 500.0 + 9000.0 * rng.random()
-        k_ref, tl_ref = atlas.values_at(lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
-                                        bearing_deg=b, range_m=r, depth_m=[30.0])
-        k_own, _ = atlas.values_at(lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
-                                   bearing_deg=b, range_m=r)
+        k_ref, tl_ref = values_at(atlas, lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
+                                  bearing_deg=b, range_m=r, depth_m=[30.0])
+        k_own, _ = values_at(atlas, lat_deg=[lat], lon_deg=[lon], month=8, cls_name="TV", band_name="FB2",
+                             bearing_deg=b, range_m=r)
         view = tables.at_observer(*lat_lon_to_local_plane(o.lat_deg, o.lon_deg, lat, lon))
         # the same weights and the same linear rules; float32 storage against float64 sums
         assert view.k_at(0, np.array([r]), bearing_deg=b)[0, 0] == pytest.approx(k_own[0], abs=1e-4)
@@ -95,18 +95,18 @@ def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
 
 def test_one_level_profile_where_the_observer_is_is_the_blended_tables_one(atlas_dir):
     tables = open_tables(atlas_dir / "a.zarr")
-    grid = open_atlas(atlas_dir / "a.zarr").sel(month=8, origin=4)
+    grid = open_store(atlas_dir / "a.zarr").sel(month=8, origin=4)
     rng = np.random.default_rng(7)
     # between positions, on a radial, across 0/360 deg and at a position
     cases = [(-6000.0 + 12000.0 * rng.random(), -2000.0 + 8000.0 * rng.random(), 360.0 * rng.random())
              for _ in range(4)]
     cases += [(-1500.0, 2500.0, 0.0), (-1500.0, 2500.0, 359.5), (0.0, 0.0, 90.0)]
     for x, y, b in cases:
-        fast = tables.level_profile_at(0, 0, x, y, 100.0, bearing_deg=b)
+        fast = _one_profile(tables, x, y, b)
         full = tables.at_observer(x, y).level_profile(0, 0, 100.0, bearing_deg=b)
         # the same sums in the same order: equal bit for bit, NaN (beyond land) filled alike
         np.testing.assert_array_equal(fast.k_db, full.k_db)
-        assert tables.level_profile_at(0, 0, x, y, 100.0, bearing_deg=b) is fast  # kept
+        assert _one_profile(tables, x, y, b) is fast  # kept
     # a path at once (a cycle repeated: one profile for both): each cycle's blended-table profile
     xs, ys, bs = (np.array([c[i] for c in cases] + [cases[0][i]]) for i in range(3))
     path = tables.level_profiles_at(0, 0, xs, ys, np.full(xs.size, 100.0), list(bs))
@@ -115,27 +115,33 @@ def test_one_level_profile_where_the_observer_is_is_the_blended_tables_one(atlas
         np.testing.assert_array_equal(p.k_db, tables.at_observer(x, y).level_profile(0, 0, bearing_deg=b).k_db)
     # with K at another target depth: through the blended tables, the same answer
     deep = tables.at_target_depth(30.0)
-    np.testing.assert_array_equal(deep.level_profile_at(0, 0, -900.0, 3100.0, bearing_deg=200.0).k_db,
+    np.testing.assert_array_equal(_one_profile(deep, -900.0, 3100.0, 200.0).k_db,
                                   deep.at_observer(-900.0, 3100.0).level_profile(0, 0, bearing_deg=200.0).k_db)
     # a grid: its own profile wherever the observer is
-    assert grid.level_profile_at(0, 0, 5000.0, -7000.0, bearing_deg=45.0) is grid.level_profile(0, 0, bearing_deg=45.0)
+    assert _one_profile(grid, 5000.0, -7000.0, 45.0) is grid.level_profile(0, 0, bearing_deg=45.0)
     # an observer depth the tables cannot serve, an observer outside the positions: refused alike
     with pytest.raises(GridFileError, match="not the observer depth"):
-        tables.level_profile_at(0, 0, -100.0, 100.0, 300.0, bearing_deg=10.0)
-    with pytest.raises(InputError, match="outside"):
-        tables.level_profile_at(0, 0, 0.0, -60000.0, bearing_deg=10.0)
+        _one_profile(tables, -100.0, 100.0, 10.0, depth_m=300.0)
+    with pytest.raises(ObserverPositionError, match="outside") as err:
+        tables.level_profiles_at(0, 0, [0.0, 0.0], [0.0, -60000.0], [100.0, 100.0], [10.0, 10.0])
+    assert err.value.index == 1  # the position's place in what was asked
+
+
+def _one_profile(tables, x, y, bearing_deg, depth_m=100.0):
+    """The level profile of class 0, band 0 at one observer position."""
+    return tables.level_profiles_at(0, 0, [x], [y], [depth_m], [bearing_deg])[0]
 
 
 def test_the_simulator_hears_the_tables_where_the_observer_is(atlas_dir):
-    atlas = open_atlas(atlas_dir / "a.zarr")
+    atlas = open_store(atlas_dir / "a.zarr")
     tables = open_tables(atlas_dir / "a.zarr", month=8)
     sc = load_scenario(atlas_dir / "sc.toml")
     sim = simulate_batch(sc, tables, np.random.default_rng(1), dk_db=[0.0])
     o = tables.area.origin
     lat, lon = local_plane_to_lat_lon(o.lat_deg, o.lon_deg, sim.obs_x_m, sim.obs_y_m)
     assert np.hypot(sim.obs_x_m[-1], sim.obs_y_m[-1]) > 3000.0  # the observer moved 3.6 km
-    k, _ = atlas.values_at(lat_deg=lat, lon_deg=lon, month=8, cls_name="TV", band_name="FB2",
-                           bearing_deg=sim.bearing_true_deg[0], range_m=sim.range_m[0])
+    k, _ = values_at(atlas, lat_deg=lat, lon_deg=lon, month=8, cls_name="TV", band_name="FB2",
+                     bearing_deg=sim.bearing_true_deg[0], range_m=sim.range_m[0])
     # W = P0 + K + dK + H (eq. 12) with dK = 0, H = 0: K from the tables around each cycle's observer
     np.testing.assert_allclose(sim.level_true_db[0, :, 0], sim.noise_db[0] + k, rtol=0, atol=1e-4)
     # and not the origin's tables alone: the slope changes K by more than a dB along the path

@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numpy.testing import assert_allclose
 
-from acoustics.grid.tables import LevelProfile
+from acoustics.grid.levelprofile import LevelProfile
 from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from acoustics.grid.tables import as_tables
+from acoustics.grid.opentables import open_tables
 from acoustics.kcurve import spectral_term_db
 from tracker.ranging import bearing_sd_deg
 from tracker.scenario import ScenarioError, load_scenario
@@ -41,7 +41,7 @@ def _scenario(tmp_path, depth=300.0, noise=95.0):
 
 @pytest.mark.bellhop
 def test_k_at_depth_is_spectral_term_minus_tl(tiny_grid, tiny_area):
-    k_at = as_tables(tiny_grid).k_db
+    k_at = open_tables(tiny_grid).k_db
     # at the grid's observer depth it is the grid's k_db (to float rounding)
     assert_allclose(k_at(tiny_area.observer.depth_m), tiny_grid["k_db"].values, atol=1e-9)
     assert_allclose(k_at(None), tiny_grid["k_db"].values, atol=1e-9)
@@ -61,8 +61,8 @@ def test_k_at_depth_is_spectral_term_minus_tl(tiny_grid, tiny_area):
 @pytest.mark.bellhop
 def test_simulated_levels_use_k_at_the_observer_depth(tiny_grid, tmp_path, rng):
     sc = _scenario(tmp_path, depth=300.0)
-    sim = simulate_batch(sc, as_tables(tiny_grid), rng, dk_db=0.0)
-    tables = as_tables(tiny_grid)
+    sim = simulate_batch(sc, open_tables(tiny_grid), rng, dk_db=0.0)
+    tables = open_tables(tiny_grid)
     sonar = tables.area.sonar
     ic = list(tiny_grid["class"].values).index("SHIP")
     k = tables.k_db(300.0)[ic]                                          # (M, R)
@@ -75,8 +75,8 @@ def test_simulated_levels_use_k_at_the_observer_depth(tiny_grid, tmp_path, rng):
 @pytest.mark.bellhop
 def test_simulated_bearing_sd_is_eq2_of_the_highest_detected_band(tiny_grid, tmp_path, rng):
     sc = _scenario(tmp_path, depth=100.0, noise=110.0)   # FB1 alone, or FB1 and F500
-    sim = simulate_batch(sc, as_tables(tiny_grid), rng, dk_db=np.linspace(-6.0, 6.0, 8))
-    tables = as_tables(tiny_grid)
+    sim = simulate_batch(sc, open_tables(tiny_grid), rng, dk_db=np.linspace(-6.0, 6.0, 8))
+    tables = open_tables(tiny_grid)
     sonar = tables.area.sonar
     det = np.isfinite(sim.level_db)                                      # (E, T, M)
     q_ind = 10.0 ** (sim.snr_db / 10.0) * np.sqrt(tables.bandwidth_hz * sonar.integration_time_s)
@@ -95,4 +95,4 @@ def test_simulated_bearing_sd_is_eq2_of_the_highest_detected_band(tiny_grid, tmp
 def test_scenario_depth_outside_the_grid(tiny_grid, tmp_path, rng):
     sc = _scenario(tmp_path, depth=2000.0)
     with pytest.raises(ScenarioError, match=r"tiny.toml: \[observer\] depth_m: 2000 m is outside"):
-        simulate_batch(sc, as_tables(tiny_grid), rng)
+        simulate_batch(sc, open_tables(tiny_grid), rng)

@@ -7,7 +7,7 @@ bearing-dependent grid's depth axis, ``tracker.simulate``), with eq. 11's level 
 bearing errors and a K error dK drawn once per run. The same measurements are tracked by
 
 - the particle filter with bearings and SPL (band FB1, the class's P0) given the class's depth
-  (the tables as built), given the true depth (``GridTables.at_target_depth``), and with the
+  (the tables as built), given the true depth (``Tables.at_target_depth``), and with the
   depth a state (``tracker.rpf.depthbatch``, prior uniform over `DEPTH_SPAN_M`);
 - the ML motion analysis (all bands) given the class's depth, the true depth, and over depth
   hypotheses weighed by the likelihood of the levels (``tracker.mltma.depths``).
@@ -171,9 +171,9 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     out = Path(out_dir)
     grid = build_grid_file(load_area(AREA), out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
                            progress=progress).file
-    from acoustics.grid.io import open_grid
+    from acoustics.grid.opentables import open_tables
 
-    tables = open_grid(grid)
+    tables = open_tables(grid)
     sc = load_scenario(SCENARIO)
     ic = tables.class_index(sc.target_class)
     band = 0  # FB1, the band heard farthest

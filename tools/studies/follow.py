@@ -33,7 +33,7 @@ from acoustics.grid.opentables import open_tables
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
 from tools.studies.trackerrors import ml_errors, rpf_errors
-from tracker.mltma import MLBatch, MLParams
+from tracker.mltma import MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -42,20 +42,6 @@ SPACINGS_KM = (10.0, 5.0)
 TABLES = ("origin", "atlas-10km", "atlas-5km")
 TRUTHS = ("bellhop", "tables")
 REPORT_MIN = (10, 20, 30, 40)
-
-
-def _ml(tables, sim, ic: int, params: MLParams) -> tuple[np.ndarray, np.ndarray]:
-    """Position error (E, T), m, and the tacks declared per run (E,) of the ML analysis."""
-    e, t = sim.bearing_deg.shape
-    batch = MLBatch(tables, np.full(e, ic), t, params)
-    vx, vy = np.gradient(sim.obs_x_m, sim.t_s), np.gradient(sim.obs_y_m, sim.t_s)
-    err = np.full((e, t), np.nan)
-    for i in range(t):
-        out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i], sim.bearing_deg[:, i],
-                           sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :], sim.snr_db[:, i, :],
-                           obs_depth_m=sim.obs_depth_m)
-        err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
-    return err, batch.tack.copy()
 
 
 def build_tables(out: Path, workers: int) -> dict[str, Path]:

@@ -98,9 +98,9 @@ PAPER_PARAMS = MLParams(maneuver_curved=False, level_vs_k=False)
 def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     """Simulate and track one chunk of runs: squared errors and estimates (C, E, T) of course,
     speed, range, the simulation, and the tack each row declared at each cycle (C, E, T)."""
-    from acoustics import open_grid
+    from acoustics import open_tables
 
-    tables = open_grid(grid_path)
+    tables = open_tables(grid_path)
     sc = load_scenario(scenario)
     rng = np.random.default_rng(seed)
     sim = simulate_batch(sc, tables, rng, dv_mps=dv, dp0_db=dp, dk_db=dk)
@@ -186,11 +186,11 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     ``progress`` shows a tqdm bar of finished runs on stderr. Runs go in chunks of
     ``chunk_runs``, each with its own random stream; the workers share them out.
     """
-    from acoustics import open_grid
+    from acoustics import open_tables
 
     t_start = time.perf_counter()
     params = PAPER_PARAMS if params is None else params
-    grid = open_grid(grid_path)
+    grid = open_tables(grid_path)
     sc = load_scenario(scenario)
     classes = grid.classes
     true_cls = next(c for c in classes if c.name == sc.target_class)

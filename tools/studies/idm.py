@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from acoustics.grid.face import Tables
 from acoustics.grid.formats import RESULT_FORMAT
-from acoustics.grid.tables import GridTables
 from envdata.classes import ross_source_level_db
 from envdata.files import atomic_path
 from tools.studies.idm_columns import COLUMN
@@ -90,7 +90,7 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
 def _chunk(args) -> dict[str, np.ndarray]:
     """One chunk of runs: simulate, filter with every method, return position errors (m)."""
     scenario, range_m, k_db, runs, seed_seq, n_particles, level_sigma_db = args
-    from acoustics.grid.tables import LevelProfile
+    from acoustics.grid.levelprofile import LevelProfile
 
     profile = LevelProfile(range_m=range_m, k_db=k_db)
     rng = np.random.default_rng(seed_seq)
@@ -116,9 +116,9 @@ def _find_grid(grid):
     if grid is None:
         raise ScenarioError(f"the idm experiment needs the {AREA} grid: build it with "
                             f"'tmakit grids build {AREA}' and give its file")
-    if isinstance(grid, GridTables):
+    if isinstance(grid, Tables):
         return grid, grid.source
-    return acoustics.open_grid(grid), str(grid)
+    return acoustics.open_tables(grid), str(grid)
 
 
 def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = False,
@@ -141,7 +141,7 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         Progress bar on stderr.
     workers : int, optional
         Worker processes (default: the CPU count).
-    grid : path or GridTables
+    grid : path or Tables
         The munk-1000 grid (the tracker reads grids; it never runs BELLHOP).
     n_particles : int
         N (5000).

@@ -29,8 +29,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.io import open_grid
-from acoustics.grid.tables import GridTables, as_tables
+from acoustics.grid.dataset import with_k_error_sd
+from acoustics.grid.face import Tables
+from acoustics.grid.opentables import open_tables
+from acoustics.sensitivity.face import Study
 from acoustics.sensitivity.files import open_study
 from acoustics.sensitivity.summaries import k_error_by_class, summarize
 from envdata.errors import InputError
@@ -45,13 +47,15 @@ METHODS = ("ml", "rpf")
 SDS = ("map", "scalar")
 
 
-def member_tables(nominal: GridTables, study, member: int) -> GridTables:
+def member_tables(nominal: Tables, study: Study, member: int) -> Tables:
     """The sea of one member: the nominal grid with the member's K (the truth the runs simulate)."""
-    k = study["k_db"].isel(member=member).transpose(*nominal.dataset["k_db"].dims)
-    ds = nominal.dataset.assign(k_db=(nominal.dataset["k_db"].dims, k.values, nominal.dataset["k_db"].attrs))
+    dims = nominal.dataset["k_db"].dims
+    canonical = ("class", "band", "bearing", "range") if study.bearing_deg is not None else ("class", "band", "range")
+    k = np.transpose(study.member_k_db(member), [canonical.index(d) for d in dims])
+    ds = nominal.dataset.assign(k_db=(dims, k, nominal.dataset["k_db"].attrs))
     if "k_error_sd_db" in ds:
         ds = ds.drop_vars("k_error_sd_db")
-    return as_tables(ds, f"{nominal.source} (member {member})")
+    return open_tables(ds, name=f"{nominal.source} (member {member})")
 
 
 def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int = 48, seed: int = 0,
@@ -59,25 +63,24 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     """The study (see the module); returns its summary and writes its three files."""
     start = time.perf_counter()
     out = Path(out_dir)
-    with_map = open_grid(grid)
+    with_map = open_tables(grid)
     if not with_map.has_k_error_map:
         raise InputError(f"{grid}: the grid has no k_error_sd_db; run tmakit sensitivity ... --into {grid}")
-    ds = open_study(study)
-    summary_k = summarize(ds)
+    study_k = open_study(study)
+    summary_k = summarize(study_k)
     sc = load_scenario(SCENARIO)
     ic = with_map.class_index(sc.target_class)
     band = 0  # FB1, the band heard farthest
     scalar_db = k_error_by_class(summary_k)[sc.target_class]
-    scalar = as_tables(with_map.dataset_with_k_error_sd(
-        np.where(np.isfinite(with_map.k_grid_db), scalar_db, np.nan), f"one number, {scalar_db:.2f} dB"),
-        f"{grid} (one number)")
+    scalar = open_tables(with_k_error_sd(with_map.dataset, np.where(np.isfinite(with_map.k_grid_db), scalar_db, np.nan),
+                                         f"one number, {scalar_db:.2f} dB"), name=f"{grid} (one number)")
     rng = np.random.default_rng(seed)
-    members = rng.integers(0, ds.sizes["member"], runs)
+    members = rng.integers(0, study_k.members, runs)
     errors = {(m, s): [] for m in METHODS for s in SDS}
     minutes = None
     for member in np.unique(members):
         n = int(np.sum(members == member))
-        truth = member_tables(with_map, ds, int(member))
+        truth = member_tables(with_map, study_k, int(member))
         # the level error is the member's K itself: no extra dK drawn
         sim = simulate_batch(sc, truth, rng, dk_db=np.zeros(n))
         minutes = (sim.t_s - sim.t_s[0]) / 60.0
@@ -97,8 +100,8 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
                 for b in with_map.bearing_axis_deg}
     summary = {"scenario": sc.name, "area": with_map.area.name, "runs": runs, "seed": seed,
                "n_particles": n_particles, "class": sc.target_class, "band": with_map.band_names[band],
-               "study": str(study), "grid": str(grid), "study_members": int(ds.sizes["member"]),
-               "members_drawn": np.bincount(members, minlength=ds.sizes["member"]).tolist(),
+               "study": str(study), "grid": str(grid), "study_members": study_k.members,
+               "members_drawn": np.bincount(members, minlength=study_k.members).tolist(),
                "scalar_k_error_sd_db": round(scalar_db, 3), "level_sd_db": LEVEL_SD_DB,
                "k_error_sd_db_median_by_bearing": sd_along,
                "rmse_m": {f"{m}_{s}": {f"{t:g}": float(np.interp(t, minutes, frame[f"{m}_{s}_rmse_m"]))
@@ -118,9 +121,9 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
     return summary
 
 
-def open_grid_without_map(tables: GridTables) -> GridTables:
+def open_grid_without_map(tables: Tables) -> Tables:
     """The same grid without ``k_error_sd_db`` (the classes' one number, already in sigma_l)."""
-    return as_tables(tables.dataset.drop_vars("k_error_sd_db"), f"{tables.source} (no map)")
+    return open_tables(tables.dataset.drop_vars("k_error_sd_db"), name=f"{tables.source} (no map)")
 
 
 def _figure(frame: pd.DataFrame, summary: dict):

@@ -84,9 +84,9 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                                         progress=progress).file,
              "isotropic": build_grid_file(origin_area(area), out / "grids" / f"{AREA}-origin-bellhop.nc",
                                           workers=workers, progress=progress).file}
-    from acoustics.grid.io import open_grid
+    from acoustics.grid.opentables import open_tables
 
-    tables = {name: open_grid(path) for name, path in grids.items()}
+    tables = {name: open_tables(path) for name, path in grids.items()}
     sc = load_scenario(SCENARIO)
     truth = tables["bearing"]
     cls_index = truth.class_index(sc.target_class)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from envdata.classes import SourceLevelModel
 from tracker.mltma import MLBatch, MLParams
 from tracker.rpf import RpfConfig, run_batch
@@ -15,7 +15,7 @@ from tracker.rpf.track import cycle_profiles
 LEVEL_SD_DB = 1.1
 
 
-def ml_errors(tables: GridTables, sim, cls_index: int,
+def ml_errors(tables: Tables, sim, cls_index: int,
               params: MLParams | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Position error of the ML analysis, true class, every run and cycle, m (E, T), and the
     tacks it declared per run (E,)."""
@@ -31,7 +31,7 @@ def ml_errors(tables: GridTables, sim, cls_index: int,
     return err, batch.tack.copy()
 
 
-def rpf_errors(tables: GridTables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
+def rpf_errors(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
                *, level_sigma_db: float | None = None, at_observer: bool = True) -> np.ndarray:
     """Position error of the particle filter (bearings and the band's SPL), m (E, T).
 

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from tracker.errors import MeasurementFileError
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
 from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
@@ -54,7 +54,7 @@ class MLBatch:
 
     Parameters
     ----------
-    tables : GridTables
+    tables : Tables
         Propagation grid (k_db and the area's classes, sonar, noise).
     class_index : array of int, shape (B,)
         Class hypothesis (index into the grid's class axis) of each row.
@@ -63,7 +63,7 @@ class MLBatch:
     params : MLParams
     """
 
-    def __init__(self, tables: GridTables, class_index, capacity: int,
+    def __init__(self, tables: Tables, class_index, capacity: int,
                  params: MLParams | None = None):
         self.params = params or MLParams()
         self.tables = tables
@@ -158,7 +158,7 @@ class MLBatch:
         """Feed one cycle (bearing and bearing sd (B,), levels and SNR (B, M)); return estimates.
 
         K(r) is taken at ``obs_depth_m`` (TL linear in depth; default the grid's observer
-        depth), `acoustics.grid.tables.GridTables.k_db`.
+        depth), `acoustics.grid.face.Tables.k_db`.
 
         Returns
         -------

@@ -2,7 +2,7 @@
 
 Not in Grinenkov & Mashoshin (their classes radiate from one depth each). For each depth
 hypothesis the whole analysis runs on the tables with K at that depth
-(``GridTables.at_target_depth``): the level-based range, hence the track, depends on it. The
+(``Tables.at_target_depth``): the level-based range, hence the track, depends on it. The
 depth's posterior is then taken on the tables' own depth axis (every row inside the span), each
 depth read along the track of the hypothesis nearest to it (`owners`), with the likelihood of
 the levels of every band at once of `tracker.depthpost` (the offset common to the bands, an
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from tracker.depthlevels import TrackDepthLikelihood
 from tracker.depthpost import DepthPosterior, depth_grid_m, posterior
 from tracker.measurements import Measurements
@@ -139,7 +139,7 @@ def hypothesis_weights(post: DepthPosterior, owner, n_hypotheses: int) -> np.nda
     return post.weight @ onehot.astype(float)
 
 
-def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = None,
+def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None,
                  band: str | None = None, params: MLParams | None = None,
                  depths_m=None) -> tuple[pd.DataFrame, list[DepthChoice]]:
     """The ML analysis over class x depth hypotheses; one row per cycle per class.
@@ -149,7 +149,7 @@ def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = 
 
     Parameters
     ----------
-    tables : GridTables
+    tables : Tables
         Must serve K at any target depth (``serves_target_depth``).
     m : Measurements
         Bearings and levels (cycles without a bearing dropped, as in
@@ -159,7 +159,7 @@ def track_depths(tables: GridTables, m: Measurements, *, cls_name: str | None = 
         likelihood to that band's levels.
     depths_m : array_like, optional
         The depth hypotheses, m; default `depth_hypotheses_m` of each class's span
-        (``GridTables.target_depth_span_m``).
+        (``Tables.target_depth_span_m``).
 
     Returns
     -------

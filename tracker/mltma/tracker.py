@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from acoustics.grid.tables import GridTables
+from acoustics.grid.face import Tables
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
 from tracker.mltma.batch import MLBatch
@@ -28,7 +28,7 @@ class MLTracker:
     ...     rows = trk.update_from(m, i)                # one DataFrame row per class
     """
 
-    def __init__(self, tables: GridTables, *, capacity: int, class_names=None,
+    def __init__(self, tables: Tables, *, capacity: int, class_names=None,
                  params: MLParams | None = None):
         chosen = tables.class_names if class_names is None else tuple(class_names)
         self.class_names = tuple(chosen)                      # one batch row per class
@@ -94,7 +94,7 @@ def _frame(t_s, class_names, out) -> pd.DataFrame:
                          "depth_sd_m": np.nan}).loc[:, list(TRACK_COLUMNS)]
 
 
-def track_measurements(tables: GridTables, measurements: Measurements, *,
+def track_measurements(tables: Tables, measurements: Measurements, *,
                        cls_name: str | None = None, band: str | None = None,
                        params: MLParams | None = None) -> pd.DataFrame:
     """Run the ML tracker over a whole measurement file; one row per cycle per class.
@@ -103,7 +103,7 @@ def track_measurements(tables: GridTables, measurements: Measurements, *,
 
     Parameters
     ----------
-    tables : GridTables
+    tables : Tables
     measurements : Measurements
         Cycles with a NaN bearing are skipped (said once).
     cls_name : str, optional

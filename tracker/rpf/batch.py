@@ -103,7 +103,7 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
         ``rng`` (and, with the kernel engine, one generator per run seeded from it).
     target_k : TargetDepthK or sequence of B of them, optional
         With ``depth``: K against the target's depth and range of the class in each band
-        (``GridTables.target_depth_k``).
+        (``Tables.target_depth_k``).
     cycle_bearing_deg : ndarray, shape (K,), optional
         With ``depth``: the bearing whose radials each cycle reads, deg (NaN: the last before).
     depth : tracker.rpf.depthbatch.DepthConfig, optional

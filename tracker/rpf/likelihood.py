@@ -2,7 +2,7 @@
 
 The SPL of a particle is h_l = SL(v) - TL (eqs. 11-16): SL(v) = 170 + 53 lg(v / 5.14 m/s)
 (eq. 12, Ross, `envdata.classes.ross_source_level_db`) with v the particle's own target speed,
-TL read from the grid by linear interpolation in depth and range (eq. 13, `acoustics.grid.tables`).
+TL read from the grid by linear interpolation in depth and range (eq. 13, `acoustics.grid.face`).
 
 References
 ----------

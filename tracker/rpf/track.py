@@ -29,7 +29,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
 
     Parameters
     ----------
-    tables : acoustics.grid.tables.GridTables
+    tables : acoustics.grid.face.Tables
         The propagation grid's tables.
     measurements : tracker.measurements.Measurements
         Bearings and band levels. ``rpf`` needs the ``level_db_NAME`` column of the band; a
@@ -161,7 +161,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
 
 def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0, p0_sd):
     """One track with the depth state: K against depth and range of the class and band, the
-    span of `GridTables.target_depth_span_m`, each cycle reading the radials of its bearing."""
+    span of `Tables.target_depth_span_m`, each cycle reading the radials of its bearing."""
     from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
 
     lo, hi = tables.target_depth_span_m(ic)
@@ -174,7 +174,7 @@ def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0
 
 def cycle_profiles(tables, ic: int, ib: int, depth_m, bearing_deg, obs_x_m=None, obs_y_m=None) -> list:
     """The level model's K(r) of each cycle: from the tables where the observer is that cycle
-    (an atlas's follow it; ``GridTables.level_profiles_at``), at the cycle's observer depth, and for
+    (an atlas's follow it; ``Tables.level_profiles_at``), at the cycle's observer depth, and for
     a grid with bearings at the cycle's measured bearing (between radials; a cycle without one
     takes the last bearing measured). The particles of a cycle lie within a few bearing sd of
     the measured bearing, where K changes little between radials tens of degrees apart.

@@ -15,9 +15,10 @@ import pytest
 
 import acoustics
 from acoustics.builder.atlas import build_atlas_file
-from acoustics.grid.atlas import open_atlas
-from acoustics.grid.atlasstore import AtlasFileError
-from acoustics.grid.tables import RadialTables
+from acoustics.grid.atlas.format import AtlasFileError
+from acoustics.grid.atlas.sample import values_at
+from acoustics.grid.atlas.store import open_store
+from acoustics.grid.radialtables import RadialTables
 from envdata.atlasarea import table_area
 from envdata.errors import InputError
 from tests.acoustics.atlas.atlasarea import load_atlas_area
@@ -35,7 +36,7 @@ def built(tmp_path_factory):
 
 
 def _tables(path):
-    atlas = open_atlas(path)
+    atlas = open_store(path)
     return {(m, o): atlas.slab(m, o) for m in range(atlas.months.size) for o in range(atlas.lat_deg.size)}
 
 
@@ -50,7 +51,7 @@ def test_each_table_is_exactly_the_grid_of_its_position_and_month(built):
     # 4 radials x 1 run frequency per table, each a TL run and the arrivals run of the surface at
     # the target's end (its near-surface rows)
     assert info["runs"] == 12 * 4 * 2
-    atlas = open_atlas(out)
+    atlas = open_store(out)
     assert atlas.done.all()
     table = atlas.sel(month=2, origin=4)
     assert isinstance(table, RadialTables)
@@ -70,23 +71,23 @@ def test_each_table_is_exactly_the_grid_of_its_position_and_month(built):
 
 def test_values_between_positions_are_weighted_in_db_and_outside_is_an_error(built):
     _, out, _ = built
-    atlas = open_atlas(out)
+    atlas = open_store(out)
     kw = dict(month=8, cls_name="TV", band_name="FB2", bearing_deg=90.0, range_m=5000.0)
-    k, tl = atlas.values_at(lat_deg=atlas.lat_deg, lon_deg=atlas.lon_deg, **kw)
+    k, tl = values_at(atlas, lat_deg=atlas.lat_deg, lon_deg=atlas.lon_deg, **kw)
     for o in range(atlas.lat_deg.size):  # at a position: its own table (k_db at 90 deg, 5 km)
         assert k[o] == pytest.approx(atlas.slab(1, o)[1][0, 0, 1, 24], abs=1e-9)
     # midway between two nodes of a row: the mean of their values in dB (bilinear, tc = 0.5)
     mid_lon = 0.5 * (atlas.lon_deg[0] + atlas.lon_deg[1])
-    km, tlm = atlas.values_at(lat_deg=[atlas.lat_deg[0]], lon_deg=[mid_lon], **kw)
+    km, tlm = values_at(atlas, lat_deg=[atlas.lat_deg[0]], lon_deg=[mid_lon], **kw)
     assert km[0] == pytest.approx(0.5 * (k[0] + k[1]), abs=1e-9)
     assert tlm[0] == pytest.approx(0.5 * (tl[0] + tl[1]), abs=1e-6)
     with pytest.raises(InputError, match=r"observer 0: .* outside the atlas's lattice"):
-        atlas.values_at(lat_deg=[42.5], lon_deg=[5.0], **kw)
+        values_at(atlas, lat_deg=[42.5], lon_deg=[5.0], **kw)
     # between the middle row and the left-out northern row: no tables to weight
     with pytest.raises(InputError, match=r"not surrounded by the atlas's tables"):
-        atlas.values_at(lat_deg=[atlas.lat_deg[3] + 0.03], lon_deg=[atlas.lon_deg[3] + 0.01], **kw)
+        values_at(atlas, lat_deg=[atlas.lat_deg[3] + 0.03], lon_deg=[atlas.lon_deg[3] + 0.01], **kw)
     with pytest.raises(InputError, match=r"month 5 is not in the atlas"):
-        atlas.values_at(lat_deg=atlas.lat_deg[:1], lon_deg=atlas.lon_deg[:1], **{**kw, "month": 5})
+        values_at(atlas, lat_deg=atlas.lat_deg[:1], lon_deg=atlas.lon_deg[:1], **{**kw, "month": 5})
 
 
 def test_a_rebuild_recomputes_only_missing_damaged_or_changed_tables(built, tmp_path):
@@ -105,7 +106,7 @@ def test_a_rebuild_recomputes_only_missing_damaged_or_changed_tables(built, tmp_
     data[len(data) // 2] ^= 0xFF
     chunk.write_bytes(bytes(data))
     zarr.open_group(str(copy), mode="r+")["table_hash"][1, 5] = 12345
-    atlas = open_atlas(copy)
+    atlas = open_store(copy)
     assert not atlas.done[0, 2]  # found missing at open
     with pytest.raises(AtlasFileError, match=r"a damaged chunk"):  # never read as numbers
         atlas.slab(1, 3)
@@ -134,7 +135,7 @@ def test_stores_that_are_not_this_atlas_are_refused_naming_what_differs(built, t
     (other / "zarr.json").write_text(json.dumps(meta))
     with pytest.raises(AtlasFileError, match=r"an atlas of tmakit format 99 \(written by a newer tmakit\); "
                                              r"this version reads format 1"):
-        open_atlas(other)
+        open_store(other)
     with pytest.raises(AtlasFileError, match=r"format 99"):
         build_atlas_file(area, other)
 
@@ -166,5 +167,5 @@ def test_a_dask_cluster_losing_a_worker_mid_build_ends_with_identical_tables(bui
         thread.join(timeout=120)
     assert killed and "info" in result
     assert result["info"]["tables_built"] == 12
-    assert open_atlas(store).done.all()
+    assert open_store(store).done.all()
     assert _same(_tables(store), _tables(out))

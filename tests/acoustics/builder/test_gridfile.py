@@ -32,4 +32,4 @@ def test_a_build_resumes_from_the_runs_beside_the_output(tiny_area, tiny_area_pa
     assert len(list(cache.glob("*.npy"))) == 3
     info = build_grid_file(tiny_area_path, out, workers=2)  # an area file path works as well
     assert info.runs == 4 and info.runs_reused == 3 and not cache.exists()
-    xr.testing.assert_identical(acoustics.open_grid(out).dataset.drop_attrs(), tiny_grid.drop_attrs())
+    xr.testing.assert_identical(acoustics.open_tables(out).dataset.drop_attrs(), tiny_grid.drop_attrs())

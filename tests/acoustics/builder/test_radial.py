@@ -69,7 +69,7 @@ def test_the_shelf_break_grid_file(tmp_path, capsys):
     area_file.write_text(text)
     assert cli.main(["grids", "build", str(area_file), "--out", str(out), "--workers", "2"]) == 0
     capsys.readouterr()
-    grid = acoustics.open_grid(out).dataset
+    grid = acoustics.open_tables(out).dataset
     assert grid.sizes["bearing"] == 3 and grid["tl_db"].dims == ("class", "band", "bearing", "depth", "range")
     bottom = grid["bottom_depth_m"]
     # toward land the radial ends at the coast; seaward the water deepens beyond the slope

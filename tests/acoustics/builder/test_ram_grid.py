@@ -52,7 +52,7 @@ def ram_grid(shelf):
 
 def test_a_ram_band_is_the_intensity_average_of_21_coherent_runs(shelf, ram_grid):
     grid, stats = ram_grid
-    tables = acoustics.as_tables(grid)  # the contract holds
+    tables = acoustics.open_tables(grid)  # the contract holds
     assert tables.model == "ram"
     assert stats.runs_total == RAM_FREQS_PER_BAND and stats.ram_seconds > 0.0
     settings = json.loads(grid.attrs["ram_settings"])
@@ -93,7 +93,7 @@ def test_source_hash_and_resume_cover_the_ram_runs(shelf, tmp_path):
     info = build_grid_file(shelf, out, model="ram", workers=2)
     assert info.runs_reused == info.runs == RAM_FREQS_PER_BAND and info.ram_seconds == 0.0
     assert not cache.exists()  # removed once the file is written
-    assert acoustics.open_grid(out).dataset.attrs["source_hash"] == base
+    assert acoustics.open_tables(out).dataset.attrs["source_hash"] == base
     again = build_grid_file(shelf, out, model="ram")
     assert again.up_to_date
 
@@ -141,7 +141,7 @@ def test_a_bearing_dependent_ram_grid_of_a_flat_area_is_the_flat_ram_grid(shelf,
     radial_area = envdata.parse_area(doc, "shelf-with-origin")
     stats = BuildStats()
     radial = acoustics.build_grid(radial_area, model="ram", workers=2, stats=stats)
-    assert acoustics.as_tables(radial).model == "ram" and radial["tl_db"].attrs["fixed_end"] == "observer"
+    assert acoustics.open_tables(radial).model == "ram" and radial["tl_db"].attrs["fixed_end"] == "observer"
     # identical radials are one set of runs
     assert stats.runs_total == RAM_FREQS_PER_BAND
     del doc["origin"], doc["bearings"]

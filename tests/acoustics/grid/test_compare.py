@@ -21,8 +21,8 @@ def _shifted(grid, tl_shift_db: float, k_shift_db: float):
 
 
 def test_a_known_shift_is_measured_exactly(tiny_grid):
-    a = acoustics.as_tables(tiny_grid, "a.nc")
-    b = acoustics.as_tables(_shifted(tiny_grid, 1.5, -0.75), "b.nc")
+    a = acoustics.open_tables(tiny_grid, name="a.nc")
+    b = acoustics.open_tables(_shifted(tiny_grid, 1.5, -0.75), name="b.nc")
     c = compare_grids(a, b)
     assert (c.model_a, c.model_b, c.axis_name) == ("bellhop", "shifted", "depth")
     assert [(r.cls_name, r.band) for r in c.rows] == [(cn, bn) for cn in a.class_names for bn in a.band_names]
@@ -39,11 +39,11 @@ def test_a_known_shift_is_measured_exactly(tiny_grid):
 
 
 def test_grids_on_other_axes_are_refused(tiny_grid):
-    a = acoustics.as_tables(tiny_grid, "a.nc")
-    shorter = acoustics.as_tables(tiny_grid.isel(range=slice(0, 40)), "b.nc")
+    a = acoustics.open_tables(tiny_grid, name="a.nc")
+    shorter = acoustics.open_tables(tiny_grid.isel(range=slice(0, 40)), name="b.nc")
     with pytest.raises(GridMismatchError, match=r"a.nc and b.nc are not grids of one area.*range axis 50 values "
                                                 r"100-5000 m against 40 values 100-4000 m"):
         compare_grids(a, shorter)
-    other = acoustics.as_tables(acoustics.build_grid(envdata.load_area("munk-1000"), model="urick"), "m.nc")
+    other = acoustics.open_tables(acoustics.build_grid(envdata.load_area("munk-1000"), model="urick"), name="m.nc")
     with pytest.raises(GridMismatchError, match=r"area 'tiny-munk' against 'munk-1000'"):
         compare_grids(a, other)

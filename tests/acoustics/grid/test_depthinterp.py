@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from acoustics.grid.depthinterp import tl_at_depths
+from acoustics.grid.lookup import tl_at_depths
 
 
 def test_a_field_linear_in_depth_is_reproduced_between_and_at_the_axis_depths():

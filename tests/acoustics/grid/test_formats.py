@@ -29,13 +29,13 @@ FORMAT0 = DATA / "grid-format0.nc"
 
 def test_a_new_grid_carries_this_versions_format(tiny_grid, tiny_grid_file):
     assert tiny_grid.attrs["tmakit_format"] == GRID_FORMAT == 2
-    assert acoustics.open_grid(tiny_grid_file).dataset.attrs["tmakit_format"] == 2
+    assert acoustics.open_tables(tiny_grid_file).dataset.attrs["tmakit_format"] == 2
 
 
 def test_the_previous_releases_grid_opens_through_the_upgrade(tiny_area):
     raw = xr.open_dataset(FORMAT1)
     assert "tmakit_format" not in raw.attrs  # written before formats were numbered
-    tables = acoustics.open_grid(FORMAT1)
+    tables = acoustics.open_tables(FORMAT1)
     assert tables.dataset.attrs["tmakit_format"] == GRID_FORMAT
     # the same area and BELLHOP in that release's mode (incoherent beams, before the surface was
     # put at the target's end): the same numbers as a grid built now
@@ -74,7 +74,7 @@ def test_a_format_that_is_not_an_integer_is_refused(tmp_path, tiny_grid):
     path = tmp_path / "odd.nc"
     acoustics.write_grid(tiny_grid.assign_attrs(tmakit_format="two"), path)
     with pytest.raises(acoustics.GridFileError, match="tmakit_format must be an integer, got 'two'"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def test_a_study_without_a_format_is_format_1_and_a_newer_one_is_refused():

@@ -16,7 +16,7 @@ pytestmark = pytest.mark.bellhop
 
 
 def test_round_trip_is_identical(tiny_grid, tiny_grid_file):
-    xr.testing.assert_identical(acoustics.open_grid(tiny_grid_file).dataset, tiny_grid)
+    xr.testing.assert_identical(acoustics.open_tables(tiny_grid_file).dataset, tiny_grid)
 
 
 def test_coordinates_carry_no_fill_value(tiny_grid_file):
@@ -60,7 +60,7 @@ def test_compliance_checker_finds_no_high_priority_failure_but_db_units(tiny_gri
 
 def test_missing_file():
     with pytest.raises(acoustics.GridFileError, match=r"no/such.nc: grid file not found"):
-        acoustics.open_grid("no/such.nc")
+        acoustics.open_tables("no/such.nc")
 
 
 @pytest.mark.parametrize("name, match", [("not-netcdf.nc", "not a netCDF file"),
@@ -68,7 +68,7 @@ def test_missing_file():
 def test_malformed_grid_files(name, match):
     path = MALFORMED / "grid" / name
     with pytest.raises(acoustics.GridFileError, match=f"{path}: {match}"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def test_truncated_grid_file(tiny_grid_file, tmp_path):
@@ -76,7 +76,7 @@ def test_truncated_grid_file(tiny_grid_file, tmp_path):
     raw = tiny_grid_file.read_bytes()
     cut.write_bytes(raw[: len(raw) // 2])
     with pytest.raises(acoustics.GridFileError, match=r"cut.nc: cannot read netCDF \(truncated or damaged\)"):
-        acoustics.open_grid(cut)
+        acoustics.open_tables(cut)
 
 
 @pytest.mark.parametrize("var", ["tl_db", "k_db", "k_urick_db"])
@@ -84,7 +84,7 @@ def test_grid_without_a_required_variable(tiny_grid, tmp_path, var):
     path = tmp_path / f"no-{var}.nc"
     tiny_grid.drop_vars(var).to_netcdf(path)
     with pytest.raises(acoustics.GridFileError, match=f"missing variable '{var}'"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def test_grid_without_source_hash(tiny_grid, tmp_path):
@@ -93,14 +93,14 @@ def test_grid_without_source_hash(tiny_grid, tmp_path):
     del ds.attrs["source_hash"]
     ds.to_netcdf(path)
     with pytest.raises(acoustics.GridFileError, match="missing global attribute 'source_hash'"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def test_netcdf_that_is_not_a_grid(tmp_path):
     path = tmp_path / "other.nc"
     xr.Dataset({"x": ("t", np.arange(3.0))}).to_netcdf(path)
     with pytest.raises(acoustics.GridFileError, match="missing dimension 'class'"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def _edited_area_json(ds, edit):
@@ -145,7 +145,7 @@ def test_grid_gate_refuses_inconsistent_grids(tiny_grid, tmp_path, label, change
     path = tmp_path / "bad.nc"
     acoustics.write_grid(change(tiny_grid), path)
     with pytest.raises(acoustics.GridFileError, match=f"^{re.escape(str(path))}: .*{match}"):
-        acoustics.open_grid(path)
+        acoustics.open_tables(path)
 
 
 def test_area_json_reads_back_into_the_same_area(tiny_grid, tiny_area):

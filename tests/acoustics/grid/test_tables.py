@@ -7,7 +7,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from acoustics.errors import GridFileError
-from acoustics.grid.tables import as_tables
+from acoustics.grid.opentables import open_tables
 from acoustics.kcurve import spectral_term_db
 from acoustics.levelrange import BEYOND_GRID_PENALTY_DB
 
@@ -16,7 +16,7 @@ pytestmark = pytest.mark.bellhop
 
 def _table(grid, cls_name, band):
     """The tables of a grid, and the (class, band) indices of one of its tables."""
-    tab = as_tables(grid)
+    tab = open_tables(grid)
     return tab, tab.class_index(cls_name), tab.band_index(band)
 
 

@@ -22,11 +22,11 @@ def radial_tables():
     doc["bearings"] = {"step_deg": 120.0}
     doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
     doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
-    return acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
+    return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
 
 
 def test_a_flat_grid_holds_tl_from_the_observer_and_reciprocity_holds_below_the_surface(tiny_depth_grid):
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     assert tiny_depth_grid["tl_obs_db"].attrs["fixed_end"] == "observer" and t.serves_target_depth
     sub, ship = t.class_index("SUB"), t.class_index("SHIP")
     # K of the 150 m class from the observer-centred runs against the direct runs (source at
@@ -42,7 +42,7 @@ def test_a_flat_grid_holds_tl_from_the_observer_and_reciprocity_holds_below_the_
 
 
 def test_the_slab_and_the_shifted_tables_give_one_k(tiny_depth_grid):
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     slab = t.target_depth_k(0, 1)
     z, r = 237.0, np.array([700.0, 2345.0, 4990.0])
     assert_allclose(slab.at(z, r), t.at_target_depth(z).k_at(0, r)[:, 1], atol=1e-9)
@@ -53,7 +53,7 @@ def test_the_slab_and_the_shifted_tables_give_one_k(tiny_depth_grid):
 
 
 def test_a_flat_grid_without_tl_obs_is_read_but_refused_for_another_target_depth(tiny_depth_grid):
-    old = acoustics.as_tables(tiny_depth_grid.drop_vars("tl_obs_db"), source="old.nc")
+    old = acoustics.open_tables(tiny_depth_grid.drop_vars("tl_obs_db"), name="old.nc")
     assert not old.serves_target_depth
     assert np.isfinite(old.k_at(0, 1000.0)).all()  # everything else works as before
     with pytest.raises(GridFileError, match=r"old.nc: the grid has no TL from the observer.*"
@@ -64,12 +64,12 @@ def test_a_flat_grid_without_tl_obs_is_read_but_refused_for_another_target_depth
 
 
 def test_shifted_flat_tables_serve_the_observer_depth_only(tiny_depth_grid):
-    v = acoustics.as_tables(tiny_depth_grid).at_target_depth(60.0)
+    v = acoustics.open_tables(tiny_depth_grid).at_target_depth(60.0)
     assert v.target_depth_m == 60.0
     with pytest.raises(GridFileError, match="not the grid's observer depth 100 m"):
         v.k_db(300.0)
     with pytest.raises(GridFileError, match="outside the grid's depth axis"):
-        acoustics.as_tables(tiny_depth_grid).at_target_depth(5000.0)
+        acoustics.open_tables(tiny_depth_grid).at_target_depth(5000.0)
 
 
 def test_a_radial_grid_gives_k_at_any_target_depth_from_its_own_tl(radial_tables):

@@ -21,6 +21,7 @@ from acoustics.nx2d.shd3d import read_shd3d
 from envdata.area import Absorption
 from envdata.radials import area_radials, geodesic_points
 from tests.conftest import DATA
+from tests.fixtures.isovelocity import isovelocity_doc
 
 pytestmark = pytest.mark.bellhop
 
@@ -30,22 +31,13 @@ STEP_M = 10.0
 
 def _iso_area() -> envdata.Area:
     """Isovelocity 1000 m over an impedance-matched bottom, with an origin (for the box)."""
-    return envdata.parse_area({
-        "area": {"name": "iso3d", "latitude_deg": 43.0, "longitude_deg": 5.0},
-        "origin": {"lat_deg": 43.0, "lon_deg": 5.0},
-        "bearings": {"bearing_deg": [0.0, 60.0, 90.0, 200.0]},
-        "water": {"depth_m": 1000.0, "ssp_depth_m": [0.0, 1000.0], "ssp_speed_mps": [1500.0, 1500.0]},
-        "bottom": {"speed_mps": 1500.0, "density_gcc": 1.0, "attenuation_db_per_wavelength": 0.0},
-        "noise": {"spectrum_level_1khz_db": 57.0}, "observer": {"depth_m": 500.0},
-        "sonar": {"beamwidth_deg": 5.0, "directivity_index_db": 20.0, "integration_time_s": 10.0,
-                  "detection_threshold": 5.0},
-        "bands": [{"name": "F", "low_hz": 100.0, "high_hz": 100.0}],
-        "classes": [{"name": "C", "depth_m": 500.0, "speed_mean_mps": 5.0, "speed_sd_mps": 1.0,
-                     "noise_mean_db": 100.0}],
-        "grid": {"range_max_m": 4000.0, "range_step_m": 500.0, "depth_step_m": 100.0},
-        "propagation": {"step_m": STEP_M, "n_beams": 200, "angle_min_deg": -20.0, "angle_max_deg": 20.0,
-                        "absorption": "none"},
-    }, "iso3d")
+    doc = isovelocity_doc("iso3d", depth_m=1000.0, observer_m=500.0, freq_hz=100.0, range_max_m=4000.0,
+                          range_step_m=500.0, depth_step_m=100.0)
+    doc["area"].update(latitude_deg=43.0, longitude_deg=5.0)
+    doc.update(origin={"lat_deg": 43.0, "lon_deg": 5.0}, bearings={"bearing_deg": [0.0, 60.0, 90.0, 200.0]},
+               propagation={"step_m": STEP_M, "n_beams": 200, "angle_min_deg": -20.0, "angle_max_deg": 20.0,
+                            "absorption": "none"})
+    return envdata.parse_area(doc, "iso3d")
 
 
 def _iso_box(ridge_east: bool = False) -> BoxEnvironment:

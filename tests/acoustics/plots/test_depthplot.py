@@ -25,7 +25,7 @@ def by_gid(fig, gid: str):
 
 
 def test_the_flat_figure_is_the_tables_k_at_every_target_depth(tiny_depth_grid):
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     fig = depth_k_figure(t, cls_name="SUB", band="F500")
     ic, ib = t.class_index("SUB"), t.band_index("F500")
     expected = t.target_depth_k(ic, ib).k_db[0]                       # (Z, R), the one column
@@ -44,14 +44,14 @@ def test_the_flat_figure_is_the_tables_k_at_every_target_depth(tiny_depth_grid):
 
 
 def test_a_flat_grid_takes_no_bearing_and_needs_tl_obs(tiny_depth_grid, tiny_grid, tmp_path):
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     out = tmp_path / "depth.png"
     request = PlotRequest(what=What.DEPTH, bearing_deg=45.0)
     assert plot_paths(t, out, request) == {"depth": out}
     with pytest.raises(InputError, match="a bearing is for a bearing-dependent grid"):
         plot_grid(t, out, request)
     with pytest.raises(GridFileError, match="no TL from the observer depth"):
-        plot_grid(acoustics.as_tables(tiny_grid), out, PlotRequest(what=What.DEPTH))
+        plot_grid(acoustics.open_tables(tiny_grid), out, PlotRequest(what=What.DEPTH))
     assert not out.exists()
     written = plot_grid(t, out, PlotRequest(what=What.DEPTH, band="FB1"))
     assert written.files == {"depth": out} and out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

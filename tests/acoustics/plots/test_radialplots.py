@@ -2,7 +2,7 @@
 
 The figures' data are read back from their artists (by gid) and compared with the grid, and the
 detection range with independent computations: straight from the grid on a radial, and through
-the trackers' tables (acoustics.grid.tables) between radials.
+the trackers' tables (acoustics.grid.face) between radials.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import acoustics
 import envdata
 from acoustics.detection import band_snr_db, indicator_snr, k_needed_db
 from acoustics.grid.detectionmap import detection_map
-from acoustics.grid.radialinterp import at_bearings, bearing_weights
+from acoustics.grid.lookup import at_bearings, bearing_weights
 from acoustics.plots.bathymetry import find_bathymetry, load_around_origin
 from acoustics.plots.bottomplot import bottom_figure
 from acoustics.plots.depthplot import depth_k_figure
@@ -69,7 +69,7 @@ def shelf_grid_file(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def shelf(shelf_grid_file):
-    return acoustics.open_grid(shelf_grid_file)
+    return acoustics.open_tables(shelf_grid_file)
 
 
 def by_gid(fig, gid: str):
@@ -288,12 +288,12 @@ def test_bad_options_are_input_errors_and_write_nothing(shelf, tmp_path, kwargs,
     (PlotRequest(what=What.K), "a map"), (PlotRequest(bathymetry=Path("relief.nc")), "a bathymetry file")])
 def test_a_flat_grid_refuses_what_only_bearing_grids_draw(tiny_grid, tmp_path, request_, said):
     with pytest.raises(InputError, match=f"{said}.* is for a bearing-dependent grid"):
-        plot_grid(acoustics.as_tables(tiny_grid), tmp_path / "m.png", request_)
+        plot_grid(acoustics.open_tables(tiny_grid), tmp_path / "m.png", request_)
     assert list(tmp_path.iterdir()) == []
 
 
 def test_the_plots_follow_the_grids_geometry(tiny_grid, shelf, tmp_path):
-    flat = acoustics.as_tables(tiny_grid)
+    flat = acoustics.open_tables(tiny_grid)
     assert plot_paths(flat, tmp_path / "f.png", PlotRequest()) == {"plot": tmp_path / "f.png"}
     assert set(plot_paths(shelf, tmp_path / "m.png", PlotRequest(bearing_deg=3.0))) == {"map", "bottom", "section"}
     written = plot_grid(flat, tmp_path / "f.png", PlotRequest(cls_name="SHIP"))
@@ -312,7 +312,7 @@ def test_one_radial_over_a_flat_bottom_plots_too(tiny_area, tmp_path):
     doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
     doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
     doc["bearings"] = {"bearing_deg": [30.0]}
-    grid = acoustics.as_tables(acoustics.build_grid(envdata.parse_area(doc, "one-radial"), model="urick"))
+    grid = acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "one-radial"), model="urick"))
     written = plot_bearing_grid(grid, tmp_path / "one.png", what="detection", bearing_deg=200.0)
     assert all(png_size(p)[0] > 1000 for p in written.values())
     fig = bottom_figure(grid)

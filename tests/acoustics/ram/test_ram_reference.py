@@ -15,7 +15,6 @@ range within 0.05 dB; measured 0.0008 dB mean, 0.007 dB at worst.
 
 from __future__ import annotations
 
-import os
 import subprocess
 from pathlib import Path
 
@@ -24,14 +23,12 @@ import pytest
 
 from acoustics.ram import RamEnvironment, RamSettings, ram_tl_db
 from envdata.bottom import Bottom
+from tests.crosscheck.sidevenv import side_python
 
 
 def reference_line_path() -> Path:
     """pyram 1.3.0's tl_ref.line in .venv-ref; a failure (not a skip) when it is not there."""
-    python = os.environ.get("RAM_REF_PYTHON")
-    if not python:
-        pytest.fail("RAM_REF_PYTHON is not set: run the suite with 'make test', which makes .venv-ref "
-                    "(pyram 1.3.0) and sets it", pytrace=False)
+    python = side_python("RAM_REF_PYTHON", ".venv-ref", "pyram 1.3.0")
     # find_spec locates the package without importing it (pyram is installed without numba)
     proc = subprocess.run([python, "-c", "import importlib.util as u; "
                            "print(u.find_spec('pyram').submodule_search_locations[0])"],

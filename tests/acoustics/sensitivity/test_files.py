@@ -12,7 +12,13 @@ from acoustics import sensitivity as sens
 def test_study_file_round_trip(tiny_study, tmp_path):
     ds, _ = tiny_study
     path = sens.write_study(ds, tmp_path / "s.nc")
-    xr.testing.assert_identical(sens.open_study(path), ds)
+    study = sens.open_study(path)
+    xr.testing.assert_identical(study.dataset, ds)
+    # the face: K in one order, the drawn parameters per member, the area read back
+    assert study.k_db.shape == ds["k_db"].shape and study.members == ds.sizes["member"]
+    assert study.class_names == tuple(str(c) for c in ds["class"].values)
+    assert set(study.parameters) == {n for n, c in ds.coords.items() if c.dims == ("member",) and n != "member"}
+    assert study.area is not None and study.area.name == ds.attrs["area"]
     with pytest.raises(sens.StudyFileError, match=r"nope.nc: study file not found"):
         sens.open_study(tmp_path / "nope.nc")
     (tmp_path / "bad.nc").write_text("k_db = 1\n")

@@ -77,7 +77,7 @@ def test_a_perturbed_study_is_per_bearing_seeded_per_member_and_summarised(area,
     assert_allclose(alone.k_db, ds["k_db"].values[2], rtol=0, atol=1e-9, equal_nan=True)
     dk = ds["k_db"].values - ds["k_nominal_db"].values[None]
     assert np.nanmax(np.abs(dk)) > 0.5  # the perturbations move K
-    summary = sens.summarize(ds, eval_ranges_m=[2000.0, 5000.0])
+    summary = sens.summarize(sens.study_face(ds), eval_ranges_m=[2000.0, 5000.0])
     assert summary["k_rms_db"].dims == ("class", "band", "bearing", "range")
     assert_allclose(summary["k_rms_db"].values, np.sqrt(np.nanmean(dk ** 2, axis=0)), atol=1e-12)
     assert summary["range_rms_m"].dims == ("class", "bearing", "eval_range")

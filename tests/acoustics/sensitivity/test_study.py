@@ -41,7 +41,7 @@ def test_zero_sd_study_reproduces_the_nominal_area(tiny_area):
     # stop at each profile node, which moves K by a few hundredths of a dB
     resampled = sens.run_study(tiny_area, specs("displace:sd_m=0"), members=1, workers=1)
     assert_allclose(resampled["k_db"] - resampled["k_nominal_db"], 0.0, atol=0.15)
-    summary = sens.summarize(ds, eval_ranges_m=(1000.0, 3000.0))
+    summary = sens.summarize(sens.study_face(ds), eval_ranges_m=(1000.0, 3000.0))
     assert_allclose(summary["range_error_m"], 0.0)
     assert np.all(summary["k_error_sd_db"] < 0.01)
 
@@ -82,5 +82,5 @@ def test_tl_study_keeps_tl_on_the_nominal_depths(tiny_area, tmp_path):
     assert shallower == 1  # seed 5 draws water depths 984, 1009 and 1039 m
     # K from the grid is direct for every class; TL at the observer row gives it back
     assert ds.attrs["k_method"].startswith("grid build")
-    png = plot_sd_map(ds, tmp_path / "map.png")
+    png = plot_sd_map(sens.study_face(ds), tmp_path / "map.png")
     assert png.stat().st_size > 10_000

@@ -24,5 +24,5 @@ def test_outputs_are_written_together_or_not_at_all(tmp_path):
                                write_k_error=copy, workers=2)
     assert set(info["files"]) == {"study", "plot", "area_with_k_error"}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.nc", "s.png", "tiny-k.toml"]
-    assert sens.open_study(out).sizes["member"] == 2
+    assert sens.open_study(out).members == 2
     assert "measured by tmakit sensitivity" in copy.read_text()

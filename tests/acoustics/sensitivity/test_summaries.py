@@ -22,10 +22,10 @@ def synthetic_study(offsets_db, ramp_db=None, n_range=400):
     if ramp_db is not None:
         ramp = np.linspace(-1.0, 1.0, n_range)
         k = k + np.asarray(ramp_db)[:, None, None, None] * ramp
-    return xr.Dataset({"k_db": (("member", "class", "band", "range"), k),
-                       "k_nominal_db": (("class", "band", "range"), k_nom)},
-                      coords={"member": np.arange(offsets.size), "class": ["C"], "band": ["B1", "B2"],
-                              "range": r, "bottom_speed_mps": ("member", 1600.0 + 10.0 * offsets)})
+    return sens.study_face(xr.Dataset({"k_db": (("member", "class", "band", "range"), k),
+                                       "k_nominal_db": (("class", "band", "range"), k_nom)},
+                                      coords={"member": np.arange(offsets.size), "class": ["C"], "band": ["B1", "B2"],
+                                              "range": r, "bottom_speed_mps": ("member", 1600.0 + 10.0 * offsets)}))
 
 
 def test_constant_offsets_are_recognised_as_constant():

@@ -64,7 +64,7 @@ def test_unknown_scenario_and_bad_runs_are_errors(tmp_path, munk_grid):
 @pytest.mark.bellhop
 def test_simulated_measurements_have_the_papers_noise(munk_grid, rng):
     sc = get_scenario("idm-static")
-    tables = acoustics.open_grid(munk_grid)
+    tables = acoustics.open_tables(munk_grid)
     prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
     b, lv = idm.simulate(sc, prof, 2000, rng)
     rel = sc.target_state(sc.t_s) - sc.observer_state(sc.t_s)
@@ -137,7 +137,7 @@ def test_experiment_is_repeatable_whatever_the_worker_count(munk_grid, tmp_path)
 
 @pytest.mark.bellhop
 def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range(munk_grid):
-    from acoustics.grid.tables import LevelProfile
+    from acoustics.grid.levelprofile import LevelProfile
     from tracker.crlb import bot_crlb, bot_spl_crlb, prior_covariance
 
     sc = get_scenario("idm-static")
@@ -150,7 +150,7 @@ def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range
                           course_sd_rad=math.pi / math.sqrt(12))
     args = dict(bearing_sd_rad=math.radians(1.5), p0=p0)
     bot = bot_crlb(t, rel, **args)
-    tables = acoustics.open_grid(munk_grid)
+    tables = acoustics.open_tables(munk_grid)
     profile = tables.level_profile(tables.class_index(idm.CLASS), tables.band_index(idm.BAND),
                                    sc.obs_depth_m)
     spl = bot_spl_crlb(t, rel, obs_vel, level_sd_db=4.0, k_profile=profile, **args)

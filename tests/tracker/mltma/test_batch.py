@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from acoustics.grid.tables import as_tables
+from acoustics.grid.opentables import open_tables
 from tracker.mltma import MLBatch
 
 
@@ -11,14 +11,14 @@ from tracker.mltma import MLBatch
 def test_level_range_uses_k_at_the_rows_observer_depth(tiny_grid):
     ic = list(tiny_grid["class"].values).index("SHIP")
     raxis = tiny_grid["range"].values
-    k300 = as_tables(tiny_grid).k_db(300.0)[ic]
+    k300 = open_tables(tiny_grid).k_db(300.0)[ic]
     j = int(np.argmin(np.abs(raxis - 3000.0)))
     r_true = raxis[j]
     p0 = 133.0                                      # the class mean: a perfect prior
     lev = p0 + k300[:, j]                           # W = P0 + K(r) at 300 m (eq. 12)
     est = {}
     for depth in (300.0, None):                     # None: the grid's 100 m observer depth
-        batch = MLBatch(as_tables(tiny_grid), [ic], 1)
+        batch = MLBatch(open_tables(tiny_grid), [ic], 1)
         out = batch.update(0.0, 0.0, 0.0, 0.0, 2.0, 45.0, 0.5, lev[None, :],
                            np.full((1, 2), 30.0), obs_depth_m=depth)
         est[depth] = float(out["r_level_m"][0])

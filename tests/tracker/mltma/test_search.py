@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from acoustics.grid.tables import as_tables
+from acoustics.grid.opentables import open_tables
 from acoustics.levelrange import level_range
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.mltma import MLBatch, course_from_relative_deg
@@ -55,7 +55,7 @@ def test_fast_eq25_search_matches_exhaustive_search(rng):
         idx = np.rint(r_true / 100.0).astype(int) - 1
         lev = 131.02 + kk[:, idx].T + rng.normal(0.0, 1.0, (n_cyc, 3))
         ci = [str(c) for c in grid["class"].values].index("TV")
-        batch = MLBatch(as_tables(grid), [ci], n_cyc)
+        batch = MLBatch(open_tables(grid), [ci], n_cyc)
         for i in range(n_cyc):
             out = batch.update(t[i], ox[i], oy[i], 2.5, 0.0, b[i:i + 1], sd[i:i + 1],
                                lev[i][None, :], np.full((1, 3), 20.0))

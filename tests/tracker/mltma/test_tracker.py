@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from acoustics.grid.tables import as_tables
+from acoustics.grid.opentables import open_tables
 from tests.tracker.mltma.conftest import geometry, synthetic_grid
 from tracker.errors import MeasurementFileError
 from tracker.measurements import Measurements
@@ -23,7 +23,7 @@ def test_noiseless_exact_recovery():
                      obs_depth_m=np.full(len(t), 100.0), bearing_deg=b,
                      bearing_sigma_deg=np.full(len(t), 0.05), band_names=("FB1", "FB2", "FB3"),
                      level_db=lev, snr_db=np.full(lev.shape, 20.0))
-    df = track(as_tables(grid), m, cls_name="TV")
+    df = track(open_tables(grid), m, cls_name="TV")
     last = df.iloc[-1]
     assert last["class"] == "TV" and last.tack == 1
     assert_allclose(last.course_deg, 300.0, atol=0.5)     # search resolution 15/9 deg
@@ -39,7 +39,7 @@ def test_nan_bearing_cycles_are_skipped(caplog):
     m = Measurements(source="gaps", t_s=t, obs_x_m=ox, obs_y_m=oy, obs_depth_m=np.full(30, 100.0),
                      bearing_deg=b, bearing_sigma_deg=np.full(30, np.nan), band_names=(),
                      level_db=np.zeros((30, 0)), snr_db=np.zeros((30, 0)))
-    df = track(as_tables(grid), m, cls_name="TV")
+    df = track(open_tables(grid), m, cls_name="TV")
     assert len(df) == 29 and 50.0 not in df.t_s.values
     assert "without a bearing skipped" in caplog.text
 
@@ -54,7 +54,7 @@ def test_observer_depth_outside_the_grid_is_an_error(tiny_grid):
                      level_db=np.zeros((5, 0)), snr_db=np.zeros((5, 0)))
     with pytest.raises(MeasurementFileError, match=r"^deep.csv: row 4, column obs_depth_m: 1500 m "
                                                    r"is outside the grid's depth axis \[0, 1000\] m$"):
-        track(as_tables(tiny_grid), m)
+        track(open_tables(tiny_grid), m)
 
 
 def test_cycles_without_a_detected_band_track_on_bearings_only():
@@ -69,7 +69,7 @@ def test_cycles_without_a_detected_band_track_on_bearings_only():
                      obs_depth_m=np.full(len(t), 100.0), bearing_deg=b,
                      bearing_sigma_deg=np.full(len(t), 0.05), band_names=("FB1", "FB2", "FB3"),
                      level_db=lev, snr_db=np.where(np.isfinite(lev), 20.0, np.nan))
-    trk = MLTracker(as_tables(grid), capacity=len(t), class_names=["TV"])
+    trk = MLTracker(open_tables(grid), capacity=len(t), class_names=["TV"])
     vx, vy = m.obs_velocity_mps()
     r_level = []
     for i in range(len(t)):
@@ -79,7 +79,7 @@ def test_cycles_without_a_detected_band_track_on_bearings_only():
     # no level range where no band is detected; one wherever a band is
     assert np.all(np.isnan(r_level[:40])) and np.all(np.isnan(r_level[80:90]))
     assert np.all(np.isfinite(r_level[40:80])) and np.all(np.isfinite(r_level[90:]))
-    df = track(as_tables(grid), m, cls_name="TV")
+    df = track(open_tables(grid), m, cls_name="TV")
     assert len(df) == len(t)
     # the bearings still give course every cycle; range has no estimate before any level
     assert np.all(np.isfinite(df.course_deg)) and np.all(np.isfinite(df.bearing_deg))

@@ -19,7 +19,7 @@ pytestmark = pytest.mark.bellhop
 
 
 def test_the_kernels_k_is_the_tables_k(tiny_depth_grid):
-    tk = acoustics.as_tables(tiny_depth_grid).target_depth_k(0, 0)
+    tk = acoustics.open_tables(tiny_depth_grid).target_depth_k(0, 0)
     table = depth_table(tk, np.zeros(1), 1)
     rng = np.random.default_rng(3)
     for z, r in zip(rng.uniform(0.0, 1000.0, 50), rng.uniform(50.0, 4999.0, 50)):
@@ -32,7 +32,7 @@ def test_the_kernels_k_is_the_tables_k(tiny_depth_grid):
 
 
 def test_the_depth_state_learns_the_depth_from_the_levels(tiny_depth_grid):
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     ic, ib, true_depth, p0 = 0, 0, 400.0, 88.0
     n = 120
     ts = np.arange(n) * 10.0
@@ -82,7 +82,7 @@ def _without_surface_rows(tk):
 
 
 def test_the_loops_k_by_index_arithmetic_is_the_search_rule(tiny_depth_grid):
-    tk = acoustics.as_tables(tiny_depth_grid).target_depth_k(0, 0)
+    tk = acoustics.open_tables(tiny_depth_grid).target_depth_k(0, 0)
     # the table from the observer has its near-surface rows within the first step (6.25, 12.5,
     # 25 m under 50 m steps), searched; the rest by index arithmetic
     assert regular_part(tk.depth_m) == (50.0, 4)
@@ -129,7 +129,7 @@ def test_the_depth_estimates_are_those_of_the_first_kernel(tiny_depth_grid):
     """Same seed, same statistics: the faster loop draws one walk normal per particle instead of
     two, so its random stream, and each run's numbers, differ from the first kernel's; their
     distribution over runs must not."""
-    t = acoustics.as_tables(tiny_depth_grid)
+    t = acoustics.open_tables(tiny_depth_grid)
     ic, ib, true_depth, p0, n, runs = 0, 0, 400.0, 88.0, 120, 40
     ts = np.arange(n) * 10.0
     obs = np.zeros((n, 4))

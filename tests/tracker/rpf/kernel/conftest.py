@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from acoustics.grid.tables import LevelProfile
+from acoustics.grid.levelprofile import LevelProfile
 from tracker.rpf.kernel.cache import drop_stale_caches
 
 RTOL = 1e-9  # the brief's bar for the exact pieces; both sides are double precision

@@ -1,13 +1,11 @@
-"""The one gate to a grid's typed face: ``as_tables`` (a dataset) and, through it,
-``acoustics.open_grid`` (a file).
+"""A grid dataset checked against the grid contract and turned into its face.
 
-The face itself is ``acoustics.grid.face.GridTables`` (K and TL at a depth, bearing and range,
-whatever the geometry); ``acoustics.grid.flattables.FlatTables`` and
-``acoustics.grid.radialtables.RadialTables`` implement it for the two geometries a grid file
-holds (an atlas's views, ``acoustics.grid.atlasfollow``, are the third). The gate upgrades an
-older format (``acoustics.grid.formats``), checks the contract (``acoustics.grid.schema``),
-reads back the area and returns the implementation the dataset's shape calls for: the one place
-outside which nothing asks a grid its shape.
+``acoustics.open_tables`` reads a grid file, or takes a dataset in memory, through
+`checked_tables`; an atlas's table of one position and month (``AtlasStore.sel``) too. A grid of
+an older format is read through its upgrade step or refused (``acoustics.grid.formats``), then
+every dimension, variable, attribute and the stored area are checked
+(``acoustics.grid.schema.check_grid``), and the face the dataset's shape calls for is returned:
+the one place outside which nothing asks a grid its shape.
 """
 
 from __future__ import annotations
@@ -16,19 +14,25 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
-from acoustics.grid.face import OBSERVER_DEPTH_TOLERANCE_M, GridTables, LevelProfile, OriginOffset
+from acoustics.grid.face import Tables
 from acoustics.grid.flattables import FlatTables
 from acoustics.grid.formats import upgrade_grid
 from acoustics.grid.radialtables import RadialTables
 from acoustics.grid.schema import check_grid
+from envdata.area import Area
 
 
-def as_tables(ds: xr.Dataset, source: str | None = None) -> GridTables:
-    """The typed face of a grid dataset, checked against the grid contract.
+def checked_tables(ds: xr.Dataset, source: str | None = None, *, area: Area | None = None) -> Tables:
+    """The face of a grid dataset, checked against the grid contract.
 
-    The one gate (``acoustics.open_grid`` reads a file through it): a grid of an older format is
-    read through its upgrade step or refused (``acoustics.grid.formats``), then every dimension,
-    variable, attribute and the stored area are checked (``acoustics.grid.schema.check_grid``).
+    Parameters
+    ----------
+    ds : xr.Dataset
+    source : str, optional
+        The grid's name in messages (default: its file, else its area).
+    area : Area, optional
+        The area the dataset was made from in this process (an atlas's table): its
+        ``area_json`` is then not parsed again, only checked against the coordinates.
 
     Raises
     ------
@@ -37,7 +41,7 @@ def as_tables(ds: xr.Dataset, source: str | None = None) -> GridTables:
     """
     source = source or str(ds.encoding.get("source") or ds.attrs.get("area", "<grid>"))
     ds = upgrade_grid(ds, source, GridFileError)
-    area = check_grid(ds, source)
+    area = check_grid(ds, source, area=area)
     by_class = {c.name: c for c in area.classes}
     by_band = {b.name: b for b in area.bands}
     common = dict(source=source, area=area, dataset=ds,
@@ -67,5 +71,4 @@ def _values(ds: xr.Dataset, name: str, *dims: str) -> np.ndarray:
     return np.asarray(ds[name].transpose(*dims).values, dtype=float)
 
 
-__all__ = ["FlatTables", "GridTables", "LevelProfile", "OBSERVER_DEPTH_TOLERANCE_M", "OriginOffset",
-           "RadialTables", "as_tables"]
+__all__ = ["checked_tables"]

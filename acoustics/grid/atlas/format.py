@@ -11,7 +11,8 @@ in their ``labels`` attribute (Zarr 3 has no stable string type). The store is w
 template (metadata and the small variables; xarray ``to_zarr(compute=False)``), then each
 table by whichever process computed it, with a region write aligned to its chunks (one writer
 per chunk: unaligned parallel region writes lose data silently, xarray issues 8371 and 10501),
-then its ``done`` flag and hash.
+then its ``done`` flag and hash. The builder (``acoustics.builder.atlas``) asks this module for
+the template (`store_template`) and writes through it; the reader is ``acoustics.grid.atlas.store``.
 """
 
 from __future__ import annotations
@@ -25,7 +26,9 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+from acoustics.grid.dataset import grid_attrs, grid_coords
 from acoustics.grid.formats import ATLAS_FORMAT
+from acoustics.urick import urick_tables
 
 #: The kind attribute every atlas store carries beside ``tmakit_format``.
 ATLAS_KIND = "atlas"
@@ -50,6 +53,84 @@ def _codecs():
 def table_hash_u64(digest: str) -> int:
     """The first 64 bits of a table's sha256 (hex), as stored in ``table_hash``."""
     return int(digest[:16], 16)
+
+
+def store_template(area, *, months, lat_deg: np.ndarray, lon_deg: np.ndarray, row_col: np.ndarray,
+                   bearing_deg: np.ndarray, depth_m: np.ndarray, range_m: np.ndarray, model: str, digest: str,
+                   exe_info: dict | None, left_out, inputs, ray_step_m: float) -> xr.Dataset:
+    """The store's template for an atlas of ``area``: coordinates, the small variables and the
+    attributes, the tables lazy (`template_dataset`; `write_template` writes it).
+
+    Parameters
+    ----------
+    area : Area
+        The area with its ``[atlas]``.
+    months : sequence of int
+    lat_deg, lon_deg : ndarray, shape (O,)
+        The positions kept, deg.
+    row_col : ndarray, shape (O, 2)
+        Their lattice row and column (-1 for listed positions).
+    bearing_deg, depth_m, range_m : ndarray
+        The tables' axes.
+    model, digest, exe_info
+        The model, the atlas's hash and the BELLHOP executable (``grid_attrs``).
+    left_out : sequence of LeftOut
+        Positions without a table, and why.
+    inputs : sequence of dict
+        Each month's data files' digests.
+    ray_step_m : float
+        BELLHOP's ray step, m.
+    """
+    base = grid_coords(area, depth_m, range_m)
+    coords = {
+        "month": ("month", np.asarray(months, dtype=np.int64),
+                  {"long_name": "month of the climatology (0: the data files' own)"}),
+        "origin": ("origin", np.arange(lat_deg.size, dtype=np.int64), {"long_name": "observer position index"}),
+        "origin_lat_deg": ("origin", lat_deg, {"units": "degree_north", "standard_name": "latitude",
+                                              "long_name": "observer position, WGS84"}),
+        "origin_lon_deg": ("origin", lon_deg, {"units": "degree_east", "standard_name": "longitude",
+                                              "long_name": "observer position, WGS84"}),
+        "origin_row": ("origin", row_col[:, 0], {"long_name": "lattice row, south first (-1: listed)"}),
+        "origin_col": ("origin", row_col[:, 1], {"long_name": "lattice column, west first (-1: listed)"}),
+        "class": ("class", np.arange(len(area.classes), dtype=np.int64),
+                  {"long_name": "target class hypothesis", "labels": json.dumps([c.name for c in area.classes])}),
+        "band": ("band", np.arange(len(area.bands), dtype=np.int64),
+                 {"long_name": "frequency band", "labels": json.dumps([b.name for b in area.bands])}),
+        "bearing": ("bearing", bearing_deg, {"units": "degree", "long_name": "bearing from the observer, "
+                                                                             "clockwise from true north"}),
+        "depth": ("depth", depth_m, {"units": "m", "standard_name": "depth", "positive": "down", "axis": "Z",
+                                     "long_name": "depth of the point the observer looks at"}),
+        "range": ("range", range_m, {"units": "m", "long_name": "range from the observer along the radial"}),
+    }
+    for name in ("band_low_hz", "band_high_hz", "band_center_hz", "source_depth_m"):
+        coords[name] = base[name]
+    k_urick, beta = urick_tables(area, range_m)
+    small = {
+        "k_urick_db": (("class", "band", "range"), k_urick,
+                       {"units": "dB", "long_name": "transfer characteristic K(r), Urick approximate formula",
+                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
+        "beta_db_per_km": (("band",), beta, {"units": "dB km-1",
+                                             "long_name": "volume attenuation at the band centre"}),
+    }
+    attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=float(depth_m[-1]), ssp_interpolation="Q")
+    own_axis = area.atlas.depth_m is None and area.atlas.depth_step_m is None
+    attrs.update({
+        "tmakit_format": ATLAS_FORMAT, "tmakit_kind": ATLAS_KIND,
+        "title": f"tmakit atlas of bearing-dependent propagation tables for area {area.name}",
+        "history": attrs["created"] + " created by tmakit atlas build",
+        "ray_step_m": float(ray_step_m),
+        "left_out": json.dumps([{"lat_deg": p.lat_deg, "lon_deg": p.lon_deg, "reason": p.reason} for p in left_out]),
+        "input_files": json.dumps({str(m): inp for m, inp in zip(months, inputs)}, sort_keys=True),
+        "depth_axis": "grid" if own_axis else "atlas",
+    })
+    if area.atlas.is_lattice:
+        dlat, dlon = area.atlas.step_deg
+        rows, cols = area.atlas.lattice_shape
+        attrs["lattice"] = json.dumps({"lat0_deg": area.atlas.lat_deg[0], "lon0_deg": area.atlas.lon_deg[0],
+                                       "dlat_deg": dlat, "dlon_deg": dlon, "rows": rows, "cols": cols})
+    sizes = {"month": len(months), "origin": lat_deg.size, "class": len(area.classes), "band": len(area.bands),
+             "bearing": bearing_deg.size, "depth": depth_m.size, "range": range_m.size}
+    return template_dataset(sizes, coords, small, attrs)
 
 
 def template_dataset(sizes: dict[str, int], coords: dict, small_vars: dict, attrs: dict) -> xr.Dataset:
@@ -158,7 +239,11 @@ def read_attrs(path: str | os.PathLike) -> dict | None:
 
 def is_atlas_store(path: str | os.PathLike) -> bool:
     """Whether ``path`` is a store tmakit wrote as an atlas (any format)."""
-    attrs = read_attrs(path)
+    return is_atlas_attrs(read_attrs(path))
+
+
+def is_atlas_attrs(attrs: dict | None) -> bool:
+    """Whether a store's attributes (`read_attrs`) are those of a tmakit atlas (any format)."""
     return attrs is not None and attrs.get("tmakit_kind") == ATLAS_KIND and "tmakit_format" in attrs
 
 

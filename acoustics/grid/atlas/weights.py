@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from acoustics.errors import ObserverPositionError
 from envdata.errors import InputError
 
 #: A weight this far below 0 still counts as inside a triangle (rounding).
@@ -33,9 +34,9 @@ def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) ->
 
     Raises
     ------
-    InputError
-        An observer outside the lattice, or in a cell without three tables around it; the message
-        names the first such observer (its index in the input, from 0).
+    ObserverPositionError
+        An observer outside the lattice, or in a cell without three tables around it: the first
+        such observer (``index``, its place in the input, from 0).
     """
     lat = np.atleast_1d(np.asarray(lat_deg, dtype=float))
     lon = np.atleast_1d(np.asarray(lon_deg, dtype=float))
@@ -46,7 +47,7 @@ def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) ->
     outside = (fr < -eps) | (fr > rows - 1 + eps) | (fc < -eps) | (fc > cols - 1 + eps) | ~np.isfinite(fr + fc)
     if outside.any():
         i = int(np.argmax(outside))
-        raise InputError(f"observer {i}: {lat[i]:.5f} N {lon[i]:.5f} E is outside the atlas's lattice")
+        raise ObserverPositionError(i, f"{lat[i]:.5f} N {lon[i]:.5f} E is outside the atlas's lattice")
     r0 = np.clip(np.floor(fr), 0, max(rows - 2, 0)).astype(int)
     c0 = np.clip(np.floor(fc), 0, max(cols - 2, 0)).astype(int)
     tr = np.clip(fr - r0, 0.0, 1.0) if rows > 1 else np.zeros_like(fr)
@@ -64,8 +65,8 @@ def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) ->
         if have.size == 3:
             lam = _barycentric(corner_rc[p, have], np.array([fr[p], fc[p]]))
         if lam is None or lam.min() < -INSIDE_TOLERANCE:
-            raise InputError(f"observer {p}: {lat[p]:.5f} N {lon[p]:.5f} E is not surrounded by the atlas's "
-                             f"tables (a lattice node next to it was left out: land or shallow water)")
+            raise ObserverPositionError(int(p), f"{lat[p]:.5f} N {lon[p]:.5f} E is not surrounded by the atlas's "
+                                        f"tables (a lattice node next to it was left out: land or shallow water)")
         w[p] = 0.0
         w[p, have] = np.clip(lam, 0.0, None)
     idx = np.where(w > 0, idx, np.maximum(idx, 0))  # a corner of no weight: any valid index
@@ -91,7 +92,8 @@ def listed_weights(x_m, y_m, pos_x_m: np.ndarray, pos_y_m: np.ndarray) -> tuple[
     Raises
     ------
     InputError
-        Fewer than three positions not on a line, or an observer outside their hull.
+        Fewer than three positions not on a line; ``ObserverPositionError``, an observer outside
+        their hull.
     """
     from matplotlib.tri import Triangulation
 
@@ -106,8 +108,8 @@ def listed_weights(x_m, y_m, pos_x_m: np.ndarray, pos_y_m: np.ndarray) -> tuple[
     found = tri.get_trifinder()(x, y)
     if (found < 0).any():
         i = int(np.argmax(found < 0))
-        raise InputError(f"observer {i}: ({x[i]:.0f} m, {y[i]:.0f} m) from the origin is outside the hull of "
-                         f"the atlas's positions")
+        raise ObserverPositionError(i, f"({x[i]:.0f} m, {y[i]:.0f} m) from the origin is outside the hull of "
+                                       f"the atlas's positions")
     idx = tri.triangles[found]  # (P, 3)
     w = np.empty(idx.shape)
     for p in range(x.size):

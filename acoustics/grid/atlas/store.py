@@ -1,0 +1,255 @@
+"""An open atlas store: its area, positions, months and axes, and its tables read on demand.
+
+`open_store(path)` opens a store (docs/formats.md "Atlas (Zarr store)"): it must be tmakit's, of
+this version's format, with its stored area (``area_json``) readable; the area is parsed once,
+here, and every table's area derived from it. An `AtlasStore` holds the tables and answers
+nothing itself: ``store.sel(month=M, origin=i)`` is the bearing-dependent grid face
+(``RadialTables``) of that month with ``[origin]`` at position i, ``store.weights_at(x, y)`` the
+positions around observers and their weights (``acoustics.grid.atlas.weights``: bilinear on the
+lattice, barycentric over a triangle of listed positions), and the faces that answer between
+positions are ``acoustics.grid.atlas.follow``'s (through ``acoustics.open_tables``). A table
+whose chunks are missing or fail their checksum is never read as numbers: it counts as not
+built, and reading it is an ``AtlasFileError`` naming the command that rebuilds it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from acoustics.grid.atlas.format import AtlasFileError, check_format, chunk_exists, is_atlas_attrs, read_attrs
+from acoustics.grid.atlas.weights import lattice_weights, listed_weights
+from acoustics.grid.checked import checked_tables
+from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.grid.radialtables import RadialTables
+from envdata.area import Area
+from envdata.areafile import area_from_json
+from envdata.atlasarea import area_for_month, table_area
+from envdata.errors import AreaError, InputError
+from envdata.geometry import lat_lon_to_local_plane, local_plane_to_lat_lon
+
+
+@dataclass(eq=False)
+class AtlasStore:
+    """An open atlas store: its area, positions, months and axes; tables read on demand.
+
+    Attributes
+    ----------
+    path : Path
+    area : Area
+        The area file the atlas was built from, ``[atlas]`` included.
+    months : ndarray of int, shape (M,)
+    lat_deg, lon_deg : ndarray, shape (O,)
+        The positions with tables, deg.
+    done : ndarray of bool, shape (M, O)
+        Tables complete, with every chunk in the store.
+    lattice : dict or None
+        The lattice's ``lat0_deg, lon0_deg, dlat_deg, dlon_deg, rows, cols`` (None: listed
+        positions).
+    """
+
+    path: Path
+    area: Area
+    attrs: dict
+    months: np.ndarray
+    lat_deg: np.ndarray
+    lon_deg: np.ndarray
+    row_col: np.ndarray
+    bearing_deg: np.ndarray
+    depth_m: np.ndarray
+    range_m: np.ndarray
+    k_urick_db: np.ndarray
+    beta_db_per_km: np.ndarray
+    done: np.ndarray
+    left_out: list
+    lattice: dict | None
+    _group: object = field(repr=False)
+    _slabs: dict = field(default_factory=dict, repr=False)
+    _k_tables: dict = field(default_factory=dict, repr=False)
+    _kept: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def class_names(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.area.classes)
+
+    @property
+    def band_names(self) -> tuple[str, ...]:
+        return tuple(b.name for b in self.area.bands)
+
+    def month_index(self, month: int) -> int:
+        hits = np.flatnonzero(self.months == month)
+        if not hits.size:
+            raise InputError(f"{self.path}: month {month} is not in the atlas (months: "
+                             f"{', '.join(str(m) for m in self.months)})")
+        return int(hits[0])
+
+    def check_table(self, m: int, o: int) -> None:
+        """AtlasFileError for a table not built or damaged; InputError for a position not in the atlas."""
+        if not 0 <= o < self.lat_deg.size:
+            raise InputError(f"{self.path}: origin {o} is not in the atlas (0..{self.lat_deg.size - 1})")
+        if not self.done[m, o]:
+            raise AtlasFileError(f"{self.path}: the table of month {self.months[m]} at position {o} "
+                                 f"({self.lat_deg[o]:.4f} N {self.lon_deg[o]:.4f} E) is not built or is damaged; "
+                                 f"tmakit atlas build {self.area.name} rebuilds it")
+
+    def _read(self, name: str, selection) -> np.ndarray:
+        try:
+            return np.asarray(self._group[name][selection])
+        except Exception as exc:  # noqa: BLE001 - a chunk that fails its checksum or does not decode
+            raise AtlasFileError(f"{self.path}: {name}: a damaged chunk ({type(exc).__name__}); tmakit atlas "
+                                 f"build {self.area.name} rebuilds it") from None
+
+    def slab(self, m: int, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The table of (month index, origin index): TL (C, B, N, Z, R), K (C, B, N, R), bottom (N, R).
+
+        Read from the store once (the arrays are kept, read-only, for the next call).
+        """
+        key = (int(m), int(o))
+        if key not in self._slabs:
+            self.check_table(m, o)
+            arrays = (self._read("tl_db", (m, o)), self._read("k_db", (m, o)), self._read("bottom_depth_m", o))
+            for a in arrays:
+                a.setflags(write=False)
+            self._slabs[key] = arrays
+        return self._slabs[key]
+
+    def k_tables(self, m: int, origins) -> list[np.ndarray]:
+        """K (C, B, N, R) of the tables of month index ``m`` at positions ``origins``, read alone
+        (a particle filter's level model needs no TL; those not kept yet in one read of the
+        store), kept read-only like `slab`."""
+        origins = [int(o) for o in origins]
+        missing = sorted({o for o in origins if (m, o) not in self._slabs and (m, o) not in self._k_tables})
+        for o in missing:
+            self.check_table(m, o)
+        if missing:
+            block = self._read("k_db", (int(m), missing))
+            for o, k in zip(missing, block):
+                k.setflags(write=False)
+                self._k_tables[(int(m), o)] = k
+        return [self._slabs[(m, o)][1] if (m, o) in self._slabs else self._k_tables[(m, o)] for o in origins]
+
+    def area_of_month(self, month: int) -> Area:
+        """The area with the climatology's ``month`` set (derived once per month, never parsed)."""
+        key = ("area", int(month))
+        if key not in self._kept:
+            self._kept[key] = area_for_month(self.area, int(month))
+        return self._kept[key]
+
+    def sel(self, *, month: int, origin: int) -> RadialTables:
+        """The bearing-dependent grid of ``month`` with ``[origin]`` at position ``origin``."""
+        m = self.month_index(month)
+        tl, k, bottom = self.slab(m, origin)
+        area_t = table_area(self.area, int(month), self.lat_deg[origin], self.lon_deg[origin])
+        coords = grid_coords(area_t, self.depth_m, self.range_m)
+        coords["bearing"] = ("bearing", self.bearing_deg, {"units": "degree"})
+        dims5 = ("class", "band", "bearing", "depth", "range")
+        dims4 = ("class", "band", "bearing", "range")
+        ds = xr.Dataset({
+            "tl_db": (dims5, tl, {"units": "dB", "fixed_end": "observer"}),
+            "k_db": (dims4, k, {"units": "dB"}),
+            "k_urick_db": (("class", "band", "range"), self.k_urick_db, {"units": "dB"}),
+            "anomaly_db": (dims4, k - self.k_urick_db[:, :, None, :], {"units": "dB"}),
+            "bottom_depth_m": (("bearing", "range"), bottom, {"units": "m"}),
+            "beta_db_per_km": (("band",), self.beta_db_per_km, {"units": "dB km-1"}),
+        }, coords=coords)
+        attrs = grid_attrs(area_t, self.attrs.get("model", "bellhop"), self.attrs.get("source_hash", ""), None,
+                           water_depth_m=float(self.depth_m[-1]), ssp_interpolation="Q")
+        attrs.update(origin_lat_deg=float(self.lat_deg[origin]), origin_lon_deg=float(self.lon_deg[origin]),
+                     title=f"table of month {month}, position {origin} of the atlas {self.path.name}")
+        ds.attrs.update(attrs)
+        return checked_tables(ds, f"{self.path}[month={month}, origin={origin}]", area=area_t)
+
+    def weights(self, lat_deg, lon_deg) -> tuple[np.ndarray, np.ndarray]:
+        """The positions around observers at latitudes and longitudes and their weights, (P, 3
+        or 4) each; ``ObserverPositionError`` for the first observer outside."""
+        if self.lattice is not None:
+            return lattice_weights(lat_deg, lon_deg, self.lattice, self._nodes())
+        x, y = lat_lon_to_local_plane(*self._plane_origin(), np.asarray(lat_deg, dtype=float),
+                                      np.asarray(lon_deg, dtype=float))
+        return self.weights_at(x, y)
+
+    def weights_at(self, x_m, y_m) -> tuple[np.ndarray, np.ndarray]:
+        """`weights` of observers x east and y north of the area's ``[origin]`` (the local plane of
+        the trackers), m: listed positions are weighted in that plane itself, a lattice (rows and
+        columns of latitude and longitude) at the observers' latitudes and longitudes."""
+        origin = self._plane_origin()
+        if self.lattice is not None:
+            lat, lon = local_plane_to_lat_lon(*origin, np.atleast_1d(np.asarray(x_m, dtype=float)),
+                                              np.atleast_1d(np.asarray(y_m, dtype=float)))
+            return lattice_weights(lat, lon, self.lattice, self._nodes())
+        key = ("plane",)
+        if key not in self._kept:
+            self._kept[key] = lat_lon_to_local_plane(*origin, self.lat_deg, self.lon_deg)
+        px, py = self._kept[key]
+        return listed_weights(x_m, y_m, np.asarray(px), np.asarray(py))
+
+    def _plane_origin(self) -> tuple[float, float]:
+        origin = self.area.origin
+        return float(origin.lat_deg), float(origin.lon_deg)
+
+    def _nodes(self) -> np.ndarray:
+        """The origin index of each lattice node, -1 where it has no table (rows, cols)."""
+        key = ("nodes",)
+        if key not in self._kept:
+            nodes = np.full((self.lattice["rows"], self.lattice["cols"]), -1, dtype=np.int64)
+            nodes[self.row_col[:, 0], self.row_col[:, 1]] = np.arange(self.lat_deg.size)
+            self._kept[key] = nodes
+        return self._kept[key]
+
+
+def open_store(path: str | Path, *, attrs: dict | None = None) -> AtlasStore:
+    """Open an atlas store: check it is tmakit's, of this format, and which tables are complete.
+
+    ``attrs``: the store's attributes when the caller has read them (``read_attrs``), so that
+    they, ``area_json`` among them, are read once.
+
+    Raises
+    ------
+    AtlasFileError
+        Not a folder, not a tmakit atlas, another format, an unreadable ``area_json``.
+    """
+    import zarr
+
+    path = Path(path)
+    if not path.is_dir():
+        raise AtlasFileError(f"{path}: no such atlas (an atlas is a Zarr store, a folder)")
+    attrs = read_attrs(path) if attrs is None else attrs
+    if not is_atlas_attrs(attrs):
+        raise AtlasFileError(f"{path}: not a tmakit atlas (no Zarr 3 group with tmakit_kind = \"atlas\")")
+    check_format(path, attrs)
+    try:
+        area = area_from_json(attrs.get("area_json"), str(path))
+    except AreaError as exc:
+        raise AtlasFileError(str(exc)) from None
+    try:
+        group = zarr.open_group(str(path), mode="r", zarr_format=3)
+        coords = {name: np.asarray(group[name][...]) for name in
+                  ("month", "origin_lat_deg", "origin_lon_deg", "origin_row", "origin_col", "bearing", "depth",
+                   "range", "k_urick_db", "beta_db_per_km")}
+        done = np.asarray(group["done"][...]) == 1
+    except Exception as exc:  # noqa: BLE001 - a missing array or a damaged small chunk
+        raise AtlasFileError(f"{path}: not a readable atlas ({type(exc).__name__}: {str(exc)[:120]})") from None
+    # a table counts as done only with every chunk of it in the store
+    arrays = {name: group[name] for name in ("tl_db", "k_db", "bottom_depth_m")}
+    for m, o in zip(*np.nonzero(done)):
+        for name, index in (("tl_db", (m, o, 0, 0, 0, 0, 0)), ("k_db", (m, o, 0, 0, 0, 0)),
+                            ("bottom_depth_m", (o, 0, 0))):
+            if not chunk_exists(path, arrays[name], index):
+                done[m, o] = False
+                if name == "bottom_depth_m":
+                    done[:, o] = False
+    if not all(math.isfinite(v) for v in coords["range"]):
+        raise AtlasFileError(f"{path}: coordinate 'range' must hold finite numbers")
+    lattice = attrs.get("lattice")
+    return AtlasStore(path=path, area=area, attrs=attrs, months=coords["month"].astype(int),
+                       lat_deg=coords["origin_lat_deg"], lon_deg=coords["origin_lon_deg"],
+                       row_col=np.stack([coords["origin_row"], coords["origin_col"]], axis=1).astype(int),
+                       bearing_deg=coords["bearing"], depth_m=coords["depth"], range_m=coords["range"],
+                       k_urick_db=coords["k_urick_db"], beta_db_per_km=coords["beta_db_per_km"], done=done,
+                       left_out=json.loads(attrs.get("left_out", "[]")),
+                       lattice=None if lattice is None else json.loads(lattice), _group=group)

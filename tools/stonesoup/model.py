@@ -1,0 +1,123 @@
+"""A Stone Soup measurement model whose level function is tmakit's: bearing and band levels.
+
+The state is Stone Soup's constant-velocity one, (x, vx, y, vy) in metres and m/s east and north
+of the area's origin (the local plane of the grid's area, docs/formats.md). The measurement is
+
+    z = (bearing, W_1, ..., W_m),   bearing = atan2(x - x_o, y - y_o) (clockwise from north),
+                                    W_b = P0 + K_b(r, bearing, depth, observer) + H   (eq. 12)
+
+for the bands the detection holds, P0 the class's level (its mean ``noise_mean_db``, or for a
+Ross class 170 + 53 lg(v / 5.14 m/s) at the state's own speed, eq. 12 of Iglesis & de Montella),
+K from the grid or atlas face (``acoustics.open_tables``; an atlas's tables where the observer
+is) at the observer's depth, H the sonar's receiver gain. The noise is Gaussian and independent:
+the bearing's sd, and per band sqrt(sd_P0^2 + sd_l^2 + sd_K(r)^2) -- the class's source-level
+sd, the level measurement's and the grid's ``k_error_sd_db`` at the state's range where it holds
+a measured map (else the class's one number). ``logpdf`` evaluates every particle at once.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from stonesoup.base import Property
+from stonesoup.models.measurement.nonlinear import NonLinearGaussianMeasurement
+from stonesoup.types.array import CovarianceMatrix, StateVector, StateVectors
+
+from envdata.classes import SourceLevelModel, ross_source_level_db
+
+#: A state's position and velocity rows in Stone Soup's (x, vx, y, vy).
+X, VX, Y, VY = 0, 1, 2, 3
+
+
+class TablesMeasurementModel(NonLinearGaussianMeasurement):
+    """Bearing (rad, clockwise from north) and band levels (dB re 1 uPa) from tmakit's tables,
+    for one detection: the observer where it was, the bands it holds."""
+
+    tables: object = Property(doc="The grid face (acoustics.open_tables) at the observer's position")
+    class_index: int = Property(doc="The target class's index in the tables")
+    band_index: tuple = Property(doc="The tables' indices of the bands the measurement holds, in its order")
+    observer_x_m: float = Property(doc="Observer east of the area's origin, m")
+    observer_y_m: float = Property(doc="Observer north of the area's origin, m")
+    observer_depth_m: float = Property(doc="Observer depth, m")
+    bearing_sd_rad: float = Property(doc="Bearing error sd, rad")
+    level_sd_db: float = Property(doc="Level measurement error sd, dB (beside the source level's and K's)")
+    noise_covar: CovarianceMatrix = Property(default=None, doc="The noise at the tables' typical K error "
+                                                                 "(logpdf takes K's at each state's range)")
+    mapping: tuple = Property(default=(X, Y), doc="The position rows of the state")
+
+    def __init__(self, *args, **kwargs):
+        tables, ic = kwargs["tables"], kwargs["class_index"]
+        cls = tables.classes[ic]
+        if kwargs.get("noise_covar") is None:  # Stone Soup checks it on construction
+            level_var = cls.noise_sd_db ** 2 + kwargs["level_sd_db"] ** 2 + float(cls.k_error_sd_db) ** 2
+            kwargs["noise_covar"] = CovarianceMatrix(np.diag(
+                [kwargs["bearing_sd_rad"] ** 2] + [level_var] * len(kwargs["band_index"])))
+        super().__init__(*args, **kwargs)
+        self._cls = cls
+
+    @property
+    def ndim_state(self) -> int:
+        return 4
+
+    @property
+    def ndim_meas(self) -> int:
+        return 1 + len(self.band_index)
+
+    def _level_var(self, k_sd_db) -> np.ndarray:
+        return self._cls.noise_sd_db ** 2 + self.level_sd_db ** 2 + np.asarray(k_sd_db, dtype=float) ** 2
+
+    def _geometry(self, state_vector) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        sv = np.asarray(state_vector, dtype=float)
+        dx, dy = sv[X] - self.observer_x_m, sv[Y] - self.observer_y_m
+        return np.arctan2(dx, dy), np.hypot(dx, dy), np.hypot(sv[VX], sv[VY])
+
+    def levels_db(self, state_vector) -> np.ndarray:
+        """W of each band of the measurement for states (4, N): shape (bands, N), dB."""
+        bearing, rng, speed = self._geometry(state_vector)
+        k = self.tables.k_at(self.class_index, rng, depth_m=self.observer_depth_m,
+                             bearing_deg=np.degrees(bearing) % 360.0)         # (N, M)
+        k = np.atleast_2d(k)[:, list(self.band_index)].T                       # (bands, N)
+        if self._cls.source_level_model is SourceLevelModel.ROSS:
+            level = ross_source_level_db(speed)
+        else:
+            level = np.full(rng.shape, float(self._cls.noise_mean_db))
+        return level[None, :] + k + self.tables.area.sonar.receiver_gain_db
+
+    def function(self, state, noise=False, **kwargs) -> StateVector | StateVectors:
+        """The measurement of ``state`` (its particles at once)."""
+        sv = np.asarray(state.state_vector, dtype=float)
+        single = sv.ndim == 1 or sv.shape[1] == 1
+        sv = sv.reshape(4, -1)
+        bearing, _, _ = self._geometry(sv)
+        out = np.vstack([bearing[None, :], self.levels_db(sv)])
+        if noise is True:
+            out = out + self.rvs(num_samples=out.shape[1], **kwargs)
+        elif noise is not False:
+            out = out + np.asarray(noise)
+        return StateVector(out[:, 0]) if single else StateVectors(out)
+
+    def logpdf(self, state1, state2, **kwargs) -> float | np.ndarray:
+        """Log likelihood of the measurement ``state1`` for the states of ``state2`` (each particle),
+        the bearing residual wrapped to (-pi, pi], the level variance with K's error sd at the
+        state's range where the tables carry one."""
+        z = np.asarray(state1.state_vector, dtype=float).ravel()
+        sv = np.asarray(state2.state_vector, dtype=float).reshape(4, -1)
+        bearing, rng, _ = self._geometry(sv)
+        d_b = np.mod(z[0] - bearing + math.pi, 2.0 * math.pi) - math.pi
+        out = -0.5 * (d_b ** 2 / self.bearing_sd_rad ** 2 + math.log(2.0 * math.pi * self.bearing_sd_rad ** 2))
+        if len(self.band_index):
+            levels = self.levels_db(sv)
+            # the grid's measured K error sd at each state's range and bearing (its class's one
+            # number where it has none)
+            k_sd = np.atleast_2d(self.tables.k_error_sd_at(self.class_index, rng,
+                                                           bearing_deg=np.degrees(bearing) % 360.0))
+            var = self._level_var(k_sd[:, list(self.band_index)].T)
+            d_l = z[1:, None] - levels
+            # a state where the grid has no K (beyond land) explains no level
+            d_l = np.where(np.isfinite(d_l), d_l, 1e3)
+            out = out - 0.5 * np.sum(d_l ** 2 / var + np.log(2.0 * math.pi * var), axis=0)
+        return out if out.size > 1 else float(out[0])
+
+    def pdf(self, state1, state2, **kwargs):
+        return np.exp(self.logpdf(state1, state2, **kwargs))
