@@ -9,13 +9,17 @@ which bands they touch),
 
 - n_im: the level's own error, independent from cycle to cycle and band to band, sd of eq. 11
   from the band's SNR;
+- K_m: the tables' K averaged over the track's range uncertainty (`tracker.kstructure`): a
+  track estimated from the levels is off in range by a few per cent, and K's fine structure
+  (its interference ripple) read there is not the one the target's levels went through;
 - g, f_m: the tables' fine K error along the track (the interference pattern a little off), a
-  Gauss-Markov process in range (exponential correlation over max(``fine_floor_m``,
-  ``fine_fraction`` r)): g common to the bands, sd ``fine_sd_db``, and f_m per band, sd
-  ``fine_band_sd_db``. Measured on the shelf-break slope against BELLHOP along the true path
-  (a submarine at 60 m): 1.6 dB, correlation 0.35 at 100 m, the bands' own part 0.3 dB;
+  Gauss-Markov process in time (exponential correlation over ``fine_time_s``): g common to the
+  bands, sd ``fine_sd_db``, and f_m per band, sd ``fine_band_sd_db``. Measured on the
+  shelf-break slope against BELLHOP along the true path (a submarine at 60 m, 10 s cycles,
+  the range changing by 20 m a cycle): 1.6 dB, correlation 0.35 after 50 s (100 m), the bands'
+  own part 0.3 dB;
 - u: a slow error common to the bands (the water or the bottom a little off), sd
-  ``slow_sd_db`` over max(``slow_floor_m``, ``slow_fraction`` r);
+  ``slow_sd_db`` over ``slow_time_s``;
 - c_m: an offset per band, sd ``band_sd_db`` (the source's spectrum is the class's only to
   within it);
 - b: the offset common to every band and cycle, sd ``offset_sd_db`` (P0's sd and dK's).
@@ -23,9 +27,14 @@ which bands they touch),
 All of them are Gaussian and enter linearly: a Kalman filter over (b, c, g, f, u) along the
 cycles gives the exact log density of the levels with every one integrated out
 (`log_marginal`), and the depth's posterior under a prior uniform in depth is proportional to
-it. The depth cue is what no offset or error process can absorb: the shape of K along the
-track, and the ratios of the bands (the sea surface's interference at a near-surface target's
-end takes more from the low bands; the thermocline bends the bands' K differently). Where the
+it. The processes are correlated in time, not in the track's range: the depths are compared
+along tracks that differ (each depth its own level-based range), and a correlation in the
+track's range would make the model smoother along a shorter track, favouring the track that
+makes the residual look smoothest rather than the depth that predicts the levels.
+
+The depth cue is what no offset or error process can absorb: the shape of K along the track,
+and the ratios of the bands (the sea surface's interference at a near-surface target's end
+takes more from the low bands; the thermocline bends the bands' K differently). Where the
 levels cannot separate a depth from an offset the posterior stays wide; a persistent error
 cannot make it narrow, because it is not counted once per cycle.
 """
@@ -47,7 +56,7 @@ _LN_2PI = math.log(2.0 * math.pi)
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LevelErrors:
     """The errors of the band levels that persist (module docstring): sds in dB, correlation
-    lengths max(floor, fraction r) in m.
+    times in s.
 
     Attributes
     ----------
@@ -55,32 +64,29 @@ class LevelErrors:
         sd of b, common to bands and cycles (hypot of the class's noise_sd_db and k_error_sd_db).
     band_sd_db : float
         sd of c_m.
-    fine_sd_db, fine_band_sd_db, fine_fraction, fine_floor_m : float
-        sd of g and of f_m, and their correlation length.
-    slow_sd_db, slow_fraction, slow_floor_m : float
-        sd of u and its correlation length.
+    fine_sd_db, fine_band_sd_db, fine_time_s : float
+        sd of g and of f_m, and their correlation time.
+    slow_sd_db, slow_time_s : float
+        sd of u and its correlation time.
     """
 
     offset_sd_db: float
     band_sd_db: float = 1.0
     fine_sd_db: float = 1.5
     fine_band_sd_db: float = 0.5
-    fine_fraction: float = 0.01
-    fine_floor_m: float = 100.0
+    fine_time_s: float = 60.0
     slow_sd_db: float = 1.0
-    slow_fraction: float = 0.10
-    slow_floor_m: float = 500.0
+    slow_time_s: float = 600.0
 
     def __post_init__(self) -> None:
-        for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db",
-                     "fine_fraction", "slow_fraction"):
+        for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0.0):
-                raise ValueError(f"{name} must be >= 0, got {v}")
-        for name in ("fine_floor_m", "slow_floor_m"):
+                raise ValueError(f"{name} must be >= 0 dB, got {v}")
+        for name in ("fine_time_s", "slow_time_s"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"{name} must be > 0 m, got {v}")
+                raise ValueError(f"{name} must be > 0 s, got {v}")
 
     @classmethod
     def of_class(cls, target, **kwargs) -> LevelErrors:
@@ -88,9 +94,9 @@ class LevelErrors:
         return cls(offset_sd_db=math.hypot(target.noise_sd_db or 0.0, target.k_error_sd_db), **kwargs)
 
     def effects(self, n_bands: int):
-        """The state's components: (sd, correlation (fraction, floor) or None when constant,
-        band or -1 for every band), in the Kalman filter's order."""
-        fine, slow = (self.fine_fraction, self.fine_floor_m), (self.slow_fraction, self.slow_floor_m)
+        """The state's components: (sd, correlation time in s or None when constant, band or -1
+        for every band), in the Kalman filter's order."""
+        fine, slow = self.fine_time_s, self.slow_time_s
         out = [(self.offset_sd_db, None, -1)]
         out += [(self.band_sd_db, None, m) for m in range(n_bands)]
         out += [(self.fine_sd_db, fine, -1)]
@@ -99,16 +105,7 @@ class LevelErrors:
         return [e for e in out if e[0] > 0.0]
 
 
-def _correlation(r0, r1, fraction: float, floor_m: float) -> np.ndarray:
-    """exp(-|r1 - r0| / L), L = max(floor, fraction r) at the pair's mean range; 0 where either
-    range is unknown."""
-    with np.errstate(invalid="ignore"):
-        length = np.maximum(floor_m, fraction * 0.5 * (np.abs(r0) + np.abs(r1)))
-        rho = np.exp(-np.abs(r1 - r0) / length)
-    return np.where(np.isfinite(rho), rho, 0.0)
-
-
-def log_marginal(resid_db, var_db2, range_m, errors: LevelErrors) -> np.ndarray:
+def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors) -> np.ndarray:
     """ln of the levels' density with b, c, g, f and u integrated out, after each cycle.
 
     Parameters
@@ -117,8 +114,8 @@ def log_marginal(resid_db, var_db2, range_m, errors: LevelErrors) -> np.ndarray:
         Level less its prediction P0 + K_m(z, r) + G, dB; NaN: no level.
     var_db2 : array_like, shape (..., T, M)
         Variance of the independent part n_im, dB^2 (> 0 where a level is).
-    range_m : array_like, shape (..., T)
-        The track's range at each cycle, m (the processes' correlation).
+    t_s : array_like, shape (T,)
+        Cycle times, s (the processes' correlation).
     errors : LevelErrors
 
     Returns
@@ -127,12 +124,12 @@ def log_marginal(resid_db, var_db2, range_m, errors: LevelErrors) -> np.ndarray:
         ln L of the cycles up to and including each one (0 before any level).
     """
     e = np.asarray(resid_db, dtype=float)
-    v = np.asarray(var_db2, dtype=float)
+    v = np.broadcast_to(np.asarray(var_db2, dtype=float), e.shape)
     lead, (t_n, m_n) = e.shape[:-2], e.shape[-2:]
     n = int(np.prod(lead, dtype=np.int64)) if lead else 1
     e = e.reshape(n, t_n, m_n)
     v = v.reshape(n, t_n, m_n)
-    r = np.broadcast_to(np.asarray(range_m, dtype=float), lead + (t_n,)).reshape(n, t_n)
+    t = np.asarray(t_s, dtype=float)
     use = np.isfinite(e) & np.isfinite(v) & (v > 0)
     effects = errors.effects(m_n)
     s = len(effects)
@@ -150,21 +147,21 @@ def log_marginal(resid_db, var_db2, range_m, errors: LevelErrors) -> np.ndarray:
     total = np.zeros(n)
     eye = np.eye(m_n)
     diag = np.arange(s)
-    for t in range(t_n):
-        if t > 0 and moving:  # the Gauss-Markov processes forget with the range travelled
-            rho = np.ones((n, s))
-            for j, (fraction, floor_m) in moving:
-                rho[:, j] = _correlation(r[:, t - 1], r[:, t], fraction, floor_m)
+    for i in range(t_n):
+        if i > 0 and moving:  # the Gauss-Markov processes forget with time
+            rho = np.ones(s)
+            for j, tau in moving:
+                rho[j] = math.exp(-abs(t[i] - t[i - 1]) / tau)
             mean *= rho
-            cov *= rho[:, :, None] * rho[:, None, :]
+            cov *= rho[:, None] * rho[None, :]
             cov[:, diag, diag] += prior * (1.0 - rho ** 2)
-        ok = use[:, t]
+        ok = use[:, i]
         if ok.any():
             hm = h[None] * ok[..., None]                                   # (n, M, S)
-            y = np.where(ok, e[:, t], 0.0)
+            y = np.where(ok, e[:, i], 0.0)
             innov = y - np.einsum("nms,ns->nm", hm, mean)
             ph = np.einsum("nst,nmt->nsm", cov, hm)                        # P H^T (n, S, M)
-            sm = np.einsum("nms,nsk->nmk", hm, ph) + np.where(ok, v[:, t], 1.0)[..., None] * eye
+            sm = np.einsum("nms,nsk->nmk", hm, ph) + np.where(ok, v[:, i], 1.0)[..., None] * eye
             chol = np.linalg.cholesky(sm)
             a = np.linalg.solve(chol, innov[..., None])[..., 0]
             logdet = 2.0 * np.log(np.diagonal(chol, axis1=1, axis2=2)).sum(axis=1)
@@ -175,7 +172,7 @@ def log_marginal(resid_db, var_db2, range_m, errors: LevelErrors) -> np.ndarray:
             mean += np.einsum("nms,nm->ns", gain, innov)
             cov -= np.einsum("nsm,nmt->nst", ph, gain)
             cov = 0.5 * (cov + np.swapaxes(cov, 1, 2))  # rounding keeps it symmetric
-        out[:, t] = total
+        out[:, i] = total
     return out.reshape(lead + (t_n,))
 
 
