@@ -10,10 +10,14 @@ offset per band and the tables' K error along the track integrated out;
 `tracker.depthlevels.TrackDepthLikelihood`), the prior uniform in depth over the span. A
 hypothesis's weight is the posterior mass of the depths it owns.
 
-Each cycle's row of a class is the track of the hypothesis of the largest weight so far, with
-``depth_m`` the posterior median and ``depth_sd_m`` the posterior sd; `DepthChoice` gives, after
-the last cycle, every hypothesis's weight, the 90 % interval and the surface-or-submerged
-probabilities (docs/depth.md).
+The track a depth is read along is each hypothesis's estimate at that cycle carried back over
+its tack (`tracker.depthlevels.line_back`): the causal estimates of the first minutes are
+kilometres off. The posterior is taken at the first cycle, every `DEPTH_EVERY` cycles after and
+at the last; each cycle's row of a class is the track of the hypothesis of the largest weight
+then, with ``depth_m`` the posterior median and ``depth_sd_m`` the posterior sd (held between
+the cycles it is taken at);
+`DepthChoice` gives, after the last cycle, every hypothesis's weight, the 90 % interval and the
+surface-or-submerged probabilities (docs/depth.md).
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from acoustics.grid.face import Tables
-from tracker.depthlevels import TrackDepthLikelihood
+from tracker.depthlevels import TrackDepthLikelihood, line_back
 from tracker.depthpost import DepthPosterior, depth_grid_m, posterior
 from tracker.measurements import Measurements
 from tracker.mltma.params import MLParams
@@ -37,6 +41,8 @@ N_DEPTHS = 9
 DEPTH_SPACING_OFFSET_M = 10.0
 #: The interval `DepthChoice` gives: from this quantile to 1 less it.
 INTERVAL_TAIL = 0.05
+#: The depth posterior is taken every this many cycles (from the first, and at the last).
+DEPTH_EVERY = 6
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -101,7 +107,7 @@ def owners(depth_m, hypotheses_m) -> np.ndarray:
     return np.argmin(np.abs(u[:, None] - h[None, :]), axis=1)
 
 
-def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, range_m, bearing_deg,
+def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, t_s, range_m, bearing_deg,
                     level_db, snr_db) -> tuple[DepthPosterior, np.ndarray]:
     """The posterior over the tables' depths inside the span after each cycle, each depth along
     its owner's track.
@@ -111,6 +117,8 @@ def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, rang
     likelihood : TrackDepthLikelihood
     hypotheses_m : array_like, shape (H,)
     span_m : (float, float)
+    t_s : array_like, shape (T,)
+        Cycle times, s.
     range_m, bearing_deg : array_like, shape (H, ..., T)
         Each hypothesis's track from the observer, m and deg.
     level_db, snr_db : array_like, shape (..., T, M)
@@ -129,7 +137,7 @@ def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, rang
     ll = np.empty((z.size,) + r.shape[1:])
     for h in np.unique(own):
         rows = own == h
-        ll[rows] = likelihood(z[rows], r[h], b[h], level_db, snr_db)
+        ll[rows] = likelihood(z[rows], t_s, r[h], b[h], level_db, snr_db)
     return posterior(z, np.moveaxis(ll, 0, -1), span_m), own
 
 
@@ -192,17 +200,21 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             view = tables.at_target_depth(float(depth))
             tracks.append(track_measurements(view, good, cls_name=name, band=None,
                                              params=params).reset_index(drop=True))
-        x = np.array([t["x_m"].to_numpy() for t in tracks]) - good.obs_x_m
-        y = np.array([t["y_m"].to_numpy() for t in tracks]) - good.obs_y_m
+        n_t = len(good)
+        at = np.unique(np.append(np.arange(0, n_t, DEPTH_EVERY), n_t - 1))  # from the first cycle on
+        r, b = _carried_back(tracks, good, at)                           # (H, C, T)
         like = TrackDepthLikelihood(tables, ic, good.band_names, span)
-        post, own = depth_posterior(like, z, span, np.hypot(x, y),
-                                    np.mod(np.degrees(np.arctan2(x, y)), 360.0),
-                                    np.asarray(good.level_db, dtype=float), np.asarray(good.snr_db, dtype=float))
-        w = hypothesis_weights(post, own, z.size)                        # (T, H)
-        best = np.argmax(w, axis=1)
-        rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(best.size)], ignore_index=True)
-        rows["depth_m"] = post.quantile(0.5)
-        rows["depth_sd_m"] = post.sd()
+        post, own = depth_posterior(like, z, span, good.t_s, r, b, np.asarray(good.level_db, dtype=float),
+                                    np.asarray(good.snr_db, dtype=float))
+        last_t = post.weight[:, -1]                                      # (C, D): each its own cycle's
+        post = DepthPosterior(depth_m=post.depth_m, weight=last_t, edges_m=post.edges_m)
+        w = hypothesis_weights(post, own, z.size)                        # (C, H)
+        held = np.searchsorted(at, np.arange(n_t), side="right") - 1     # the last taken at or before
+        best = np.argmax(w, axis=1)[held]
+        rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(n_t)], ignore_index=True)
+        median, sd = post.quantile(0.5), post.sd()
+        rows["depth_m"] = median[held]
+        rows["depth_sd_m"] = sd[held]
         frames.append(rows)
         last = w[-1]
         with np.errstate(divide="ignore"):
@@ -220,3 +232,23 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
             surface_probability=float(surf), submerged_probability=float(sub)))
     return pd.concat(frames, ignore_index=True), choices
+
+
+def _carried_back(tracks, m: Measurements, at) -> tuple[np.ndarray, np.ndarray]:
+    """Range and bearing from the observer of each hypothesis's estimate at each cycle of ``at``
+    carried back over its tack (NaN outside it and after that cycle), (H, C, T) each."""
+    n_t = len(m)
+    r = np.full((len(tracks), len(at), n_t), np.nan)
+    b = np.full(r.shape, np.nan)
+    for h, trk in enumerate(tracks):
+        course = np.radians(trk["course_deg"].to_numpy())
+        speed = trk["speed_mps"].to_numpy()
+        tack = trk["tack"].to_numpy()
+        for c, i in enumerate(at):
+            start = int(np.flatnonzero(tack[:i + 1] == tack[i])[0])
+            x, y = line_back(m.t_s[:i + 1], trk["x_m"].to_numpy()[:i + 1], trk["y_m"].to_numpy()[:i + 1],
+                             (speed * np.sin(course))[:i + 1], (speed * np.cos(course))[:i + 1], start)
+            dx, dy = x - m.obs_x_m[:i + 1], y - m.obs_y_m[:i + 1]
+            r[h, c, :i + 1] = np.hypot(dx, dy)
+            b[h, c, :i + 1] = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
+    return r, b

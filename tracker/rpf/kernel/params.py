@@ -186,7 +186,7 @@ def profile_arrays(k_profiles, n_cycles: int, n_bands: int = 1) -> Profiles:
     n_bands : int
         B: ``k_profiles`` is one per-cycle sequence per band when B > 1.
     """
-    per_band = [k_profiles] if n_bands == 1 else list(k_profiles)
+    per_band = [k_profiles] if n_bands == 1 or k_profiles is None else list(k_profiles)
     rows, where, sds = [], {}, []
     prof_idx = np.zeros((n_bands, n_cycles), dtype=np.int64)
     for b, profiles in enumerate(per_band):
