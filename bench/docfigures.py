@@ -417,7 +417,8 @@ def models_bench(root: Path) -> str:
 _DEPTH_ESTIMATES = (("ml_posterior", "ML analysis: posterior over its hypotheses' tracks"),
                     ("rpf_bank", "bank of particle filters at the ML's hypotheses"),
                     ("rpf_particles", "particle filter, depth a state: the particles (mean +- 1.645 sd)"),
-                    ("rpf_track", "particle filter, depth a state: posterior along its track"))
+                    ("rpf_track", "particle filter, depth a state: posterior along its track"),
+                    ("known_motion_true_track", "the motion known: posterior along the true track"))
 
 
 def depth_errors(root: Path) -> str:
@@ -460,6 +461,20 @@ def depth_estimates(root: Path) -> str:
             f"{d['truth']}.\n\n" + _source(d, "depth/depth.json"))
 
 
+def depth_mismatch(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    m = d["level_residual_at_true_depth_db"]
+    zs = [f"{z:g}" for z in d["true_depths_m"]]
+    rows = [("scenario", *(f"{z} m" for z in zs)), ("---",) * (1 + len(zs))]
+    for sc, by_z in m.items():
+        rows.append((f"`{sc}`", *(f"{by_z[z]['along_track_sd_db']:.1f} ({by_z[z]['band_offset_sd_db']:.1f})"
+                                  for z in zs)))
+    return (_table(rows) + "\nThe levels less P0 + K + G, K the tables' at the true depth along the true track, "
+            "each run's mean taken off: sd along the track, median over runs and bands (in brackets the sd of "
+            "the bands' offsets from the run's common one), dB; eq. 11's error included.\n\n"
+            + _source(d, "depth/depth.json"))
+
+
 def depth_weights(root: Path) -> str:
     d = _load(root, "depth/depth.json")
     w = d["hypothesis_weights_mean"]["ml"]
@@ -483,7 +498,7 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
                                              "radials": radials, "stonesoup": stonesoup,
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
-                                             "depth-weights": depth_weights}
+                                             "depth-weights": depth_weights, "depth-mismatch": depth_mismatch}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (

@@ -31,7 +31,10 @@ masses. For the ML analysis the posterior is `tracker.mltma.depths.depth_posteri
 hypothesis's final estimate carried back over the run); for the particle filter both the
 particles' own depth (mean +- 1.645 sd) and the posterior of `tracker.depthpost` along the
 filter's final estimate carried back (`tracker.depthlevels`), and the bank's posterior. The
-hypotheses' final weights are kept per run (``w_<depth>``). The summary: medians of
+hypotheses' final weights are kept per run (``w_<depth>``). What the levels themselves allow,
+whatever a tracker makes of the motion: the posterior along the true track (``known_motion``),
+and the levels' residual about the tables' K at the true depth along it
+(``level_residual_at_true_depth_db``). The summary: medians of
 the position errors and their ratios, the 90 % intervals' coverage of the truth (target
 >= 85 %) and widths, the surface-or-submerged call's error rate.
 """
@@ -42,6 +45,7 @@ import dataclasses
 import json
 import math
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -75,6 +79,9 @@ METHODS = ("rpf", "ml")
 #: depth hypotheses weighed by the depth posterior along each one's track; the ML analysis
 #: over its hypotheses.
 UNKNOWN = {"rpf": ("unknown", "bank"), "ml": ("unknown",)}
+#: The rows of the depth posterior along the true track (the motion known): what the levels
+#: themselves say of the depth, whatever a tracker makes of the motion.
+KNOWN = "known_motion"
 #: The position error is taken from this many minutes after the first cycle.
 LATE_MIN = 5.0
 #: The filters carry the offset common to a run's levels (P0 and dK) as a state, sigma_l then
@@ -213,10 +220,44 @@ def _weighed(sim, pos_z, z, like):
 def _rpf_track_posterior(sim, pos, like) -> DepthPosterior:
     """`tracker.depthpost`'s posterior after the last cycle along each run's filter track (its
     final estimate carried back)."""
+    return _track_posterior(sim, None, like, _carried_back(sim, pos))
+
+
+def _track_posterior(sim, pos, like, polar=None) -> DepthPosterior:
+    """`tracker.depthpost`'s posterior after the last cycle along positions (E, T, 2+) (or a
+    given range and bearing)."""
     z = depth_grid_m(like.tables.depth_m, DEPTH_SPAN_M)
-    r, b = _carried_back(sim, pos)
+    r, b = _polar(sim, pos) if polar is None else polar
     ll = like(z, sim.t_s, r, b, sim.level_db, sim.snr_db)[..., -1]                                  # (D, E)
     return posterior(z, ll.T, DEPTH_SPAN_M)
+
+
+def _k_mismatch(sim, like, z_true: float, scenario: str) -> pd.DataFrame:
+    """The levels less P0 + K + G with K the tables' at the true depth (averaged as the depth
+    likelihood reads it) along the true track, each run's mean taken off: the tables' K error
+    along the path with eq. 11's error, per band (rows: runs x bands)."""
+    r, b = _polar(sim, np.stack([sim.x_m, sim.y_m], axis=-1))
+    k = np.stack([m.at(np.asarray(z_true), r, b) for m in like._mean], axis=-1)          # (E, T, M)
+    resid = sim.level_db - (like._base_db + k)
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        run_mean = np.nanmean(resid, axis=(1, 2), keepdims=True)
+        band_mean = np.nanmean(resid - run_mean, axis=1)                                 # (E, M)
+        along = np.nanstd(resid - run_mean - band_mean[:, None, :], axis=1)              # (E, M)
+    return pd.DataFrame({"scenario": scenario, "true_depth_m": z_true,
+                         "band": np.tile(np.arange(k.shape[-1]), k.shape[0]),
+                         "band_offset_db": band_mean.ravel(), "along_track_sd_db": along.ravel()})
+
+
+def _mismatch_summary(parts) -> dict:
+    """Per scenario and true depth: the median over runs and bands of the residual's sd along
+    the track, and the sd of the bands' offsets from the run's common one, dB."""
+    d = pd.concat(parts, ignore_index=True)
+    out = {}
+    for (sc, z), g in d.groupby(["scenario", "true_depth_m"]):
+        out.setdefault(sc, {})[f"{z:g}"] = {"along_track_sd_db": round(float(g["along_track_sd_db"].median()), 2),
+                                             "band_offset_sd_db": round(float(np.nanstd(g["band_offset_db"])), 2)}
+    return out
 
 
 def _depth_rows(post: DepthPosterior) -> dict:
@@ -265,7 +306,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
 
     tables = open_tables(grid)
     provider = _truth_provider(truth, out, workers)
-    rows = []
+    rows, mismatch = [], []
     for s_i, name in enumerate(scenarios):
         sc0 = load_scenario(name)
         ic = tables.class_index(sc0.target_class)
@@ -304,9 +345,15 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                     for source, d in depth_info.items():
                         rows.append(pd.DataFrame({**base, "method": method, "variant": variant,
                                                   "depth_from": source, "rms_error_m": rms, **d}))
+            # the levels' own say with the motion known: the posterior along the true track
+            true_pos = np.stack([sim.x_m, sim.y_m], axis=-1)
+            rows.append(pd.DataFrame({**base, "method": KNOWN, "variant": "unknown", "depth_from": "true_track",
+                                      "rms_error_m": 0.0, **_depth_rows(_track_posterior(sim, true_pos, like))}))
+            mismatch.append(_k_mismatch(sim, like, z_true, name))
     frame = pd.concat(rows, ignore_index=True)
     summary = _summary(frame, tables, ic, runs=runs, seed=seed, n_particles=n_particles, truth=truth,
                        grid=grid, provider=provider)
+    summary["level_residual_at_true_depth_db"] = _mismatch_summary(mismatch)
     summary["seconds"] = round(time.perf_counter() - start, 1)
     files = [out / "depth_runs.csv", out / "depth.json", out / "depth.png"]
     from acoustics.plots.figures import save_figure
@@ -342,7 +389,7 @@ def _depth_stats(d: pd.DataFrame) -> dict:
 
 
 def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, truth, grid, provider) -> dict:
-    pos = frame.drop_duplicates(["scenario", "true_depth_m", "run", "method", "variant"])
+    pos = frame[frame["method"] != KNOWN].drop_duplicates(["scenario", "true_depth_m", "run", "method", "variant"])
     med = pos.groupby(["scenario", "true_depth_m", "method", "variant"])["rms_error_m"].median()
     errors = {}
     for (sc, z, method, variant), v in med.items():

@@ -12,14 +12,16 @@ from acoustics.plots.figures import new_figure
 _SOURCE = {("ml", "unknown", "posterior"): ("ml_posterior", "ML analysis: posterior over its hypotheses' tracks"),
            ("rpf", "bank", "posterior"): ("rpf_bank", "bank of particle filters at the hypotheses"),
            ("rpf", "unknown", "particles"): ("rpf_particles", "particle filter, depth a state:\nthe particles' depth"),
-           ("rpf", "unknown", "track"): ("rpf_track", "particle filter, depth a state:\nposterior along its track")}
+           ("rpf", "unknown", "track"): ("rpf_track", "particle filter, depth a state:\nposterior along its track"),
+           ("known_motion", "unknown", "true_track"): ("known_motion_true_track",
+                                                       "the motion known:\nposterior along the true track")}
 _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple")
 
 
 def depth_figure(frame: pd.DataFrame, summary: dict) -> Figure:
     """One panel per depth estimate: runs' 90 % intervals (bars) and medians (dots) at each true
     depth (x, jittered by scenario and run), the truth as a line; coverage in the title."""
-    fig = new_figure(figsize=(16.0, 4.8), layout="constrained")
+    fig = new_figure(figsize=(19.0, 4.8), layout="constrained")
     axes = fig.subplots(1, len(_SOURCE), sharey=True)
     truths = summary["true_depths_m"]
     for ax, ((method, variant, source), (key, label)) in zip(np.atleast_1d(axes), _SOURCE.items()):
