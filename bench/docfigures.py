@@ -479,7 +479,7 @@ def depth_weights(root: Path) -> str:
     d = _load(root, "depth/depth.json")
     w = d["hypothesis_weights_mean"]["ml"]
     hyps = list(next(iter(next(iter(w.values())).values())))
-    rows = [("scenario", "true depth, m", *(f"{h} m" for h in hyps)), ("---",) * (2 + len(hyps))]
+    rows = [("scenario", "true depth, m", *(f"{float(h):.0f} m" for h in hyps)), ("---",) * (2 + len(hyps))]
     for sc, by_z in w.items():
         for z, v in by_z.items():
             rows.append((f"`{sc}`", z, *(f"{v[h]:.2f}" for h in hyps)))
