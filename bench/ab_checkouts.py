@@ -147,6 +147,46 @@ print(best / 1e6)
     "atlas_simulate_and_track_ml_s": (ATLAS_TRACK.format(method="ml"), "lower"),
     "atlas_track_rpf_s": (ATLAS_TRACK.format(method="rpf"), "lower"),
     "atlas_sample_10000_points_s": (ATLAS_SAMPLE, "lower"),
+    **{f"rpf_{kind}_shelf_nps_mpc_per_cpu_s": ("""
+import os, time, numpy as np, acoustics
+from envdata.classes import SourceLevelModel
+from tracker.rpf import RpfConfig, run_batch
+from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
+from tracker.rpf.track import cycle_profiles
+from tracker.scenario import load_scenario
+from tracker.simulate import simulate_batch
+open_ = getattr(acoustics, "open_tables", None) or acoustics.open_grid  # before the one way in
+tables = open_(os.environ["TMAKIT_AB_SHELF_GRID"])  # as bench_depth.throughput
+sc = load_scenario("shelf-nps")
+ic = tables.class_index(sc.target_class)
+sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(20))
+cls = tables.classes[ic]
+r0 = float(np.mean(sim.range_m[:, 0]))
+cfg = RpfConfig(n_particles=2000, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)), level_sigma_db=1.5,
+                range_mean_m=r0, range_sd_m=0.25 * r0, speed_mean_mps=cls.speed_mean_mps,
+                speed_sd_mps=cls.speed_sd_mps, shrink=True, sl_offset_sd_db=float(np.hypot(2.5, 2.0)))
+obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
+                np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
+common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg),
+              level_db_meas=sim.level_db[:, :, 0], cfg=cfg, source_level_model=SourceLevelModel.P0,
+              p0_db=cls.noise_mean_db)
+if "{kind}" == "fixed_depth":
+    profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
+    def go(seed):
+        run_batch(k_profiles=profiles, rng=np.random.default_rng(seed), **common)
+else:
+    tk = tables.target_depth_k(ic, 0)
+    def go(seed):
+        run_batch_depth(target_k=tk, cycle_bearing_deg=sim.bearing_deg[0], rng=np.random.default_rng(seed),
+                        depth=DepthConfig(depth_min_m=20.0, depth_max_m=300.0), **common)
+go(0)  # compile (or load the cache) outside the timing
+best = 0.0
+for i in range(3):
+    c = time.process_time()
+    go(1 + i)
+    best = max(best, 20 * 2000 * sim.t_s.size / (time.process_time() - c))
+print(best / 1e6)
+""".replace("{kind}", kind), "higher") for kind in ("fixed_depth", "depth_state")},
     "tmakit_help_s": ("""
 import subprocess, sys, time
 t = time.perf_counter()

@@ -461,6 +461,79 @@ def models_bench(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "models.json")
 
 
+_DEPTH_ESTIMATES = (("ml_posterior", "ML analysis: posterior over its hypotheses' tracks"),
+                    ("rpf_bank", "bank of particle filters at the ML's hypotheses"),
+                    ("rpf_particles", "particle filter, depth a state: the particles (mean +- 1.645 sd)"),
+                    ("rpf_track", "particle filter, depth a state: posterior along its track"),
+                    ("known_motion_true_track", "the motion known: posterior along the true track"))
+
+
+def depth_errors(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    keys = ("rpf_class", "rpf_true", "rpf_unknown", "rpf_bank", "ml_class", "ml_true", "ml_unknown")
+    rows = [("scenario", "true depth, m", *keys), ("---",) * (2 + len(keys))]
+    for sc, by_z in d["median_rms_error_m"].items():
+        for z, v in by_z.items():
+            rows.append((f"`{sc}`", z, *(f"{v[k]:.0f}" for k in keys)))
+    pooled = d["median_rms_error_pooled_m"]
+    rows.append(("all", "all", *(f"**{pooled[k]:.0f}**" for k in keys)))
+    ratio = d["ratio_unknown_to_true_pooled"]
+    by_sc = d["ratio_unknown_to_true_by_scenario"]
+    text = "; ".join(f"{k} {ratio[k]:.2f} (" + ", ".join(f"{sc} {v[k]:.2f}" for sc, v in by_sc.items()) + ")"
+                     for k in ratio)
+    return (_table(rows) + f"\nPosition error with the depth unknown over that given the true depth, medians over "
+            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.\n\n" + _source(d, "depth/depth.json"))
+
+
+def depth_estimates(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    zs = [f"{z:g}" for z in d["true_depths_m"]]
+    scs = d["scenarios"]
+    rows = [("depth from", "covered, all runs", *(f"covered, {sc}" for sc in scs), *(f"{z} m" for z in zs),
+             "median width", "surface-or-submerged call wrong (surface / submerged targets)"),
+            ("---",) * (4 + len(scs) + len(zs))]
+    for key, label in _DEPTH_ESTIMATES:
+        e = d["depth_estimates"].get(key)
+        if e is None:
+            continue
+        c = e["surface_call"]
+        rows.append((label, f"**{100 * e['all']['coverage_90']:.0f} %**",
+                     *(f"{100 * e['by_scenario'][sc]['coverage_90']:.0f} %" for sc in scs),
+                     *(f"{100 * e['by_true_depth'][z]['coverage_90']:.0f} %" for z in zs),
+                     f"{e['all']['median_width_m']:.0f} m",
+                     f"{100 * c['error_rate']:.1f} % of {c['runs']} ({100 * c['error_rate_surface_targets']:.0f} % / "
+                     f"{100 * c['error_rate_submerged_targets']:.0f} %)"))
+    return (_table(rows) + f"\nThe 90 % interval of the final depth covers the truth in that share of runs "
+            f"(target >= {100 * d['target_coverage']:.0f} %); {d['runs']} runs per scenario and depth, levels from "
+            f"{d['truth']}.\n\n" + _source(d, "depth/depth.json"))
+
+
+def depth_mismatch(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    m = d["level_residual_at_true_depth_db"]
+    zs = [f"{z:g}" for z in d["true_depths_m"]]
+    rows = [("scenario", *(f"{z} m" for z in zs)), ("---",) * (1 + len(zs))]
+    for sc, by_z in m.items():
+        rows.append((f"`{sc}`", *(f"{by_z[z]['along_track_sd_db']:.1f} ({by_z[z]['band_offset_sd_db']:.1f})"
+                                  for z in zs)))
+    return (_table(rows) + "\nThe levels less P0 + K + G, K the tables' at the true depth along the true track, "
+            "each run's mean taken off: sd along the track, median over runs and bands (in brackets the sd of "
+            "the bands' offsets from the run's common one), dB; eq. 11's error included.\n\n"
+            + _source(d, "depth/depth.json"))
+
+
+def depth_weights(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    w = d["hypothesis_weights_mean"]["ml"]
+    hyps = list(next(iter(next(iter(w.values())).values())))
+    rows = [("scenario", "true depth, m", *(f"{float(h):.0f} m" for h in hyps)), ("---",) * (2 + len(hyps))]
+    for sc, by_z in w.items():
+        for z, v in by_z.items():
+            rows.append((f"`{sc}`", z, *(f"{v[h]:.2f}" for h in hyps)))
+    return (_table(rows) + "\nThe ML analysis's depth hypotheses' final weights, mean over runs.\n\n"
+            + _source(d, "depth/depth.json"))
+
+
 #: name -> the function that makes its block from the result files under a root.
 TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy, "startup": startup,
                                              "surface": surface, "surface-cost": surface_cost,
@@ -472,7 +545,9 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
                                              "radials": radials, "stonesoup": stonesoup,
                                              "gm-experiments": gm_experiments,
-                                             "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk}
+                                             "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk,
+                                             "depth-errors": depth_errors, "depth-estimates": depth_estimates,
+                                             "depth-weights": depth_weights, "depth-mismatch": depth_mismatch}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (

@@ -40,6 +40,7 @@ def test_track_with_the_depth_unknown(tiny_depth_grid_file, measured, tmp_path, 
     assert "depth" in text
     if method == "ml":
         assert "most likely depth" in text and "ln likelihood ratio" in text
+        assert "90 % in" in text and "P(<= 15 m)" in text and "weights: " in text
 
 
 def test_track_at_a_given_depth_and_at_the_class_depth(tiny_depth_grid_file, measured, tmp_path):

@@ -1,26 +1,51 @@
-"""A submarine off its class's table depth: tracking it with the class's depth, the true depth,
-and the depth unknown.
+"""A submarine off its class's table depth: what the trackers make of its depth, and what an
+unknown depth costs them, over several true depths, on levels the tables did not make.
 
-The class NPS has its tables at 200 m; scenario ``shelf-nps`` puts the submarine at 60 m in the
-built-in ``shelf-break`` area. Measurements are simulated at the true depth (K from the
-bearing-dependent grid's depth axis, ``tracker.simulate``), with eq. 11's level errors, eq. 2's
-bearing errors and a K error dK drawn once per run. The same measurements are tracked by
+The class NPS has its tables at 200 m in the built-in ``shelf-break`` area. Two scenarios:
+``shelf-nps`` (the observer running west along the slope, the submarine 12 km to the south-
+south-east) and ``shelf-slope-nps`` (the observer crossing the slope southward, the submarine to
+the south-west; its tables stay those of the origin). For each true depth of `TRUE_DEPTHS_M`
+the levels of every band are simulated with BELLHOP along each cycle's true target-to-observer
+path (``tmakit simulate --truth bellhop``, `acoustics.builder.truthk`; ``truth="tables"`` reads
+them from the grid's depth axis instead), with a P0 and a dK drawn per run (the class's sds),
+eq. 11's level errors and eq. 2's bearing errors. The same measurements are tracked by
 
-- the particle filter with bearings and SPL (band FB1, the class's P0) given the class's depth
-  (the tables as built), given the true depth (``Tables.at_target_depth``), and with the
-  depth a state (``tracker.rpf.depthbatch``, prior uniform over `DEPTH_SPAN_M`);
+- the particle filter (bearings and the levels of every band, the class's P0, 2000 particles,
+  the variance-preserving regularization, a range prior around the first range with 25 % sd,
+  the offset common to a run as the source-level offset state) given the class's depth, given
+  the true depth (``Tables.at_target_depth``), and with the depth a state over
+  `DEPTH_SPAN_M` (``tracker.rpf.depthbatch``), and as a bank of filters, one at each of the
+  ML analysis's depth hypotheses, weighed as the ML analysis weighs its hypotheses;
 - the ML motion analysis (all bands) given the class's depth, the true depth, and over depth
-  hypotheses weighed by the likelihood of the levels (``tracker.mltma.depths``).
+  hypotheses (``tracker.mltma.depths``).
 
-Per run the position error's RMS over 5-30 min; the summary gives its median over runs (the
-target: unknown depth within 1.3x of the true depth, particle filter), the depth estimates over
-time, and how far K at 60 m is from K at 200 m along the submarine's bearings.
+With a depth weighed over hypotheses (the ML analysis, the bank) each cycle's position is that
+of the hypothesis of the largest weight, the weight after that cycle along each hypothesis's
+final estimate carried back: a study's shortcut (the final estimate is not known at that
+cycle) for the position error; the depth's figures are those after the last cycle, where it is
+what the tracker has.
+
+Per run: the RMS position error over 5 min to the end; with the depth unknown, the final
+depth posterior's median, 90 % interval and its surface (<= 15 m) and submerged (>= 40 m)
+masses. For the ML analysis the posterior is `tracker.mltma.depths.depth_posterior` (each
+hypothesis's final estimate carried back over the run); for the particle filter both the
+particles' own depth (mean +- 1.645 sd) and the posterior of `tracker.depthpost` along the
+filter's final estimate carried back (`tracker.depthlevels`), and the bank's posterior. The
+hypotheses' final weights are kept per run (``w_<depth>``). What the levels themselves allow,
+whatever a tracker makes of the motion: the posterior along the true track (``known_motion``),
+and the levels' residual about the tables' K at the true depth along it
+(``level_residual_at_true_depth_db``). The summary: medians of
+the position errors and their ratios, the 90 % intervals' coverage of the truth (target
+>= 85 %) and widths, the surface-or-submerged call's error rate.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -30,143 +55,249 @@ from acoustics.builder.gridfile import build_grid_file
 from envdata.areafile import load_area
 from envdata.classes import SourceLevelModel
 from envdata.files import atomic_paths
-from tracker.mltma import MLBatch, measurement_sd
-from tracker.mltma.depths import depth_hypotheses_m
+from tracker.depthlevels import TrackDepthLikelihood, line_back
+from tracker.depthpost import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
+from tracker.mltma import MLBatch
+from tracker.mltma.depths import depth_hypotheses_m, depth_posterior, hypothesis_weights
 from tracker.rpf import RpfConfig, run_batch
-from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
+from tracker.rpf.depthbatch import DepthConfig
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
 AREA = "shelf-break"
+#: The scenario the command names; the study runs `SCENARIOS`.
 SCENARIO = "shelf-nps"
+SCENARIOS = ("shelf-nps", "shelf-slope-nps")
+TRUE_DEPTHS_M = (6.0, 20.0, 40.0, 60.0, 100.0, 200.0)
 #: The span a submarine's depth is searched over, m (the depth_range_m a class would give).
-DEPTH_SPAN_M = (20.0, 300.0)
+DEPTH_SPAN_M = (2.0, 300.0)
 VARIANTS = ("class", "true", "unknown")
 METHODS = ("rpf", "ml")
-#: Times (min after the first cycle) at which the summary gives the median error and depth.
-REPORT_MIN = (5, 10, 20, 30)
-#: Where the summary compares K at the true depth with K at the class's depth (FB1).
-K_BEARINGS_DEG = (120.0, 150.0, 180.0)
-K_RANGES_M = (4000.0, 8000.0, 12000.0)
+#: Each method's ways of meeting the unknown depth besides the class's and the true one: the
+#: particle filter with the depth a state, and a bank of particle filters at the ML analysis's
+#: depth hypotheses weighed by the depth posterior along each one's track; the ML analysis
+#: over its hypotheses.
+UNKNOWN = {"rpf": ("unknown", "bank"), "ml": ("unknown",)}
+#: The rows of the depth posterior along the true track (the motion known): what the levels
+#: themselves say of the depth, whatever a tracker makes of the motion.
+KNOWN = "known_motion"
+#: The position error is taken from this many minutes after the first cycle.
+LATE_MIN = 5.0
 #: The filters carry the offset common to a run's levels (P0 and dK) as a state, sigma_l then
-#: eq. 11's per-cycle error and a margin for the K model between depths, dB.
-SL_OFFSET = True
+#: eq. 11's per-cycle error and a margin for the K model, dB.
 LEVEL_SIGMA_DB = 1.5
-#: The target of the issue: depth unknown within this factor of the filter given the true depth.
-TARGET_RATIO = 1.3
+#: Targets of the issue: the 90 % interval covers the truth in this share of runs; the particle
+#: filter with the depth unknown within this factor of the filter given the true depth.
+TARGET_COVERAGE = 0.85
+TARGET_RATIO = 1.1
+#: The 90 % interval of the particles' own depth: mean +- this many sd.
+Z90 = 1.6449
 
 
 def _rpf_config(tables, sim, ic: int, n_particles: int) -> RpfConfig:
     """The shelf study's settings (class speed statistics, a range prior around the first range
     with 25 % sd, the variance-preserving regularization), and the errors that do not change
-    within a run (P0's sd and dK's) as the source-level offset state (`SL_OFFSET`), leaving
-    eq. 11's ~1.1 dB per cycle to sigma_l."""
+    within a run (P0's sd and dK's) as the source-level offset state, leaving eq. 11's error
+    and a margin to sigma_l."""
     target = tables.classes[ic]
     r0 = float(np.mean(sim.range_m[:, 0]))
     return RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
-                     level_sigma_db=LEVEL_SIGMA_DB, range_mean_m=r0,
-                     range_sd_m=0.25 * r0, speed_mean_mps=target.speed_mean_mps,
-                     speed_sd_mps=target.speed_sd_mps, shrink=True,
-                     sl_offset_sd_db=float(np.hypot(target.noise_sd_db, target.k_error_sd_db))
-                     if SL_OFFSET else 0.0)
+                     level_sigma_db=LEVEL_SIGMA_DB, range_mean_m=r0, range_sd_m=0.25 * r0,
+                     speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True,
+                     sl_offset_sd_db=float(np.hypot(target.noise_sd_db, target.k_error_sd_db)))
 
 
-def _rpf(tables, sim, ic: int, band: int, variant: str, true_depth_m: float, rng, n_particles: int):
-    """Positions (E, T, 2) and, with the depth unknown, depth estimates and sds (E, T)."""
+def _observer(sim) -> np.ndarray:
+    return np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
+                     np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
+
+
+def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particles: int):
+    """Positions and velocities (E, T, 4) and, with the depth unknown, the particles' depth mean
+    and sd (E, T, 2)."""
     e, t = sim.bearing_deg.shape
-    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
-                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
+    obs = _observer(sim)
     cfg = _rpf_config(tables, sim, ic, n_particles)
     target = tables.classes[ic]
     view = tables.at_target_depth(true_depth_m) if variant == "true" else tables
-    pos = np.empty((e, t, 2))
+    n_bands = len(tables.bands)
+    pos = np.empty((e, t, 4))
     depth = np.full((e, t, 2), np.nan)
     for run in range(e):
-        bearing = np.radians(sim.bearing_deg[run])
-        common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing[None],
-                      level_db_meas=sim.level_db[run, :, band][None], cfg=cfg, rng=rng,
-                      source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
-                      p0_sd_db=0.0 if SL_OFFSET else target.noise_sd_db)
+        common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
+                      level_db_meas=sim.level_db[run][None], cfg=cfg, rng=rng,
+                      source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db)
         if variant == "unknown":
-            res = run_batch_depth(target_k=tables.target_depth_k(ic, band),
-                                  cycle_bearing_deg=sim.bearing_deg[run],
-                                  depth=DepthConfig(depth_min_m=DEPTH_SPAN_M[0],
-                                                    depth_max_m=DEPTH_SPAN_M[1]), **common)
+            res = run_batch(k_profiles=None, target_k=[tables.target_depth_k(ic, b) for b in range(n_bands)],
+                            cycle_bearing_deg=sim.bearing_deg[run],
+                            depth=DepthConfig(depth_min_m=DEPTH_SPAN_M[0], depth_max_m=DEPTH_SPAN_M[1]),
+                            **common)
             depth[run, :, 0] = res.mean[0][:, -1]
             depth[run, :, 1] = np.sqrt(res.cov[0][:, -1, -1])
         else:
-            res = run_batch(k_profiles=cycle_profiles(view, ic, band, np.full(t, sim.obs_depth_m),
-                                                      sim.bearing_deg[run]), **common)
-        pos[run] = res.mean[0][:, :2] + obs[:, :2]
+            profiles = [cycle_profiles(view, ic, b, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
+                        for b in range(n_bands)]
+            res = run_batch(k_profiles=profiles, **common)
+        pos[run] = res.mean[0][:, :4] + obs
     return pos, depth
 
 
 def _ml_positions(tables, sim, ic: int) -> np.ndarray:
-    """Positions of the ML analysis, every run and cycle, (E, T, 2)."""
+    """Positions and velocities of the ML analysis, every run and cycle, (E, T, 4)."""
     e, t = sim.bearing_deg.shape
     batch = MLBatch(tables, np.full(e, ic), t)
     vx = np.gradient(sim.obs_x_m, sim.t_s)
     vy = np.gradient(sim.obs_y_m, sim.t_s)
-    pos = np.full((e, t, 2), np.nan)
+    pos = np.full((e, t, 4), np.nan)
     for i in range(t):
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
                            sim.bearing_deg[:, i], sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :],
                            sim.snr_db[:, i, :], obs_depth_m=sim.obs_depth_m)
-        pos[:, i, 0], pos[:, i, 1] = out["x_m"], out["y_m"]
+        course = np.radians(out["course_deg"])
+        pos[:, i] = np.stack([out["x_m"], out["y_m"], out["speed_mps"] * np.sin(course),
+                              out["speed_mps"] * np.cos(course)], axis=-1)
     return pos
 
 
-def _ml_level_loglik(tables, sim, ic: int, pos: np.ndarray) -> np.ndarray:
-    """The profile likelihood of `tracker.mltma.depths.level_log_likelihood` for every run at
-    once, cumulative over cycles, (E, T)."""
-    cls, sonar = tables.classes[ic], tables.area.sonar
+def _polar(sim, pos):
+    """Range and bearing from the observer of positions (..., T, 2+)."""
     x = pos[..., 0] - sim.obs_x_m
     y = pos[..., 1] - sim.obs_y_m
-    k = tables.k_at(ic, np.hypot(x, y), bearing_deg=np.mod(np.degrees(np.arctan2(x, y)), 360.0))
-    e = sim.level_db - (cls.noise_mean_db + k + sonar.receiver_gain_db)
-    q_thr = measurement_sd.threshold_snr(sonar.detection_threshold, tables.bandwidth_hz,
-                                         sonar.integration_time_s)
-    sd = measurement_sd.level_sd_from_snr_db(sim.snr_db, q_thr, tables.bandwidth_hz,
-                                             sonar.integration_time_s)
-    use = np.isfinite(e) & np.isfinite(sd) & (sd > 0)
-    inv = np.where(use, 1.0 / np.where(use, sd, 1.0) ** 2, 0.0)
-    e = np.where(use, e, 0.0)
-    s1, se, see = (np.cumsum(a.sum(axis=-1), axis=-1) for a in (inv, e * inv, e * e * inv))
-    prior = 1.0 / (cls.noise_sd_db ** 2 + cls.k_error_sd_db ** 2)
-    b = se / (s1 + prior)
-    return -0.5 * (see - 2.0 * b * se + b * b * s1 + b * b * prior)
+    return np.hypot(x, y), np.mod(np.degrees(np.arctan2(x, y)), 360.0)
 
 
-def _ml(tables, sim, ic: int, variant: str, true_depth_m: float):
-    """ML positions (E, T, 2) and, with the depth unknown, the chosen depth and its sd (E, T, 2)."""
-    e, t = sim.bearing_deg.shape
-    depth = np.full((e, t, 2), np.nan)
+def _carried_back(sim, pos):
+    """Range and bearing of the final estimates (..., T, 4) carried back over the run
+    (`tracker.depthlevels.line_back`), (..., T) each."""
+    x, y = line_back(sim.t_s, pos[..., 0], pos[..., 1], pos[..., 2], pos[..., 3])
+    return _polar(sim, np.stack([x, y], axis=-1))
+
+
+def _ml(tables, sim, ic: int, variant: str, true_depth_m: float, like, hypotheses):
+    """ML positions (E, T, 2) and, with the depth unknown, the final posterior (E, D) and its
+    hypotheses' final weights (E, H). ``hypotheses`` holds the positions at each depth
+    hypothesis (H, E, T, 4), computed by the first call that needs them (the class's depth is
+    one of them)."""
+    z = depth_hypotheses_m(DEPTH_SPAN_M, tables.classes[ic].depth_m)
+    own = np.flatnonzero(np.isclose(z, tables.classes[ic].depth_m))
+    if variant == "class" and own.size:
+        return _ml_hypotheses(tables, sim, ic, z, hypotheses)[own[0]], None, None
     if variant != "unknown":
         view = tables.at_target_depth(true_depth_m) if variant == "true" else tables
-        return _ml_positions(view, sim, ic), depth
+        return _ml_positions(view, sim, ic), None, None
+    return _weighed(sim, _ml_hypotheses(tables, sim, ic, z, hypotheses), z, like)
+
+
+def _ml_hypotheses(tables, sim, ic: int, z, hypotheses) -> np.ndarray:
+    if "ml" not in hypotheses:
+        hypotheses["ml"] = np.array([_ml_positions(tables.at_target_depth(float(h)), sim, ic) for h in z])
+    return hypotheses["ml"]
+
+
+def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int):
+    """The bank of particle filters at the depth hypotheses, each given its depth as the
+    variant "true" is, weighed as the ML analysis's hypotheses are (`_weighed`)."""
     z = depth_hypotheses_m(DEPTH_SPAN_M, tables.classes[ic].depth_m)
-    pos_z, ll = [], []
-    for hyp in z:
-        view = tables.at_target_depth(float(hyp))
-        p = _ml_positions(view, sim, ic)
-        pos_z.append(p)
-        ll.append(_ml_level_loglik(view, sim, ic, p))
-    pos_z, ll = np.array(pos_z), np.array(ll)                  # (Z, E, T, 2), (Z, E, T)
-    best = np.argmax(ll, axis=0)                                # (E, T)
-    w = np.exp(ll - ll.max(axis=0))
-    w /= w.sum(axis=0)
-    depth[..., 0] = z[best]
-    depth[..., 1] = np.sqrt(np.sum(w * (z[:, None, None] - z[best][None]) ** 2, axis=0))
+    pos_z = np.array([_rpf(tables, sim, ic, "true", float(h), np.random.default_rng([*seed, h_i]), n_particles)[0]
+                      for h_i, h in enumerate(z)])
+    return _weighed(sim, pos_z, z, like)
+
+
+def _weighed(sim, pos_z, z, like):
+    """Each cycle the position of the hypothesis of the largest weight (its posterior mass along
+    the final estimates carried back, `tracker.mltma.depths.depth_posterior`), (E, T, 4); the
+    final posterior (E, D) and the hypotheses' final weights (E, H)."""
+    r, b = _carried_back(sim, pos_z)
+    post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db)    # weight (E, T, D)
+    w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
+    best = np.argmax(w, axis=-1)                                                            # (E, T)
     pos = np.take_along_axis(pos_z, best[None, ..., None], axis=0)[0]
-    return pos, depth
+    final = DepthPosterior(depth_m=post.depth_m, weight=post.weight[:, -1], edges_m=post.edges_m)
+    return pos, final, w[:, -1]
+
+
+def _rpf_track_posterior(sim, pos, like) -> DepthPosterior:
+    """`tracker.depthpost`'s posterior after the last cycle along each run's filter track (its
+    final estimate carried back)."""
+    return _track_posterior(sim, None, like, _carried_back(sim, pos))
+
+
+def _track_posterior(sim, pos, like, polar=None) -> DepthPosterior:
+    """`tracker.depthpost`'s posterior after the last cycle along positions (E, T, 2+) (or a
+    given range and bearing)."""
+    z = depth_grid_m(like.tables.depth_m, DEPTH_SPAN_M)
+    r, b = _polar(sim, pos) if polar is None else polar
+    ll = like(z, sim.t_s, r, b, sim.level_db, sim.snr_db)[..., -1]                                  # (D, E)
+    return posterior(z, ll.T, DEPTH_SPAN_M)
+
+
+def _k_mismatch(sim, like, z_true: float, scenario: str) -> pd.DataFrame:
+    """The levels less P0 + K + G with K the tables' at the true depth (averaged as the depth
+    likelihood reads it) along the true track, each run's mean taken off: the tables' K error
+    along the path with eq. 11's error, per band (rows: runs x bands)."""
+    r, b = _polar(sim, np.stack([sim.x_m, sim.y_m], axis=-1))
+    k = np.stack([m.at(np.asarray(z_true), r, b) for m in like._mean], axis=-1)          # (E, T, M)
+    resid = sim.level_db - (like._base_db + k)
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        run_mean = np.nanmean(resid, axis=(1, 2), keepdims=True)
+        band_mean = np.nanmean(resid - run_mean, axis=1)                                 # (E, M)
+        along = np.nanstd(resid - run_mean - band_mean[:, None, :], axis=1)              # (E, M)
+    return pd.DataFrame({"scenario": scenario, "true_depth_m": z_true,
+                         "band": np.tile(np.arange(k.shape[-1]), k.shape[0]),
+                         "band_offset_db": band_mean.ravel(), "along_track_sd_db": along.ravel()})
+
+
+def _mismatch_summary(parts) -> dict:
+    """Per scenario and true depth: the median over runs and bands of the residual's sd along
+    the track, and the sd of the bands' offsets from the run's common one, dB."""
+    d = pd.concat(parts, ignore_index=True)
+    out = {}
+    for (sc, z), g in d.groupby(["scenario", "true_depth_m"]):
+        out.setdefault(sc, {})[f"{z:g}"] = {"along_track_sd_db": round(float(g["along_track_sd_db"].median()), 2),
+                                             "band_offset_sd_db": round(float(np.nanstd(g["band_offset_db"])), 2)}
+    return out
+
+
+def _depth_rows(post: DepthPosterior) -> dict:
+    """Per run: median, 5 % and 95 % quantiles, surface and submerged masses."""
+    surf, sub = post.surface_probability()
+    return {"depth_m": post.quantile(0.5), "lo_m": post.quantile(0.05), "hi_m": post.quantile(0.95),
+            "p_surface": surf, "p_submerged": sub}
+
+
+def _weight_rows(w: np.ndarray, z) -> dict:
+    """Per run, each depth hypothesis's final weight, columns ``w_<depth>``."""
+    return {f"w_{h:g}": w[:, j] for j, h in enumerate(z)}
+
+
+def _particle_rows(depth: np.ndarray) -> dict:
+    """Per run, from the particles' final depth mean and sd: mean, mean -+ 1.645 sd (in the span),
+    and the normal masses above 15 m and below 40 m."""
+    mean, sd = depth[:, -1, 0], np.maximum(depth[:, -1, 1], 1e-9)
+    cdf = 0.5 * (1.0 + np.vectorize(math.erf)((np.array([SURFACE_MAX_M, SUBMERGED_MIN_M])[:, None] - mean)
+                                              / (sd * math.sqrt(2.0))))
+    return {"depth_m": mean, "lo_m": np.maximum(mean - Z90 * sd, DEPTH_SPAN_M[0]),
+            "hi_m": np.minimum(mean + Z90 * sd, DEPTH_SPAN_M[1]), "p_surface": cdf[0], "p_submerged": 1.0 - cdf[1]}
+
+
+def _truth_provider(truth: str, out: Path, workers: int):
+    if truth == "tables":
+        return None
+    from acoustics.builder.truthk import BellhopTruth
+
+    return BellhopTruth(load_area(AREA), cache_dir=out / "grids" / "truth-runs", workers=workers)
 
 
 def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
+        truth: str = "bellhop", scenarios=SCENARIOS, true_depths_m=TRUE_DEPTHS_M,
         progress: bool = False) -> dict:
     """The study: build (or reuse) the shelf-break grid in ``out_dir/grids``, simulate ``runs``
-    runs at the true depth, track them six ways; write ``depth_errors.csv``, ``depth.json`` and
-    ``depth.png`` (all or none) and return the summary."""
+    runs of each scenario at each true depth, track them six ways; write ``depth_runs.csv``,
+    ``depth.json`` and ``depth.png`` (all or none) and return the summary."""
+    if truth not in ("bellhop", "tables"):
+        raise ValueError(f"truth must be 'bellhop' or 'tables', got {truth!r}")
     start = time.perf_counter()
     out = Path(out_dir)
     grid = build_grid_file(load_area(AREA), out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
@@ -174,53 +305,57 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     from acoustics.grid.opentables import open_tables
 
     tables = open_tables(grid)
-    sc = load_scenario(SCENARIO)
-    ic = tables.class_index(sc.target_class)
-    band = 0  # FB1, the band heard farthest
-    rng = np.random.default_rng(seed)
-    sim = simulate_batch(sc, tables, rng, dk_db=rng.normal(0.0, tables.classes[ic].k_error_sd_db, runs))
-    minutes = (sim.t_s - sim.t_s[0]) / 60.0
-    late = minutes >= 5.0
-    frame = pd.DataFrame({"t_min": minutes})
-    rms, depth_at = {}, {}
-    for method in METHODS:
-        for variant in VARIANTS:
-            if method == "rpf":
-                pos, depth = _rpf(tables, sim, ic, band, variant, sc.target_depth_m,
-                                  np.random.default_rng([seed, VARIANTS.index(variant)]), n_particles)
-            else:
-                pos, depth = _ml(tables, sim, ic, variant, sc.target_depth_m)
-            err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)      # (E, T)
-            key = f"{method}_{variant}"
-            frame[f"{key}_median_error_m"] = np.nanmedian(err, axis=0)
-            rms[key] = np.sqrt(np.nanmean(err[:, late] ** 2, axis=1))         # (E,)
-            if variant == "unknown":
-                frame[f"{key}_depth_median_m"] = np.nanmedian(depth[..., 0], axis=0)
-                frame[f"{key}_depth_p10_m"] = np.nanpercentile(depth[..., 0], 10, axis=0)
-                frame[f"{key}_depth_p90_m"] = np.nanpercentile(depth[..., 0], 90, axis=0)
-                frame[f"{key}_depth_sd_median_m"] = np.nanmedian(depth[..., 1], axis=0)
-                depth_at[key] = {f"{m:g}": {"median_m": float(np.interp(m, minutes, frame[f"{key}_depth_median_m"])),
-                                            "p10_m": float(np.interp(m, minutes, frame[f"{key}_depth_p10_m"])),
-                                            "p90_m": float(np.interp(m, minutes, frame[f"{key}_depth_p90_m"])),
-                                            "sd_median_m": float(np.interp(m, minutes,
-                                                                           frame[f"{key}_depth_sd_median_m"]))}
-                                 for m in REPORT_MIN}
-    median_rms = {k: float(np.median(v)) for k, v in rms.items()}
-    summary = {
-        "scenario": sc.name, "area": AREA, "runs": runs, "seed": seed, "n_particles": n_particles,
-        "class": sc.target_class, "class_depth_m": float(tables.classes[ic].depth_m),
-        "true_depth_m": float(sc.target_depth_m), "depth_span_m": list(DEPTH_SPAN_M),
-        "band": tables.band_names[band], "grid": str(grid),
-        "median_rms_error_5_30min_m": median_rms,
-        "ratio_unknown_to_true": {m: median_rms[f"{m}_unknown"] / median_rms[f"{m}_true"] for m in METHODS},
-        "target_ratio": TARGET_RATIO,
-        "median_error_m": {k: {f"{m:g}": float(np.interp(m, minutes, frame[f"{k}_median_error_m"]))
-                               for m in REPORT_MIN} for k in rms},
-        "depth_estimate": depth_at,
-        "k_true_less_class_db": _k_difference(tables, ic, band, sc.target_depth_m),
-        "depth_profile": _depth_profile(tables, sim, ic, band, sc.target_depth_m),
-        "seconds": round(time.perf_counter() - start, 1)}
-    files = [out / "depth_errors.csv", out / "depth.json", out / "depth.png"]
+    provider = _truth_provider(truth, out, workers)
+    rows, mismatch = [], []
+    for s_i, name in enumerate(scenarios):
+        sc0 = load_scenario(name)
+        ic = tables.class_index(sc0.target_class)
+        cls = tables.classes[ic]
+        like = TrackDepthLikelihood(tables, ic, tables.band_names, DEPTH_SPAN_M)
+        for z_i, z_true in enumerate(true_depths_m):
+            sc = dataclasses.replace(sc0, target_depth_m=float(z_true))
+            rng = np.random.default_rng([seed, s_i, z_i])
+            sim = simulate_batch(sc, tables, rng, dp0_db=rng.normal(0.0, cls.noise_sd_db, runs),
+                                 dk_db=rng.normal(0.0, cls.k_error_sd_db, runs), k_provider=provider)
+            late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
+            base = {"scenario": name, "true_depth_m": float(z_true), "run": np.arange(runs)}
+            hypotheses = {}
+            hyp_z = depth_hypotheses_m(DEPTH_SPAN_M, cls.depth_m)
+            for method in METHODS:
+                for v_i, variant in enumerate(VARIANTS[:2] + UNKNOWN[method]):
+                    depth_info = {}
+                    if method == "rpf" and variant == "bank":
+                        pos, final, w = _rpf_bank(tables, sim, ic, like, (seed, s_i, z_i, v_i), n_particles)
+                        depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
+                    elif method == "rpf":
+                        pos, depth = _rpf(tables, sim, ic, variant, z_true,
+                                          np.random.default_rng([seed, s_i, z_i, v_i]), n_particles)
+                        if variant == "unknown":
+                            depth_info = {"particles": _particle_rows(depth),
+                                          "track": _depth_rows(_rpf_track_posterior(sim, pos, like))}
+                    else:
+                        pos, final, w = _ml(tables, sim, ic, variant, z_true, like, hypotheses)
+                        if final is not None:
+                            depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
+                    err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
+                    rms = np.sqrt(np.nanmean(err[:, late] ** 2, axis=1))
+                    if not depth_info:
+                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant,
+                                                  "depth_from": "", "rms_error_m": rms}))
+                    for source, d in depth_info.items():
+                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant,
+                                                  "depth_from": source, "rms_error_m": rms, **d}))
+            # the levels' own say with the motion known: the posterior along the true track
+            true_pos = np.stack([sim.x_m, sim.y_m], axis=-1)
+            rows.append(pd.DataFrame({**base, "method": KNOWN, "variant": "unknown", "depth_from": "true_track",
+                                      "rms_error_m": 0.0, **_depth_rows(_track_posterior(sim, true_pos, like))}))
+            mismatch.append(_k_mismatch(sim, like, z_true, name))
+    frame = pd.concat(rows, ignore_index=True)
+    summary = _summary(frame, tables, ic, runs=runs, seed=seed, n_particles=n_particles, truth=truth,
+                       grid=grid, provider=provider)
+    summary["level_residual_at_true_depth_db"] = _mismatch_summary(mismatch)
+    summary["seconds"] = round(time.perf_counter() - start, 1)
+    files = [out / "depth_runs.csv", out / "depth.json", out / "depth.png"]
     from acoustics.plots.figures import save_figure
     from tools.studies.depth_plot import depth_figure
 
@@ -234,45 +369,115 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     return summary
 
 
-def _k_difference(tables, ic: int, band: int, depth_m: float) -> dict:
-    """K with the target at ``depth_m`` less K at the class's depth, dB ({bearing: {km: dB}})."""
-    at = tables.at_target_depth(depth_m)
-    r = np.array(K_RANGES_M)
-    return {f"{b:g}": {f"{x / 1000:g}": (None if not np.isfinite(d) else round(float(d), 2))
-                       for x, d in zip(K_RANGES_M, at.k_at(ic, r, bearing_deg=b)[:, band]
-                                       - tables.k_at(ic, r, bearing_deg=b)[:, band])}
-            for b in K_BEARINGS_DEG}
+def _call_error(d: pd.DataFrame) -> dict:
+    """The surface-or-submerged call (surface where the posterior's mass at most 15 m deep
+    exceeds its mass at least 40 m deep) on the runs whose truth is one or the other."""
+    judged = d[(d["true_depth_m"] <= SURFACE_MAX_M) | (d["true_depth_m"] >= SUBMERGED_MIN_M)]
+    called_surface = judged["p_surface"] > judged["p_submerged"]
+    wrong = called_surface != (judged["true_depth_m"] <= SURFACE_MAX_M)
+    surface = judged["true_depth_m"] <= SURFACE_MAX_M
+    return {"runs": int(len(judged)), "error_rate": float(wrong.mean()) if len(judged) else None,
+            "error_rate_surface_targets": float(wrong[surface].mean()) if surface.any() else None,
+            "error_rate_submerged_targets": float(wrong[~surface].mean()) if (~surface).any() else None}
 
 
-def _depth_profile(tables, sim, ic: int, band: int, true_depth_m: float) -> dict:
-    """What the levels can separate: along the true track (run 0), K at each depth of the span
-    against K at the true depth. ``mean_db`` is the part a constant source-level offset absorbs;
-    ``shape_rms_db`` the rest, and ``log_lr`` = -1/2 sum of its squares over the cycles / sigma^2
-    (sigma = eq. 11's ~1.1 dB): the profile log likelihood ratio of that depth to the true one
-    with the offset free and the motion known -- the most the data could say."""
-    tk = tables.target_depth_k(ic, band)
-    r, b = sim.range_m[0], sim.bearing_true_deg[0]
-    k_true = tk.at(true_depth_m, r, b)
-    out = {}
-    for z in np.arange(DEPTH_SPAN_M[0], DEPTH_SPAN_M[1] + 1e-9, 20.0):
-        d = tk.at(z, r, b) - k_true
-        shape = d - np.mean(d)
-        out[f"{z:g}"] = {"mean_db": round(float(np.mean(d)), 2),
-                         "shape_rms_db": round(float(np.sqrt(np.mean(shape ** 2))), 2),
-                         "log_lr": round(float(-0.5 * np.sum(shape ** 2) / 1.1 ** 2), 1)}
+def _depth_stats(d: pd.DataFrame) -> dict:
+    cover = (d["lo_m"] <= d["true_depth_m"]) & (d["true_depth_m"] <= d["hi_m"])
+    return {"coverage_90": float(cover.mean()), "median_width_m": float((d["hi_m"] - d["lo_m"]).median()),
+            "median_depth_m": float(d["depth_m"].median()),
+            "median_abs_error_m": float((d["depth_m"] - d["true_depth_m"]).abs().median())}
+
+
+def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, truth, grid, provider) -> dict:
+    pos = frame[frame["method"] != KNOWN].drop_duplicates(["scenario", "true_depth_m", "run", "method", "variant"])
+    med = pos.groupby(["scenario", "true_depth_m", "method", "variant"])["rms_error_m"].median()
+    errors = {}
+    for (sc, z, method, variant), v in med.items():
+        errors.setdefault(sc, {}).setdefault(f"{z:g}", {})[f"{method}_{variant}"] = round(float(v), 1)
+    pooled = pos.groupby(["method", "variant"])["rms_error_m"].median()
+    unknown = [(m, u) for m in METHODS for u in UNKNOWN[m]]
+    ratios = {f"{m}_{u}": float(pooled[(m, u)] / pooled[(m, "true")]) for m, u in unknown}
+    per_combo_ratio = {}
+    for sc, by_z in errors.items():
+        for z, v in by_z.items():
+            per_combo_ratio.setdefault(sc, {})[z] = {f"{m}_{u}": round(v[f"{m}_{u}"] / v[f"{m}_true"], 3)
+                                                     for m, u in unknown}
+    # the ratio of the medians over each scenario's runs (all depths)
+    by_sc = pos.groupby(["scenario", "method", "variant"])["rms_error_m"].median()
+    ratio_by_scenario = {sc: {f"{m}_{u}": round(float(by_sc[(sc, m, u)] / by_sc[(sc, m, "true")]), 3)
+                              for m, u in unknown} for sc in errors}
+    depth = frame[frame["variant"].isin(["unknown", "bank"])]
+    estimators = {}
+    for (method, variant, source), d in depth.groupby(["method", "variant", "depth_from"]):
+        key = f"{method}_bank" if variant == "bank" else f"{method}_{source}"
+        estimators[key] = {"all": _depth_stats(d), "surface_call": _call_error(d),
+                           "by_true_depth": {f"{z:g}": _depth_stats(g) for z, g in d.groupby("true_depth_m")},
+                           "by_scenario": {sc: _depth_stats(g) for sc, g in d.groupby("scenario")}}
+    wcols = [c for c in frame.columns if c.startswith("w_")]
+    weights = {}
+    for (method, variant, sc, z), g in depth[depth["depth_from"] == "posterior"].groupby(
+            ["method", "variant", "scenario", "true_depth_m"]):
+        key = f"{method}_bank" if variant == "bank" else method
+        weights.setdefault(key, {}).setdefault(sc, {})[f"{z:g}"] = {c[2:]: round(float(g[c].mean()), 3)
+                                                                    for c in wcols}
+    cls = tables.classes[ic]
+    out = {"area": AREA, "scenarios": sorted(frame["scenario"].unique().tolist()), "runs": runs, "seed": seed,
+           "n_particles": n_particles, "truth": truth, "class": cls.name, "class_depth_m": float(cls.depth_m),
+           "true_depths_m": sorted(float(z) for z in frame["true_depth_m"].unique()),
+           "depth_span_m": list(DEPTH_SPAN_M), "grid": str(grid),
+           "median_rms_error_m": errors, "median_rms_error_pooled_m": {f"{m}_{v}": round(float(x), 1)
+                                                                      for (m, v), x in pooled.items()},
+           "ratio_unknown_to_true_pooled": ratios, "ratio_unknown_to_true": per_combo_ratio,
+           "ratio_unknown_to_true_by_scenario": ratio_by_scenario,
+           "target_ratio": TARGET_RATIO, "target_coverage": TARGET_COVERAGE, "depth_estimates": estimators,
+           "hypothesis_weights_mean": weights,
+           "late_min": LATE_MIN}
+    if provider is not None:
+        out["truth_runs"] = int(provider.stats.runs)
+        out["truth_runs_cached"] = int(provider.stats.cached)
     return out
 
 
 def _text(summary: dict) -> str:
-    lines = [f"depth study: {summary['runs']} runs of {summary['scenario']} in {summary['area']} "
-             f"(class {summary['class']} tables at {summary['class_depth_m']:g} m, target at "
-             f"{summary['true_depth_m']:g} m); median over runs of the RMS position error over "
-             f"5-30 min, m:"]
-    for key, v in summary["median_rms_error_5_30min_m"].items():
+    lines = [f"depth study: {summary['runs']} runs of {', '.join(summary['scenarios'])} in {summary['area']} at "
+             f"{', '.join(f'{z:g}' for z in summary['true_depths_m'])} m (class {summary['class']} tables at "
+             f"{summary['class_depth_m']:g} m; levels from {summary['truth']}); median RMS position error after "
+             f"{summary['late_min']:g} min, all runs, m:"]
+    for key, v in summary["median_rms_error_pooled_m"].items():
         lines.append(f"  {key:>12}: {v:8.0f}")
-    for m, ratio in summary["ratio_unknown_to_true"].items():
-        lines.append(f"  {m}: depth unknown / true depth = {ratio:.2f} (target <= {TARGET_RATIO})")
-    for key, by_min in summary["depth_estimate"].items():
-        lines.append(f"  {key} depth estimate, median (10-90 %) at " + ", ".join(
-            f"{m} min {v['median_m']:.0f} ({v['p10_m']:.0f}-{v['p90_m']:.0f}) m" for m, v in by_min.items()))
+    for m, ratio in summary["ratio_unknown_to_true_pooled"].items():
+        lines.append(f"  {m}: position error / given the true depth = {ratio:.2f} (target <= {TARGET_RATIO})")
+    for key, est in summary["depth_estimates"].items():
+        a, c = est["all"], est["surface_call"]
+        lines.append(f"  depth from {key}: 90 % interval covers the truth in {100 * a['coverage_90']:.0f} % of "
+                     f"runs (target >= {100 * TARGET_COVERAGE:.0f} %), median width {a['median_width_m']:.0f} m; "
+                     f"surface-or-submerged call wrong in {100 * (c['error_rate'] or 0):.1f} % of {c['runs']} runs")
     return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m tools.studies.depth",
+                                     description="The depth study (docs/depth.md): several true depths on "
+                                                 "shelf-nps and shelf-slope-nps, tracked with the class's depth, "
+                                                 "the true depth and the depth unknown.")
+    parser.add_argument("--runs", type=int, default=6, help="runs per scenario and true depth (default 6)")
+    parser.add_argument("--out", required=True, help="output directory (its grids/ is reused)")
+    parser.add_argument("--truth", choices=("bellhop", "tables"), default="bellhop",
+                        help="levels from BELLHOP along each cycle's path, or from the tables' depth axis")
+    parser.add_argument("--depths", default=",".join(f"{z:g}" for z in TRUE_DEPTHS_M),
+                        help="true depths, m, comma-separated")
+    parser.add_argument("--scenarios", default=",".join(SCENARIOS), help="scenarios, comma-separated")
+    parser.add_argument("--particles", type=int, default=2000, help="particles of each filter (default 2000)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--workers", type=int, default=2)
+    a = parser.parse_args(argv)
+    res = run(runs=a.runs, out_dir=a.out, seed=a.seed, workers=a.workers, n_particles=a.particles, truth=a.truth,
+              scenarios=tuple(a.scenarios.split(",")), true_depths_m=tuple(float(v) for v in a.depths.split(",")))
+    print(res["summary"])
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

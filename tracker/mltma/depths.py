@@ -1,20 +1,23 @@
 """The ML analysis with an unknown target depth: class hypotheses times depth hypotheses.
 
 Not in Grinenkov & Mashoshin (their classes radiate from one depth each). For each depth
-hypothesis z the whole analysis runs on the tables with K at z
-(``Tables.at_target_depth``); the hypotheses are then weighed by the likelihood of the
-band levels along each one's own track:
+hypothesis the whole analysis runs on the tables with K at that depth
+(``Tables.at_target_depth``): the level-based range, hence the track, depends on it. The
+depth's posterior is then taken on the tables' own depth axis (every row inside the span), each
+depth read along the track of the hypothesis nearest to it (`owners`), with the likelihood of
+the levels of every band at once of `tracker.depthpost` (the offset common to the bands, an
+offset per band and the tables' K error along the track integrated out;
+`tracker.depthlevels.TrackDepthLikelihood`), the prior uniform in depth over the span. A
+hypothesis's weight is the posterior mass of the depths it owns.
 
-    e_i = W_i - (P0 + K_z(r_i, bearing_i) + G)         (eq. 12; r_i the track's range at cycle i)
-    ln L_z = -1/2 [ sum_i (e_i - b)^2 / s_i^2 + b^2 / s_b^2 ],  maximised over b,
-
-s_i the level sd of eq. 11 from the cycle's SNR, b the offset common to the whole track (P0 and
-the K error of eq. 31 do not change from cycle to cycle: s_b^2 = sd(P0)^2 + sd(dK)^2). Taken
-over the cycles so far this is a profile likelihood over the motion and the offset; its
-maximum is each cycle's depth estimate, and the likelihood ratio of the best hypothesis to the
-next and to the class's own depth says how sure it is. The source-level offset b is what the
-levels cannot tell from depth: a depth whose K differs from the truth by a constant over the
-ranges crossed is explained as well by an offset (see docs/depth.md).
+The track a depth is read along is each hypothesis's estimate at that cycle carried back over
+its tack (`tracker.depthlevels.line_back`): the causal estimates of the first minutes are
+kilometres off. The posterior is taken at the first cycle, every `DEPTH_EVERY` cycles after and
+at the last; each cycle's row of a class is the track of the hypothesis of the largest weight
+then, with ``depth_m`` the posterior median and ``depth_sd_m`` the posterior sd (held between
+the cycles it is taken at);
+`DepthChoice` gives, after the last cycle, every hypothesis's weight, the 90 % interval and the
+surface-or-submerged probabilities (docs/depth.md).
 """
 
 from __future__ import annotations
@@ -26,84 +29,122 @@ import numpy as np
 import pandas as pd
 
 from acoustics.grid.face import Tables
+from tracker.depthlevels import TrackDepthLikelihood, line_back
+from tracker.depthpost import DepthPosterior, depth_grid_m, posterior
 from tracker.measurements import Measurements
-from tracker.mltma import measurement_sd
 from tracker.mltma.params import MLParams
 
-#: Depth hypotheses when none are given: this many, evenly over the class's span.
-N_DEPTHS = 8
+#: Depth hypotheses when none are given: this many over the class's span, evenly in ln(z + 10 m)
+#: (closer near the surface, where K changes fastest with depth).
+N_DEPTHS = 9
+#: The offset of that spacing, m.
+DEPTH_SPACING_OFFSET_M = 10.0
+#: The interval `DepthChoice` gives: from this quantile to 1 less it.
+INTERVAL_TAIL = 0.05
+#: The depth posterior is taken every this many cycles (from the first, and at the last).
+DEPTH_EVERY = 6
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DepthChoice:
-    """The most likely depth of one class hypothesis after the last cycle.
+    """The depth posterior of one class hypothesis after the last cycle.
 
     Attributes
     ----------
     cls_name : str
     depth_m : float
-        The most likely depth hypothesis, m.
+        The hypothesis of the largest weight, m.
     depths_m : tuple of float
         The hypotheses, m.
+    weights : tuple of float
+        Each hypothesis's posterior mass (the depths nearest to it), summing to 1.
     log_likelihood : tuple of float
-        ln L of each, at the last cycle.
+        ln of each hypothesis's weight (up to a common constant: ln L over its depths).
     log_lr_next : float
-        ln of the likelihood ratio of the best hypothesis to the next best.
+        ln of the weight ratio of the best hypothesis to the next best.
     log_lr_class_depth : float or None
         ln of the ratio of the best to the class's own table depth (None when that depth is not
         a hypothesis).
+    median_m : float
+        Posterior median, m.
+    interval_m : (float, float)
+        The 90 % interval (5 % and 95 % quantiles), m.
+    surface_probability, submerged_probability : float
+        Posterior mass at most 15 m and at least 40 m deep (`tracker.depthpost`).
     """
 
     cls_name: str
     depth_m: float
     depths_m: tuple[float, ...]
+    weights: tuple[float, ...]
     log_likelihood: tuple[float, ...]
     log_lr_next: float
     log_lr_class_depth: float | None
+    median_m: float
+    interval_m: tuple[float, float]
+    surface_probability: float
+    submerged_probability: float
 
 
 def depth_hypotheses_m(span_m: tuple[float, float], class_depth_m: float,
                        n: int = N_DEPTHS) -> np.ndarray:
-    """``n`` depths evenly over ``span_m`` (ends included), with the class's own depth when it
-    lies inside the span."""
+    """``n`` depths over ``span_m`` (ends included), evenly in ln(z + `DEPTH_SPACING_OFFSET_M`),
+    with the class's own depth when it lies inside the span."""
     lo, hi = span_m
-    z = np.linspace(lo, hi, n)
+    c = DEPTH_SPACING_OFFSET_M
+    z = np.exp(np.linspace(math.log(lo + c), math.log(hi + c), n)) - c
+    z[0], z[-1] = lo, hi
     if lo <= class_depth_m <= hi:
         z = np.unique(np.append(z, class_depth_m))
     return z
 
 
-def level_log_likelihood(track: pd.DataFrame, m: Measurements, tables: Tables, ic: int
-                         ) -> np.ndarray:
-    """ln L of the levels along one hypothesis's track at each cycle (cumulative), (T,).
+def owners(depth_m, hypotheses_m) -> np.ndarray:
+    """The hypothesis nearest to each depth in ln(z + `DEPTH_SPACING_OFFSET_M`), (D,) indices."""
+    c = DEPTH_SPACING_OFFSET_M
+    u = np.log(np.maximum(np.asarray(depth_m, dtype=float), 0.0) + c)
+    h = np.log(np.maximum(np.asarray(hypotheses_m, dtype=float), 0.0) + c)
+    return np.argmin(np.abs(u[:, None] - h[None, :]), axis=1)
 
-    ``tables`` give K at the hypothesis's depth; ``track`` is the class's rows (one per cycle of
-    ``m``, same order). Bands without a level do not count.
+
+def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, t_s, range_m, bearing_deg,
+                    level_db, snr_db) -> tuple[DepthPosterior, np.ndarray]:
+    """The posterior over the tables' depths inside the span after each cycle, each depth along
+    its owner's track.
+
+    Parameters
+    ----------
+    likelihood : TrackDepthLikelihood
+    hypotheses_m : array_like, shape (H,)
+    span_m : (float, float)
+    t_s : array_like, shape (T,)
+        Cycle times, s.
+    range_m, bearing_deg : array_like, shape (H, ..., T)
+        Each hypothesis's track from the observer, m and deg.
+    level_db, snr_db : array_like, shape (..., T, M)
+
+    Returns
+    -------
+    post : DepthPosterior
+        ``weight`` of shape (..., T, D).
+    owner : ndarray of int, shape (D,)
+        Each depth's hypothesis.
     """
-    cls = tables.classes[ic]
-    sonar = tables.area.sonar
-    x = track["x_m"].to_numpy() - m.obs_x_m
-    y = track["y_m"].to_numpy() - m.obs_y_m
-    r = np.hypot(x, y)
-    bearing = np.mod(np.degrees(np.arctan2(x, y)), 360.0)
-    k = tables.k_at(ic, r, bearing_deg=bearing)                               # (T, M)
-    bands = [tables.band_index(b) for b in m.band_names]
-    k = k[:, bands]
-    pred = cls.noise_mean_db + k + sonar.receiver_gain_db
-    q_thr = measurement_sd.threshold_snr(sonar.detection_threshold, tables.bandwidth_hz[bands],
-                                         sonar.integration_time_s)
-    sd = measurement_sd.level_sd_from_snr_db(np.asarray(m.snr_db, dtype=float), q_thr,
-                                             tables.bandwidth_hz[bands], sonar.integration_time_s)
-    e = np.asarray(m.level_db, dtype=float) - pred
-    use = np.isfinite(e) & np.isfinite(sd) & (sd > 0)
-    inv = np.where(use, 1.0 / np.where(use, sd, 1.0) ** 2, 0.0)
-    e = np.where(use, e, 0.0)
-    s1 = np.cumsum(inv.sum(axis=1))
-    se = np.cumsum((e * inv).sum(axis=1))
-    see = np.cumsum((e * e * inv).sum(axis=1))
-    prior = 1.0 / max(cls.noise_sd_db ** 2 + cls.k_error_sd_db ** 2, 1e-6)
-    b = se / (s1 + prior)
-    return -0.5 * (see - 2.0 * b * se + b * b * s1 + b * b * prior)
+    z = depth_grid_m(likelihood.tables.depth_m, span_m)
+    own = owners(z, hypotheses_m)
+    r = np.asarray(range_m, dtype=float)
+    b = np.asarray(bearing_deg, dtype=float)
+    ll = np.empty((z.size,) + r.shape[1:])
+    for h in np.unique(own):
+        rows = own == h
+        ll[rows] = likelihood(z[rows], t_s, r[h], b[h], level_db, snr_db)
+    return posterior(z, np.moveaxis(ll, 0, -1), span_m), own
+
+
+def hypothesis_weights(post: DepthPosterior, owner, n_hypotheses: int) -> np.ndarray:
+    """The posterior mass of each hypothesis's depths, (..., H)."""
+    onehot = np.asarray(owner)[:, None] == np.arange(n_hypotheses)[None, :]
+    return post.weight @ onehot.astype(float)
 
 
 def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None,
@@ -111,9 +152,8 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
                  depths_m=None) -> tuple[pd.DataFrame, list[DepthChoice]]:
     """The ML analysis over class x depth hypotheses; one row per cycle per class.
 
-    Each cycle's row of a class is the track of its most likely depth so far, with
-    ``depth_m`` that depth and ``depth_sd_m`` the sd of the hypotheses weighted by their
-    likelihoods.
+    Each cycle's row of a class is the track of its hypothesis of the largest weight so far,
+    with ``depth_m`` the posterior median and ``depth_sd_m`` the posterior sd (module docstring).
 
     Parameters
     ----------
@@ -123,7 +163,8 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
         Bearings and levels (cycles without a bearing dropped, as in
         ``tracker.mltma.track_measurements``).
     cls_name, band, params
-        As ``tracker.mltma.track_measurements``.
+        As ``tracker.mltma.track_measurements``; ``band`` limits the tracks and the depth's
+        likelihood to that band's levels.
     depths_m : array_like, optional
         The depth hypotheses, m; default `depth_hypotheses_m` of each class's span
         (``Tables.target_depth_span_m``).
@@ -133,7 +174,7 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
     rows : DataFrame
         Track columns (``tracker.trackfile.TRACK_COLUMNS``).
     choices : list of DepthChoice
-        Per class, the most likely depth after the last cycle.
+        Per class, the depth posterior after the last cycle.
     """
     from tracker.mltma.tracker import track_measurements
 
@@ -150,30 +191,64 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
     for name in names:
         ic = tables.class_index(name)
         cls = tables.classes[ic]
+        span = tables.target_depth_span_m(ic)
         z = (np.asarray(depths_m, dtype=float) if depths_m is not None
-             else depth_hypotheses_m(tables.target_depth_span_m(ic), cls.depth_m))
-        tracks, loglik = [], []
+             else depth_hypotheses_m(span, cls.depth_m))
+        span = (min(span[0], float(z.min())), max(span[1], float(z.max())))
+        tracks = []
         for depth in z:
             view = tables.at_target_depth(float(depth))
-            trk = track_measurements(view, good, cls_name=name, band=None, params=params)
-            tracks.append(trk.reset_index(drop=True))
-            loglik.append(level_log_likelihood(trk, good, view, ic))
-        ll = np.array(loglik)                                             # (Z, T)
-        best = np.argmax(ll, axis=0)                                      # (T,)
-        w = np.exp(ll - ll.max(axis=0))
-        w /= w.sum(axis=0)
-        zhat = z[best]
-        sd = np.sqrt(np.sum(w * (z[:, None] - zhat[None, :]) ** 2, axis=0))
-        rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(best.size)], ignore_index=True)
-        rows["depth_m"] = zhat
-        rows["depth_sd_m"] = sd
+            tracks.append(track_measurements(view, good, cls_name=name, band=None,
+                                             params=params).reset_index(drop=True))
+        n_t = len(good)
+        at = np.unique(np.append(np.arange(0, n_t, DEPTH_EVERY), n_t - 1))  # from the first cycle on
+        r, b = _carried_back(tracks, good, at)                           # (H, C, T)
+        like = TrackDepthLikelihood(tables, ic, good.band_names, span)
+        post, own = depth_posterior(like, z, span, good.t_s, r, b, np.asarray(good.level_db, dtype=float),
+                                    np.asarray(good.snr_db, dtype=float))
+        last_t = post.weight[:, -1]                                      # (C, D): each its own cycle's
+        post = DepthPosterior(depth_m=post.depth_m, weight=last_t, edges_m=post.edges_m)
+        w = hypothesis_weights(post, own, z.size)                        # (C, H)
+        held = np.searchsorted(at, np.arange(n_t), side="right") - 1     # the last taken at or before
+        best = np.argmax(w, axis=1)[held]
+        rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(n_t)], ignore_index=True)
+        median, sd = post.quantile(0.5), post.sd()
+        rows["depth_m"] = median[held]
+        rows["depth_sd_m"] = sd[held]
         frames.append(rows)
-        last = ll[:, -1]
+        last = w[-1]
+        with np.errstate(divide="ignore"):
+            lw = np.log(last)
         order = np.argsort(last)[::-1]
-        own = np.flatnonzero(np.isclose(z, cls.depth_m))
+        own_depth = np.flatnonzero(np.isclose(z, cls.depth_m))
+        final = DepthPosterior(depth_m=post.depth_m, weight=post.weight[-1], edges_m=post.edges_m)
+        surf, sub = final.surface_probability()
         choices.append(DepthChoice(
             cls_name=name, depth_m=float(z[order[0]]), depths_m=tuple(float(v) for v in z),
-            log_likelihood=tuple(float(v) for v in last),
-            log_lr_next=float(last[order[0]] - last[order[1]]) if z.size > 1 else math.inf,
-            log_lr_class_depth=float(last[order[0]] - last[own[0]]) if own.size else None))
+            weights=tuple(float(v) for v in last), log_likelihood=tuple(float(v) for v in lw),
+            log_lr_next=float(lw[order[0]] - lw[order[1]]) if z.size > 1 else math.inf,
+            log_lr_class_depth=float(lw[order[0]] - lw[own_depth[0]]) if own_depth.size else None,
+            median_m=float(final.quantile(0.5)),
+            interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
+            surface_probability=float(surf), submerged_probability=float(sub)))
     return pd.concat(frames, ignore_index=True), choices
+
+
+def _carried_back(tracks, m: Measurements, at) -> tuple[np.ndarray, np.ndarray]:
+    """Range and bearing from the observer of each hypothesis's estimate at each cycle of ``at``
+    carried back over its tack (NaN outside it and after that cycle), (H, C, T) each."""
+    n_t = len(m)
+    r = np.full((len(tracks), len(at), n_t), np.nan)
+    b = np.full(r.shape, np.nan)
+    for h, trk in enumerate(tracks):
+        course = np.radians(trk["course_deg"].to_numpy())
+        speed = trk["speed_mps"].to_numpy()
+        tack = trk["tack"].to_numpy()
+        for c, i in enumerate(at):
+            start = int(np.flatnonzero(tack[:i + 1] == tack[i])[0])
+            x, y = line_back(m.t_s[:i + 1], trk["x_m"].to_numpy()[:i + 1], trk["y_m"].to_numpy()[:i + 1],
+                             (speed * np.sin(course))[:i + 1], (speed * np.cos(course))[:i + 1], start)
+            dx, dy = x - m.obs_x_m[:i + 1], y - m.obs_y_m[:i + 1]
+            r[h, c, :i + 1] = np.hypot(dx, dy)
+            b[h, c, :i + 1] = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
+    return r, b

@@ -14,6 +14,11 @@ each component is contiguous):
 4. estimate and covariance after the regularization step, eqs. 29-30
    (`tracker.rpf.estimate.estimate`).
 
+The levels may be of several bands at once (each band's eq. 33 added), and the target's depth
+may be a state (``depth``, `tracker.rpf.depthbatch`): the last component, prior uniform over its
+span, a slow random walk with reflecting walls, regularized with the others and folded back
+into the span; K at each particle's depth from the tables' depth axis.
+
 This module's cycle loop is the numpy reference engine; by default (`RpfConfig.engine`)
 each block of runs goes to the compiled fused loop of `tracker.rpf.kernel` instead.
 
@@ -67,7 +72,8 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
               level_db_meas: np.ndarray | None, k_profiles, cfg: RpfConfig,
               rng: np.random.Generator, source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
               p0_db: float = math.nan, p0_sd_db: float = 0.0,
-              summaries: bool = False, threads: int = 1) -> BatchResult:
+              summaries: bool = False, threads: int = 1, target_k=None, cycle_bearing_deg=None,
+              depth=None, smoothing=None) -> BatchResult:
     """Run the RPF over K cycles for a batch of runs sharing one observer track.
 
     Parameters
@@ -78,10 +84,12 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
         Observer (x, y, vx, vy) at each cycle, m and m/s.
     bearing_rad_meas : ndarray, shape (runs, K)
         Measured bearings, rad; NaN: no bearing this cycle. The first cycle must have one.
-    level_db_meas : ndarray, shape (runs, K) or None
-        Measured SPL, dB re 1 uPa; None for bearings only (rpf-bot); NaN: bearing only.
-    k_profiles : sequence of callables, length K
-        K(r) at the observer depth of each cycle (`LevelProfile`); unused without levels.
+    level_db_meas : ndarray, shape (runs, K) or (runs, K, B), or None
+        Measured SPL of one band or of B bands, dB re 1 uPa; None for bearings only (rpf-bot);
+        NaN: none that cycle.
+    k_profiles : sequence of callables, length K (for B bands, a sequence of B of them)
+        K(r) at the observer depth of each cycle (`LevelProfile`); unused without levels or
+        with the depth a state.
     cfg : RpfConfig
     rng : numpy.random.Generator
     source_level_model : SourceLevelModel
@@ -93,6 +101,16 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
         array loops release the GIL). The results do not depend on it: the runs go in blocks
         of about ``BLOCK_PARTICLES`` particles, each with its own generator spawned from
         ``rng`` (and, with the kernel engine, one generator per run seeded from it).
+    target_k : TargetDepthK or sequence of B of them, optional
+        With ``depth``: K against the target's depth and range of the class in each band
+        (``Tables.target_depth_k``).
+    cycle_bearing_deg : ndarray, shape (K,), optional
+        With ``depth``: the bearing whose radials each cycle reads, deg (NaN: the last before).
+    depth : tracker.rpf.depthbatch.DepthConfig, optional
+        The target's depth a state (the last component of the estimates).
+    smoothing : tracker.kstructure.RangeSmoothing, optional
+        With ``depth``: K averaged over that range uncertainty, its spread added to the level's
+        variance (`tracker.kstructure`).
 
     Returns
     -------
@@ -110,7 +128,8 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
                           level_db_meas=None if level_db_meas is None else level_db_meas[rows],
                           k_profiles=k_profiles, cfg=cfg, rng=rngs[i],
                           source_level_model=source_level_model, p0_db=p0_db,
-                          p0_sd_db=p0_sd_db, summaries=summaries)
+                          p0_sd_db=p0_sd_db, summaries=summaries, target_k=target_k,
+                          cycle_bearing_deg=cycle_bearing_deg, depth=depth, smoothing=smoothing)
 
     if threads > 1 and len(starts) > 1:
         from concurrent.futures import ThreadPoolExecutor
@@ -129,39 +148,53 @@ def run_batch(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas: np.nd
 
 
 def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, cfg, rng,
-               source_level_model, p0_db, p0_sd_db, summaries) -> BatchResult:
+               source_level_model, p0_db, p0_sd_db, summaries, target_k=None, cycle_bearing_deg=None,
+               depth=None, smoothing=None) -> BatchResult:
     """`run_batch` on one block of runs, one generator."""
-    if cfg.engine is Engine.KERNEL and (level_db_meas is None
+    multi = level_db_meas is not None and np.ndim(level_db_meas) == 3
+    per_band = (list(k_profiles) if multi else [k_profiles]) if k_profiles is not None else []
+    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model is not SourceLevelModel.ROSS else 0.0)
+    d_state = cfg.n_dim + (1 if depth is not None else 0)
+    if cfg.engine is Engine.KERNEL and (level_db_meas is None or depth is not None
                                       or all(p is None or hasattr(p, "k_db")
-                                             for p in k_profiles)):
+                                             for profiles in per_band for p in profiles)):
         from tracker.rpf.kernel import run as run_kernel  # numba loads only here
 
-        sigma_l = math.hypot(cfg.level_sigma_db,
-                             p0_sd_db if source_level_model is not SourceLevelModel.ROSS else 0.0)
         means, covs, resampled, sds = run_kernel(
             t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
             level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
             ross=source_level_model is SourceLevelModel.ROSS, p0_db=p0_db, sigma_l_db=sigma_l,
-            bandwidth=optimal_bandwidth(cfg.n_particles, cfg.n_dim), summaries=summaries)
+            bandwidth=optimal_bandwidth(cfg.n_particles, d_state), summaries=summaries,
+            target_k=target_k, cycle_bearing_deg=cycle_bearing_deg, depth=depth, smoothing=smoothing)
         return BatchResult(mean=means, cov=covs, resampled=resampled,
                            extra={"sd": sds} if summaries else {})
     runs, n_cycles = bearing_rad_meas.shape
     sigma_theta = math.radians(cfg.bearing_sigma_deg)
-    sigma_l = math.hypot(cfg.level_sigma_db, p0_sd_db if source_level_model is not SourceLevelModel.ROSS else 0.0)
     n_thr = cfg.neff_fraction * cfg.n_particles
-    d = cfg.n_dim
-    means = np.empty((runs, n_cycles, d))
-    covs = np.empty((runs, n_cycles, d, d))
+    levels = None if level_db_meas is None else (level_db_meas if multi else level_db_meas[..., None])
+    means = np.empty((runs, n_cycles, d_state))
+    covs = np.empty((runs, n_cycles, d_state, d_state))
     resampled = np.zeros((runs, n_cycles), dtype=bool)
     sds = np.full((runs, n_cycles, 3), np.nan) if summaries else None
 
     state = initial_particles(bearing_rad_meas[:, 0], obs_state[0, 2:], cfg, runs, rng)
+    table = None
+    if depth is not None:
+        from tracker.rpf.depthlevel import DepthLevels
+
+        table = DepthLevels(target_k, cycle_bearing_deg, n_cycles, smoothing=smoothing)
+        lo, hi = depth.depth_min_m, depth.depth_max_m
+        state = np.concatenate([state, lo + (hi - lo) * rng.random((1,) + state.shape[1:])])
     log_w = np.full((runs, cfg.n_particles), -math.log(cfg.n_particles))
     work = {}  # scratch arrays reused by every cycle
     for k in range(n_cycles):
         if k > 0:
-            predict(state, dt_s=float(t_s[k] - t_s[k - 1]), obs_k=obs_state[k - 1],
-                    obs_k1=obs_state[k], sigma_a_mps2=cfg.sigma_a_mps2, rng=rng, work=work)
+            dt = float(t_s[k] - t_s[k - 1])
+            predict(state, dt_s=dt, obs_k=obs_state[k - 1], obs_k1=obs_state[k],
+                    sigma_a_mps2=cfg.sigma_a_mps2, rng=rng, work=work)
+            if depth is not None and dt > 0.0 and depth.walk_m_per_sqrt_s > 0.0:
+                step = depth.walk_m_per_sqrt_s * math.sqrt(dt)
+                state[-1] = reflect(state[-1] + step * rng.standard_normal(state.shape[1:]), lo, hi)
             z = bearing_rad_meas[:, k]
             have = np.isfinite(z)
             if have.all():
@@ -169,17 +202,22 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
             elif have.any():
                 log_w[have] += bearing_loglik(state[:, have], z[have, None], sigma_theta)
         # the first bearing is in the prior already; the first level is used like the others
-        if level_db_meas is not None:
-            lv = level_db_meas[:, k]
+        for b in range(0 if levels is None else levels.shape[2]):
+            lv = levels[:, k, b]
             have = np.isfinite(lv)
-            if have.any():
-                sub = state if have.all() else state[:, have]
-                ll = level_loglik(sub, lv[have, None], obs_state[k, 2:], k_profiles[k], sigma_l,
+            if not have.any():
+                continue
+            sub = state if have.all() else state[:, have]
+            if table is not None:
+                ll = table.loglik(sub, lv[have, None], obs_state[k, 2:], b, k, sigma_l,
                                   source_level_model=source_level_model, p0_db=p0_db)
-                if have.all():
-                    log_w = log_w + ll
-                else:
-                    log_w[have] += ll
+            else:
+                ll = level_loglik(sub, lv[have, None], obs_state[k, 2:], per_band[b][k], sigma_l,
+                                  source_level_model=source_level_model, p0_db=p0_db)
+            if have.all():
+                log_w = log_w + ll
+            else:
+                log_w[have] += ll
         log_w, w = normalise_exp(log_w, scratch(work, "w", log_w.shape))
         low = n_eff(w) < n_thr
         if low.any():
@@ -188,6 +226,8 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
             else:
                 state[:, low] = regularise(state[:, low], w[low], rng, shrink=cfg.shrink,
                                            work=work)
+            if depth is not None:
+                state[-1] = reflect(state[-1], lo, hi)
             log_w[low] = -math.log(cfg.n_particles)
             w[low] = 1.0 / cfg.n_particles
             resampled[low, k] = True
@@ -198,3 +238,10 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
             sds[:, k] = particle_sds(state, w, obs_state[k, 2:])
     return BatchResult(mean=means, cov=covs, resampled=resampled,
                        extra={"sd": sds} if summaries else {})
+
+
+def reflect(z: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """Depths folded back into [lo, hi] at its ends (a random walk with reflecting walls)."""
+    z = np.where(z < lo, 2.0 * lo - z, z)
+    z = np.where(z > hi, 2.0 * hi - z, z)
+    return np.clip(z, lo, hi)

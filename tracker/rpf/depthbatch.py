@@ -7,8 +7,9 @@ the class's ``depth_range_m`` (or the water the tables hold), moving by a slow r
 the level likelihood (eq. 33) takes K at the particle's depth, range and the cycle's bearing
 from the tables' depth axis (`acoustics.grid.targetdepth.TargetDepthK`): the practice of
 particle filters that carry environmental or source parameters against precomputed fields
-(Yardim, Gerstoft & Hodgkiss, JASA 127, 2010). The loop is the compiled kernel's
-(`tracker.rpf.kernel.depthloop`); the numpy reference engine has no depth state.
+(Yardim, Gerstoft & Hodgkiss, JASA 127, 2010). The depth is a case of `tracker.rpf.batch.run_batch`
+(its ``depth`` argument): the one compiled loop (`tracker.rpf.kernel.loop`) and the numpy
+reference engine both carry it. The levels may be those of several bands at once.
 """
 
 from __future__ import annotations
@@ -19,9 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from envdata.classes import SourceLevelModel
-from tracker.rpf.batch import BatchResult
-from tracker.rpf.config import BLOCK_PARTICLES, RpfConfig
-from tracker.rpf.regularise import optimal_bandwidth
+from tracker.rpf.batch import BatchResult, run_batch
+from tracker.rpf.config import RpfConfig
 
 #: Default sd of the depth's random walk, m per square root of second: 6 m in an hour, about
 #: what a submarine on patrol changes its depth by between manoeuvres; the regularization's
@@ -58,16 +58,19 @@ def run_batch_depth(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas:
                     cfg: RpfConfig, rng: np.random.Generator,
                     source_level_model: SourceLevelModel | str = SourceLevelModel.ROSS,
                     p0_db: float = math.nan, p0_sd_db: float = 0.0, summaries: bool = False,
-                    threads: int = 1) -> BatchResult:
+                    threads: int = 1, smoothing=None) -> BatchResult:
     """Run the RPF with a depth state over K cycles for a batch of runs sharing one observer.
 
     Parameters as `tracker.rpf.batch.run_batch`, with in place of ``k_profiles``:
 
-    target_k : acoustics.grid.targetdepth.TargetDepthK
-        K against target depth and range of the class and band (``tables.target_depth_k``).
+    target_k : acoustics.grid.targetdepth.TargetDepthK, or a sequence of B of them
+        K against target depth and range of the class and band (``tables.target_depth_k``);
+        one per band when ``level_db_meas`` is (runs, K, B).
     cycle_bearing_deg : ndarray, shape (K,)
         Bearing whose radials each cycle reads, deg (the measured one; NaN: the last before).
     depth : DepthConfig
+    smoothing : tracker.kstructure.RangeSmoothing, optional
+        K averaged over that range uncertainty, its spread added to the level's variance.
 
     Returns
     -------
@@ -75,39 +78,8 @@ def run_batch_depth(*, t_s: np.ndarray, obs_state: np.ndarray, bearing_rad_meas:
         ``mean`` (runs, K, D) and ``cov`` with D = 5 (6 with the source-level offset), the
         target's depth last, m.
     """
-    from tracker.rpf.kernel.depthdriver import run_depth  # numba loads only here
-
-    runs = bearing_rad_meas.shape[0]
-    block = max(1, BLOCK_PARTICLES // cfg.n_particles)
-    starts = list(range(0, runs, block))
-    rngs = rng.spawn(len(starts))
-    ross = SourceLevelModel(source_level_model) is SourceLevelModel.ROSS
-    sigma_l = math.hypot(cfg.level_sigma_db, 0.0 if ross else p0_sd_db)
-    h = optimal_bandwidth(cfg.n_particles, cfg.n_dim + 1)
-
-    def one(i):
-        rows = slice(starts[i], starts[i] + block)
-        means, covs, resampled, sds = run_depth(
-            t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas[rows],
-            level_db_meas=level_db_meas[rows], target_k=target_k,
-            cycle_bearing_deg=cycle_bearing_deg, depth_span_m=(depth.depth_min_m, depth.depth_max_m),
-            walk_m_per_sqrt_s=depth.walk_m_per_sqrt_s, cfg=cfg, rng=rngs[i],
-            ross=ross, p0_db=p0_db, sigma_l_db=sigma_l, bandwidth=h,
-            summaries=summaries)
-        return BatchResult(mean=means, cov=covs, resampled=resampled,
-                           extra={"sd": sds} if summaries else {})
-
-    if threads > 1 and len(starts) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(max_workers=threads) as pool:
-            parts = list(pool.map(one, range(len(starts))))
-    else:
-        parts = [one(i) for i in range(len(starts))]
-    if len(parts) == 1:
-        return parts[0]
-    return BatchResult(mean=np.concatenate([p.mean for p in parts]),
-                       cov=np.concatenate([p.cov for p in parts]),
-                       resampled=np.concatenate([p.resampled for p in parts]),
-                       extra={"sd": np.concatenate([p.extra["sd"] for p in parts])}
-                       if summaries else {})
+    return run_batch(t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
+                     level_db_meas=level_db_meas, k_profiles=None, cfg=cfg, rng=rng,
+                     source_level_model=source_level_model, p0_db=p0_db, p0_sd_db=p0_sd_db,
+                     summaries=summaries, threads=threads, target_k=target_k,
+                     cycle_bearing_deg=cycle_bearing_deg, depth=depth, smoothing=smoothing)

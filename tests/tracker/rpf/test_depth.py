@@ -24,10 +24,10 @@ def test_the_kernels_k_is_the_tables_k(tiny_depth_grid):
     rng = np.random.default_rng(3)
     for z, r in zip(rng.uniform(0.0, 1000.0, 50), rng.uniform(50.0, 4999.0, 50)):
         # the same bilinear rule; fast-math reassociation moves the last bits only
-        assert_allclose(k_at_depth(r, z, table.depth_m, table.range_m, table.k_db, 0, 0, 0.0),
+        assert_allclose(k_at_depth(r, z, table.depth_m, table.range_m, table.k_db[0], 0, 0, 0.0),
                         tk.at(z, r), atol=1e-9)
     last = tk.range_m[-1]
-    beyond = k_at_depth(last + 100.0, 300.0, table.depth_m, table.range_m, table.k_db, 0, 0, 0.0)
+    beyond = k_at_depth(last + 100.0, 300.0, table.depth_m, table.range_m, table.k_db[0], 0, 0, 0.0)
     assert_allclose(beyond, tk.at(300.0, last) - BEYOND_GRID_PENALTY_DB, atol=1e-9)
 
 
@@ -99,8 +99,8 @@ def test_the_loops_k_by_index_arithmetic_is_the_search_rule(tiny_depth_grid):
     for name, (t, regular) in cases.items():
         table = depth_table(t, np.zeros(1), 1)
         assert table.regular is regular, name
-        fast = np.array([pass_k_db(ri, zi, table, 0, 0, 0.0) for ri, zi in zip(r, z)])
-        search = np.array([k_at_depth(ri, zi, table.depth_m, table.range_m, table.k_db, 0, 0, 0.0)
+        fast = np.array([pass_k_db(ri, zi, table, 0, 0, 0, 0.0) for ri, zi in zip(r, z)])
+        search = np.array([k_at_depth(ri, zi, table.depth_m, table.range_m, table.k_db[0], 0, 0, 0.0)
                            for ri, zi in zip(r, z)])
         # the cell weight by (v - first) / step against (v - a[j]) / (a[j+1] - a[j]): rounding
         # only; pass_k_db reads K back through a square root of (1e4 + K)^2, 1e-12 relative

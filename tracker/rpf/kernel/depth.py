@@ -82,7 +82,7 @@ def slab_k(slab, jz, fz, jr, fr):
 
 @njit(fastmath=FASTMATH, error_model="numpy")
 def k_at_depth(r, z, depth_m, range_m, k_db, j0, j1, w1):
-    """K at range ``r`` and target depth ``z``, dB: slabs ``j0`` and ``j1`` of ``k_db`` (J, Z, R),
+    """K at range ``r`` and target depth ``z``, dB: slabs ``j0`` and ``j1`` of one band's ``k_db`` (J, Z, R),
     the second of weight ``w1`` (not read when 0), less the penalty beyond the range axis; the
     cells by search on any axes. `walk_level_pass` applies the same rule (`pass_k_db`)."""
     jz, fz = axis_cell(z, depth_m)
@@ -118,19 +118,24 @@ def reflect(z, lo, hi):
 
 @njit(inline="always")
 def walk_level_pass(state, iz, io, log_w, g, step_sd, lo, hi, level_db, ovx, ovy, ross, p0_db,
-                    table, j0, j1, w1, half_inv_var):
+                    table, band, j0, j1, w1, half_inv_var, var_l):
     """The depth's walk (``step_sd`` > 0: z += step_sd g, reflected into [lo, hi]) and the level
-    log-likelihood (eq. 33, h_l = SL + K(z, r) + offset, eqs. 12 and 16, K at the particle's new
-    depth) added to ``log_w``, in one pass over a run's particles.
+    log-likelihood of one band (eq. 33, h_l = SL + K(z, r) + offset, eqs. 12 and 16, K at the
+    particle's new depth) added to ``log_w``, in one pass over a run's particles.
 
     ``state`` (D, N), the depth in row ``iz``, the source-level offset in row ``io`` (< 0: none);
-    ``table`` a `tracker.rpf.kernel.depthparams.DepthTable`, ``j0``, ``j1``, ``w1`` the cycle's
-    slabs. The slabs and axes are taken out of the table here, once: a slice or an array read
-    from a tuple per particle costs a reference count each (it was most of the depth state's
-    cost).
+    ``table`` a `tracker.rpf.kernel.depthparams.DepthTable`, ``band`` its band, ``j0``, ``j1``,
+    ``w1`` the cycle's slabs. With the table's K error sd (``has_sd``) the variance is
+    ``var_l`` + sd^2 at the particle (its -1/2 ln is left out, as `tracker.rpf.likelihood` says
+    why), else 1 / (2 ``half_inv_var``). The slabs and axes are taken out of the table here,
+    once: a slice or an array read from a tuple per particle costs a reference count each (it
+    was most of the depth state's cost).
     """
-    slab0 = table.k_db[j0]
-    slab1 = table.k_db[j1]
+    slab0 = table.k_db[band, j0]
+    slab1 = table.k_db[band, j1]
+    has_sd = table.has_sd
+    sd0 = table.k_sd_db[band if has_sd else 0, j0 if has_sd else 0]
+    sd1 = table.k_sd_db[band if has_sd else 0, j1 if has_sd else 0]
     depth_m, range_m, regular = table.depth_m, table.range_m, table.regular
     z0, dz_inv, r0, dr_inv = (table.depth_first_m, table.depth_inv_step, table.range_first_m,
                               table.range_inv_step)
@@ -160,7 +165,13 @@ def walk_level_pass(state, iz, io, log_w, g, step_sd, lo, hi, level_db, ovx, ovy
         if r > r_last:
             k -= BEYOND_GRID_PENALTY_DB
         d = level_db - (sl + k + off)
-        log_w[i] -= (d * d) * half_inv_var
+        if has_sd:
+            sd = slab_k(sd0, jz, fz, jr, fr)
+            if w1 > 0.0:
+                sd = sd + w1 * (slab_k(sd1, jz, fz, jr, fr) - sd)
+            log_w[i] -= 0.5 * (d * d) / (var_l + sd * sd)
+        else:
+            log_w[i] -= (d * d) * half_inv_var
 
 
 @njit(inline="always")
@@ -178,14 +189,15 @@ def reflect_pass(z, lo, hi):
 
 
 @njit(fastmath=FASTMATH, error_model="numpy")
-def pass_k_db(r, z, table, j0, j1, w1):
+def pass_k_db(r, z, table, band, j0, j1, w1):
     """K at range ``r`` and target depth ``z``, dB, as `walk_level_pass` computes it: the pass run
     on one particle at (r, 0) with SL 1e4 dB, no walk and no offset, K read back from the
-    log-likelihood -(1e4 + K)^2 / 2 (for tests; K > -1e4 dB, the cells without water included)."""
+    log-likelihood -(1e4 + K)^2 / 2 (for tests; K > -1e4 dB, the cells without water included;
+    a table without a K error sd)."""
     state = np.zeros((5, 1))
     state[0, 0] = r
     state[4, 0] = z
     log_w = np.zeros(1)
     walk_level_pass(state, 4, -1, log_w, np.zeros(1), 0.0, z, z, 0.0, 0.0, 0.0, False, 1e4,
-                    table, j0, j1, w1, 0.5)
+                    table, band, j0, j1, w1, 0.5, 1.0)
     return math.sqrt(-2.0 * log_w[0]) - 1e4

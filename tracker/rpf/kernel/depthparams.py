@@ -1,5 +1,5 @@
-"""Inputs of the compiled loop with the target's depth as a state: the K table and the depth
-model, in named groups as `tracker.rpf.kernel.params`, and how they are built."""
+"""Inputs of the compiled loop for the target's depth as a state: the K table (every band) and
+the depth model, in named groups as `tracker.rpf.kernel.params`, and how they are built."""
 
 from __future__ import annotations
 
@@ -7,9 +7,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from tracker.rpf.depthlevel import cycle_bearings_deg, level_arrays
+
 
 class DepthTable(NamedTuple):
-    """K against the target's depth and range, per radial, and each cycle's two radials.
+    """K against the target's depth and range, per band and radial, and each cycle's two radials.
 
     Attributes
     ----------
@@ -17,8 +19,11 @@ class DepthTable(NamedTuple):
         Target depths, m, increasing.
     range_m : ndarray, shape (R,)
         Ranges, m, increasing.
-    k_db : ndarray, shape (J, Z, R)
-        K, dB, the cells without water at the penalty (`TargetDepthK.level_table`).
+    k_db : ndarray, shape (B, J, Z, R)
+        K of each band, dB, the cells without water at the penalty (`TargetDepthK.level_table`).
+    k_sd_db : ndarray, shape (B, J, Z, R), or (1, 1, 1, 1) without one
+        sd of K's error there, dB: the level's variance is sigma_l^2 + sd^2 (`has_sd`).
+    has_sd : bool
     j0, j1 : ndarray of int64, shape (K,)
         The slabs around each cycle's bearing.
     w1 : ndarray, shape (K,)
@@ -32,11 +37,15 @@ class DepthTable(NamedTuple):
         not ``regular``).
     range_first_m, range_inv_step : float
         The same of the range axis.
+    depth_regular_from : int
+        The depth axis is regular from this index (near-surface rows before).
     """
 
     depth_m: np.ndarray
     range_m: np.ndarray
     k_db: np.ndarray
+    k_sd_db: np.ndarray
+    has_sd: bool
     j0: np.ndarray
     j1: np.ndarray
     w1: np.ndarray
@@ -45,23 +54,39 @@ class DepthTable(NamedTuple):
     depth_inv_step: float
     range_first_m: float
     range_inv_step: float
-    depth_regular_from: int = 0  # the depth axis is regular from this index (near-surface rows before)
+    depth_regular_from: int
 
 
 class DepthModel(NamedTuple):
-    """The depth state: its span (uniform prior, reflecting walls) and its random walk.
+    """The depth state: whether there is one, its span (uniform prior, reflecting walls) and its
+    random walk.
 
     Attributes
     ----------
+    on : bool
+        The target's depth is the state's last component (else the level model is `Profiles`).
     lo_m, hi_m : float
         The span, m.
     walk_m_per_sqrt_s : float
         Random-walk sd per square root of time, m s^-1/2.
     """
 
+    on: bool
     lo_m: float
     hi_m: float
     walk_m_per_sqrt_s: float
+
+
+def no_depth(n_cycles: int) -> tuple[DepthTable, DepthModel]:
+    """The table and model of a loop with the depth fixed (the level model is `Profiles`): the
+    same types, one cell."""
+    one = np.zeros((1, 1, 1, 1))
+    zero = np.zeros(n_cycles, dtype=np.int64)
+    return (DepthTable(depth_m=np.zeros(1), range_m=np.ones(1), k_db=one, k_sd_db=one.copy(),
+                       has_sd=False, j0=zero, j1=zero.copy(), w1=np.zeros(n_cycles), regular=False,
+                       depth_first_m=0.0, depth_inv_step=1.0, range_first_m=1.0, range_inv_step=1.0,
+                       depth_regular_from=0),
+            DepthModel(on=False, lo_m=0.0, hi_m=0.0, walk_m_per_sqrt_s=0.0))
 
 
 #: How far, as a share of the step, an axis value may be from first + j step for the axis to
@@ -103,25 +128,25 @@ def regular_part(axis) -> tuple[float | None, int]:
     return None, 0
 
 
-def depth_table(target_k, bearing_deg, n_cycles: int) -> DepthTable:
-    """The kernel's table from a `acoustics.grid.targetdepth.TargetDepthK` and the bearing of
-    each cycle, deg (NaN: the last bearing measured before it; before any, the first one)."""
-    b = np.asarray(bearing_deg, dtype=float)
-    known = np.isfinite(b)
-    fill = np.where(known, b, np.nan)
-    if known.any():
-        idx = np.where(known, np.arange(b.size), 0)
-        np.maximum.accumulate(idx, out=idx)
-        fill = b[idx]
-        fill[~np.isfinite(fill)] = b[known][0]
-    else:
-        fill = np.zeros(b.size)
-    j0, j1, w1 = target_k.cells(fill[:n_cycles])
-    depth_m = np.array(target_k.depth_m, dtype=float, order="C")
-    range_m = np.array(target_k.range_m, dtype=float, order="C")
+def depth_table(target_k, bearing_deg, n_cycles: int, *, smoothing=None) -> DepthTable:
+    """The kernel's table from the `acoustics.grid.targetdepth.TargetDepthK` of each band (one,
+    or a sequence) and the bearing of each cycle, deg (NaN: the last bearing measured before
+    it; before any, the first one).
+
+    ``smoothing`` (a `tracker.kstructure.RangeSmoothing`): K averaged over that range
+    uncertainty, its spread there the sd of K's error (`has_sd`); None: K as it is.
+    """
+    first = (list(target_k) if isinstance(target_k, (list, tuple)) else [target_k])[0]
+    j0, j1, w1 = first.cells(cycle_bearings_deg(bearing_deg, n_cycles))
+    depth_m = np.array(first.depth_m, dtype=float, order="C")
+    range_m = np.array(first.range_m, dtype=float, order="C")
+    k_db, k_sd = level_arrays(target_k, smoothing)
+    has_sd = k_sd is not None
+    if not has_sd:
+        k_sd = np.zeros((1, 1, 1, 1))
     (dz, z_start), dr = regular_part(depth_m), regular_step(range_m)
     regular = dz is not None and dr is not None
-    return DepthTable(depth_m=depth_m, range_m=range_m, k_db=target_k.level_table(),
+    return DepthTable(depth_m=depth_m, range_m=range_m, k_db=k_db, k_sd_db=k_sd, has_sd=bool(has_sd),
                       j0=np.array(j0, dtype=np.int64), j1=np.array(j1, dtype=np.int64),
                       w1=np.array(w1, dtype=float), regular=bool(regular),
                       depth_first_m=float(depth_m[z_start]), depth_inv_step=1.0 / dz if regular else 1.0,

@@ -31,15 +31,15 @@ class Observer(NamedTuple):
 
 
 class Measured(NamedTuple):
-    """Measurements of a block of runs, shape (runs, K), or of one run, shape (K,).
+    """Measurements of a block of runs (leading axis ``runs``) or of one run.
 
     Attributes
     ----------
-    bearing_rad : ndarray
+    bearing_rad : ndarray, shape ([runs,] K)
         Measured bearings, rad; NaN: none that cycle.
-    level_db : ndarray
-        Measured SPL, dB re 1 uPa; NaN: none that cycle. Unused (zeros, one column) when
-        `Model.use_level` is False.
+    level_db : ndarray, shape ([runs,] K, B)
+        Measured SPL of each band, dB re 1 uPa; NaN: none that cycle. Unused (zeros, one
+        cycle and band) when `Model.use_level` is False.
     """
 
     bearing_rad: np.ndarray
@@ -47,12 +47,13 @@ class Measured(NamedTuple):
 
 
 class Profiles(NamedTuple):
-    """The distinct K(r) profiles of the cycles, stacked (`profile_arrays`).
+    """The distinct K(r) profiles of the cycles and bands, stacked (`profile_arrays`): the
+    level model with the target's depth fixed.
 
     Attributes
     ----------
-    index : ndarray of int64, shape (K,)
-        Row of each cycle's profile (0 where the cycle has none).
+    index : ndarray of int64, shape (B, K)
+        Row of each band's and cycle's profile (0 where it has none).
     range_m, k_db : ndarray, shape (P, M)
         Range axes, m, and K values, dB, padded with their last value.
     length : ndarray of int64, shape (P,)
@@ -172,27 +173,32 @@ class Outputs(NamedTuple):
     sds: np.ndarray
 
 
-def profile_arrays(k_profiles, n_cycles: int) -> Profiles:
+def profile_arrays(k_profiles, n_cycles: int, n_bands: int = 1) -> Profiles:
     """Stack the distinct K(r) profiles (objects with ``range_m`` and ``k_db``) of the cycles.
 
     Parameters
     ----------
-    k_profiles : sequence of LevelProfile or None, length K, or None
+    k_profiles : sequence of LevelProfile or None, length K, or None; or, for several bands, a
+        sequence of ``n_bands`` of those
         The profile of each cycle (`tracker.tables.LevelProfile`); None: no level that cycle.
     n_cycles : int
         K.
+    n_bands : int
+        B: ``k_profiles`` is one per-cycle sequence per band when B > 1.
     """
+    per_band = [k_profiles] if n_bands == 1 or k_profiles is None else list(k_profiles)
     rows, where, sds = [], {}, []
-    prof_idx = np.zeros(n_cycles, dtype=np.int64)
-    for k in range(n_cycles):
-        p = None if k_profiles is None else k_profiles[k]
-        if p is None:
-            continue
-        if id(p) not in where:
-            where[id(p)] = len(rows)
-            rows.append((np.asarray(p.range_m, dtype=float), np.asarray(p.k_db, dtype=float)))
-            sds.append(getattr(p, "k_sd_db", None))
-        prof_idx[k] = where[id(p)]
+    prof_idx = np.zeros((n_bands, n_cycles), dtype=np.int64)
+    for b, profiles in enumerate(per_band):
+        for k in range(n_cycles):
+            p = None if profiles is None else profiles[k]
+            if p is None:
+                continue
+            if id(p) not in where:
+                where[id(p)] = len(rows)
+                rows.append((np.asarray(p.range_m, dtype=float), np.asarray(p.k_db, dtype=float)))
+                sds.append(getattr(p, "k_sd_db", None))
+            prof_idx[b, k] = where[id(p)]
     if not rows:
         return Profiles(prof_idx, np.zeros((1, 1)), np.zeros((1, 1)), np.ones(1, dtype=np.int64),
                         np.zeros((1, 1)), False)
@@ -225,11 +231,3 @@ def model_of(cfg, *, use_level: bool, ross: bool, p0_db: float, sigma_l_db: floa
     return Model(sigma_a_mps2=float(cfg.sigma_a_mps2),
                  sigma_theta_rad=math.radians(cfg.bearing_sigma_deg), use_level=bool(use_level),
                  ross=bool(ross), p0_db=float(p0_db), sigma_l_db=float(sigma_l_db))
-
-
-def settings_of(cfg, *, bandwidth: float, summaries: bool) -> Settings:
-    """The sizes and resampling settings of ``cfg``; N_thr = ``neff_fraction`` N."""
-    n = int(cfg.n_particles)
-    return Settings(n=n, d=int(cfg.n_dim), n_thr=float(cfg.neff_fraction * n),
-                    bandwidth=float(bandwidth), shrink=bool(cfg.shrink),
-                    summaries=bool(summaries))
