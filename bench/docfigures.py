@@ -145,6 +145,7 @@ def manoeuvres(root: Path) -> str:
             f"the study took {_fig(d, 'gm_default_seconds'):.0f} s with the default tests, "
             f"{_fig(d, 'gm_paper_seconds'):.0f} s with the paper's.\n\n" + _source(d, "maneuver.json"))
 
+
 def stonesoup(root: Path) -> str:
     d = _load(root, "stonesoup.json")
     summ = d["summary"]

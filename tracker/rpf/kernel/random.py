@@ -125,6 +125,9 @@ def normal_pair(s):
     return normal(s), normal(s)
 
 
+# Deliberate copy: the loop below repeats `normal`'s ziggurat step by hand, unrolled with the
+# generator state in local variables (registers) for the whole fill; calling `normal` per draw
+# stores the state back to memory each time, which the particle filter's prediction step pays for.
 @njit(inline="always")
 def fill_normal_pairs(s, gx, gy):
     """gx[i], gy[i] = `normal`, `normal` for each i (the same stream), with the generator
