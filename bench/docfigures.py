@@ -207,6 +207,35 @@ def shelf_dk(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "shelf/shelf.json")
 
 
+FOLLOW_TABLES = (("origin", "origin"), ("atlas-10km", "atlas, 10 km"), ("atlas-5km", "atlas, 5 km"))
+
+
+def follow_rmse(root: Path) -> str:
+    d = _load(root, "atlas-tracking/follow.json")
+    m = d["mean_rmse_after_10min_m"]
+    rows = [("tables", "ML, BELLHOP levels", "PF, BELLHOP levels", "ML, the atlas's own levels",
+             "PF, the atlas's own levels", "ML with the paper's tests, BELLHOP levels"), ("---",) * 6]
+    for key, label in FOLLOW_TABLES:
+        rows.append((label, *(f"{m[f'{t}_{key}_{lv}']:.0f}" for t, lv in
+                              (("ml", "bellhop"), ("rpf", "bellhop"), ("ml", "tables"), ("rpf", "tables"),
+                               ("ml-paper", "bellhop")))))
+    lv = d["level_bellhop_minus_atlas5km_db"]
+    return (_table(rows) + "\nAlong the path, BELLHOP's FB1 level less the 5 km atlas's: "
+            f"median {lv['median']:+.1f} dB, "
+            f"sd {lv['sd']:.1f} dB, 95th percentile of the absolute difference {lv['p95_abs']:.1f} dB.\n\n"
+            + _source(d, "atlas-tracking/follow.json"))
+
+
+def follow_manoeuvres(root: Path) -> str:
+    d = _load(root, "atlas-tracking/follow.json")
+    m = d["ml_manoeuvres_declared"]
+    rows = [("tables", "BELLHOP levels, default", "paper", "atlas's levels, default", "paper"), ("---",) * 5]
+    for key, label in FOLLOW_TABLES:
+        rows.append((label, *(f"{m[f'{t}_{key}_{lv}']['mean_manoeuvres']:.1f}" for t, lv in
+                              (("ml", "bellhop"), ("ml-paper", "bellhop"), ("ml", "tables"), ("ml-paper", "tables")))))
+    return _table(rows) + "\n" + _source(d, "atlas-tracking/follow.json")
+
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -548,7 +577,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "gm-experiments": gm_experiments,
                                              "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk,
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
-                                             "depth-weights": depth_weights, "depth-mismatch": depth_mismatch}
+                                             "depth-weights": depth_weights, "depth-mismatch": depth_mismatch,
+                                             "follow-rmse": follow_rmse, "follow-manoeuvres": follow_manoeuvres}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
