@@ -32,8 +32,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 import xarray as xr
+
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.radial import depth_axis_m, plan_radial_runs
