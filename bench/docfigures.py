@@ -236,6 +236,32 @@ def follow_manoeuvres(root: Path) -> str:
     return _table(rows) + "\n" + _source(d, "atlas-tracking/follow.json")
 
 
+def kerror_sd(root: Path) -> str:
+    d = _load(root, "kerror/sensitivity.json")
+    depth = {"NPS": 200, "SW": 6, "TV": 8}
+    rows = [("class", "measured `k_error_sd_db` (area file)", "median sd of K by bearing, dB (0 / 90 / 180 / 300 deg)",
+             "drives the constant offset"), ("---",) * 4]
+    for c, sd in d["k_error_sd_db"].items():
+        by = d["k_sd_db_median_by_bearing"][c]
+        drivers = sorted(d["offset_drivers"][c].items(), key=lambda kv: -abs(kv[1]))[:2]
+        rows.append((f"{c} ({depth.get(c, '?')} m)", f"{sd:.2f} ({d['k_error_sd_db_area_file'][c]:g})",
+                     " / ".join(f"{by[b]:.2f}" for b in ("0", "90", "180", "300")),
+                     ", ".join(f"{k.replace('_', ' ')} ({v:+.2f})" for k, v in drivers)))
+    return _table(rows) + "\n" + _source(d, "kerror/sensitivity.json")
+
+
+def kerror_rmse(root: Path) -> str:
+    d = _load(root, "kerror/kerror.json")
+    names = (("rpf_map", "particle filter, sd by bearing and range"), ("rpf_scalar", "particle filter, one number"),
+             ("ml_map", "ML analysis, sd by bearing and range"), ("ml_scalar", "ML analysis, one number"))
+    rows = [("position RMSE, km", "5 min", "10 min", "20 min", "30 min", "mean after 5 min"), ("---",) * 6]
+    for key, label in names:
+        r = d["rmse_m"][key]
+        rows.append((label, *(f"{r[t] / 1000:.2f}" for t in ("5", "10", "20", "30")),
+                     f"{d['mean_rmse_after_5min_m'][key] / 1000:.2f}"))
+    return _table(rows) + "\n" + _source(d, "kerror/kerror.json")
+
+
 def _pm(s: dict, key: str = "p90_db") -> str:
     return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
 
@@ -578,7 +604,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk,
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
                                              "depth-weights": depth_weights, "depth-mismatch": depth_mismatch,
-                                             "follow-rmse": follow_rmse, "follow-manoeuvres": follow_manoeuvres}
+                                             "follow-rmse": follow_rmse, "follow-manoeuvres": follow_manoeuvres,
+                                             "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
