@@ -39,19 +39,11 @@ import numpy as np
 from acoustics.bellhop.arrfile import Arrivals
 from envdata.area import Propagation
 
-#: The arrivals run's beams (the fan's angles): at least this many, and at least twice the fan's.
-#: Measured (docs/results/surface.json and the module's measurements above): K of ocean-deep's
-#: 6-8 m ships from the observer to 40 km against their own runs, worst class and band, 0.20 dB
-#: median with 6000 beams, 0.49 dB with 3000.
-IMAGE_MIN_BEAMS = 6000
-
 
 def image_beams(prop: Propagation) -> int:
     """Beams of the arrivals run: the area's ``surface_image_beams``, or by default at least
-    ``IMAGE_MIN_BEAMS`` and at least twice the fan's."""
-    if prop.surface_image_beams is not None:
-        return int(prop.surface_image_beams)
-    return max(IMAGE_MIN_BEAMS, 2 * int(prop.n_beams))
+    ``envdata.area.IMAGE_MIN_BEAMS`` and at least twice the fan's (``Propagation.image_beams``)."""
+    return prop.image_beams
 
 
 #: Two arrivals at one receiver are a pair when their angles' magnitudes differ by less than this,

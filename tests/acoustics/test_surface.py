@@ -98,6 +98,11 @@ def test_the_default_tables_are_semicoherent_and_the_grid_says_so(tiny_grid):
     assert envdata.Propagation().mode is envdata.TlMode.SEMICOHERENT
     tables = acoustics.open_tables(tiny_grid)
     assert tables.dataset.attrs["bellhop_settings"].count('"mode": "semicoherent"') == 1
+    # and the surface's arrivals run's beams it used (the tiny area's fan of 300: the default 6000)
+    import json
+
+    settings = json.loads(tables.dataset.attrs["bellhop_settings"])
+    assert settings["n_beams"] == 300 and settings["surface_image_beams"] == 6000
 
 
 def test_a_grid_built_with_incoherent_beams_says_how_far_off_its_surface_ship_is(tmp_path, capsys):
