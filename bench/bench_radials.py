@@ -36,18 +36,22 @@ import xarray as xr
 
 import envdata
 from acoustics.bellhop.exe import find_bellhop
-from acoustics.builder.radial import depth_axis_m, plan_radial_runs
+from acoustics.builder.radial import depth_axis_m, plan_radial_image_runs, plan_radial_runs
+from acoustics.surface import SURFACE_ROW_M
 from bench.harness import REPO, Session, cli_with_rusage
 from envdata.radials import area_radials
 
 
 def raw_runs(area: envdata.Area):
-    """The build's own BELLHOP runs (the same .env, .bty and .ssp texts)."""
+    """The build's own BELLHOP runs (the same .env, .bty and .ssp texts): the field runs and, in
+    the semicoherent mode, each radial's arrivals run for the near-surface rows."""
     radials = area_radials(area)
     depth = depth_axis_m(area, radials)
-    receivers = np.unique(np.concatenate([depth, [c.depth_m for c in area.classes]]))
+    surface = [SURFACE_ROW_M] if area.propagation.mode is envdata.TlMode.SEMICOHERENT and depth[0] == 0.0 else []
+    receivers = np.unique(np.concatenate([depth, [c.depth_m for c in area.classes], surface]))
     runs, _ = plan_radial_runs(area, radials, receivers)
-    return runs
+    image_runs, _ = plan_radial_image_runs(area, radials, receivers)
+    return runs + image_runs
 
 
 def raw_bellhop_seconds(runs, exe: Path) -> float:
