@@ -311,8 +311,9 @@ def radials(root: Path) -> str:
     def f(key: str) -> float:
         return _fig(d, key)
 
-    rows = [("figure", "shelf-break, 12 radials x 3 bands to 30 km (36 runs)",
-             "36 radials x 3 bands to 50 km (108 runs)", "target"), ("---", "---", "---", "---"),
+    rows = [("figure", f"shelf-break, 12 radials x 3 bands to 30 km ({f('shelf_break_runs'):d} runs)",
+             f"36 radials x 3 bands to 50 km ({f('wide_36_radials_runs'):d} runs)", "target"),
+            ("---", "---", "---", "---"),
             ("`grids build`, 2 workers", f"{f('shelf_break_build_2_workers_median'):.1f} s",
              f"{f('wide_36_radials_build_2_workers'):.1f} s", ""),
             ("over half the sum of the raw BELLHOP runs", f"{f('shelf_break_2_workers_over_half_raw'):.2f}",
