@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import statistics
 import subprocess
 import sys
@@ -237,7 +238,12 @@ def main(argv=None) -> int:
                                      "better": better}
         print(f"{name}: before {med['before']:.4g}, after {med['after']:.4g}, after/before {ratio:.3f}",
               flush=True)
-    write_result(args.name, result, provenance_data=provenance(load_before=load_before, git=git))
+    # the two checkouts are machine paths: the command names them BEFORE and AFTER, their commits
+    # are the result's "checkouts"
+    argv_shown = [{str(args.before): "BEFORE", str(args.after): "AFTER"}.get(a, a)
+                  for a in (sys.argv[1:] if argv is None else argv)]
+    command = shlex.join(["python", "-m", "bench.ab_checkouts", *argv_shown])
+    write_result(args.name, result, provenance_data=provenance(command=command, load_before=load_before, git=git))
     return 0
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from acoustics.grid.formats import RESULT_FORMAT
 from bench.harness import REPO as ROOT
-from bench.harness import Session, bench_grid
+from bench.harness import Session, bench_grid, portable
 from envdata.areafile import area_path
 
 
@@ -27,7 +27,7 @@ def main(grid: str) -> dict:
     text = text.replace("duration_s = 2400.0", "duration_s = 3600.0").replace('name = "shelf-cross"',
                                                                               'name = "shelf-cross-60min"')
     text = text.replace("speed_mps = 4.5", "speed_mps = 3.0")  # 10.8 km in 60 min: inside the area
-    result = {"tmakit_format": RESULT_FORMAT, "grid": grid, "workers": 2,
+    result = {"tmakit_format": RESULT_FORMAT, "grid": portable(grid), "workers": 2,
               "area": str(area_path("shelf-break").relative_to(ROOT))}
     with tempfile.TemporaryDirectory() as tmp:
         sc = Path(tmp) / "sc.toml"

@@ -22,6 +22,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
+import re
 import shlex
 import statistics
 import subprocess
@@ -95,13 +96,20 @@ def command_line() -> str:
     return shlex.join([*args, *sys.argv[1:]])
 
 
+def portable(command: str) -> str:
+    """``command`` as one types it from the repository's root on any machine: the checkout's own
+    path and an interpreter's absolute path (a venv's ``.../bin/python``) taken out."""
+    command = re.sub(r"(?<![\w.-])/\S*/bin/python[0-9.]*(?=\s|$)", "python", command)
+    return command.replace(str(REPO) + "/", "")
+
+
 def provenance(*, command: str | None = None, load_before: list[float] | None = None,
                extra_versions: Mapping[str, str] | None = None,
                git: tuple[str | None, bool | None] | None = None) -> dict:
     """What makes a result file traceable (see the module docstring); ``git`` is the checkout's
     state when the measurement began (default: now)."""
     commit, clean = git if git is not None else git_state()
-    return {"command": command or command_line(), "commit": commit, "tree_clean": clean,
+    return {"command": portable(command or command_line()), "commit": commit, "tree_clean": clean,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "load_average": {"before": load_before, "after": load_average()},
             "machine": machine(), "versions": versions(extra_versions)}

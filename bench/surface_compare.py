@@ -34,12 +34,13 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import shlex
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from bench.harness import REPO, RESULTS_DIR, Session
+from bench.harness import REPO, RESULTS_DIR, Session, portable
 
 OUT = REPO / "out" / "surface-compare"
 PLOTS = RESULTS_DIR / "surface-compare"
@@ -177,7 +178,10 @@ def main(argv=None) -> int:
     p.add_argument("--areas", nargs="*", default=list(AREAS))
     p.add_argument("--before-checkout", type=Path, help="a checkout of the code before the surface landed")
     args = p.parse_args(argv)
-    session = Session("surface-compare")
+    # the checkout before is a machine path: the command names it BEFORE (its commit is in the file)
+    argv_shown = [a if args.before_checkout is None or a != str(args.before_checkout) else "BEFORE"
+                  for a in (sys.argv[1:] if argv is None else argv)]
+    session = Session("surface-compare", command=shlex.join(["python", "-m", "bench.surface_compare", *argv_shown]))
     OUT.mkdir(parents=True, exist_ok=True)
     PLOTS.mkdir(parents=True, exist_ok=True)
     areas = {}
@@ -217,6 +221,7 @@ def main(argv=None) -> int:
                 raise SystemExit(f"surface_compare: the build at {code} failed: {done.stderr}")
             result = compare(REPO / areas[name]["before"]["file"], old, None)
             worst = max((r[k] or 0.0) for r in result["rows"] for k in ("tl_p90_db", "k_p90_db"))
+            result = {**result, "a": portable(result["a"]), "b": portable(result["b"])}
             checks[name] = {"commit": commit, "worst_p90_db": worst, "compare": result}
             session.say(f"{name} before-settings grid against commit {commit}'s", worst, "dB (worst p90 |dTL|, |dK|)")
     session.write(what="grids compare of the built-in areas before the sea surface (incoherent beams) "

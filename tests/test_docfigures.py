@@ -4,6 +4,7 @@ every generated table in README and docs/ is what its file gives (``python -m be
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -72,6 +73,8 @@ def test_every_result_file_says_how_it_was_made(path):
     assert isinstance(prov, dict), f"{path}: no provenance"
     assert PROVENANCE_KEYS <= set(prov), f"{path}: provenance lacks {sorted(PROVENANCE_KEYS - set(prov))}"
     assert prov["command"], f"{path}: no command"
+    # typed from the repository's root on any machine: no absolute path (bench.harness.portable)
+    assert not re.search(r"(^|\s)/\S", prov["command"]), f"{path}: a machine path in {prov['command']!r}"
     if prov.get("rerun_pending"):
         assert prov.get("reason"), f"{path}: marked to be made again without a reason"
     else:  # made by the harness: all of it

@@ -44,6 +44,14 @@ TRUTHS = ("bellhop", "tables")
 REPORT_MIN = (10, 20, 30, 40)
 
 
+def _shown(path: Path) -> str:
+    """A table's path as the result file records it: relative to where the study ran, if inside."""
+    try:
+        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
+    except ValueError:
+        return str(path)
+
+
 def build_tables(out: Path, workers: int) -> dict[str, Path]:
     """The origin grid and the two atlases in ``out`` (reused when up to date)."""
     files = {"origin": build_grid_file(load_area(AREA), out / f"{AREA}-bellhop.nc", workers=workers).file}
@@ -90,7 +98,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     obs_travel = float(np.hypot(np.ptp(sims["bellhop"].obs_x_m), np.ptp(sims["bellhop"].obs_y_m)))
     summary = {"scenario": sc.name, "runs": runs, "seed": seed, "n_particles": n_particles, "class": sc.target_class,
                "band": tables["origin"].band_names[band], "observer_travel_m": obs_travel,
-               "tables": {k: str(v) for k, v in paths.items()},
+               "tables": {k: _shown(v) for k, v in paths.items()},
                "truth_runs": truth.stats.runs, "truth_runs_cached": truth.stats.cached,
                "truth_seconds": round(truth_seconds, 1),
                "level_bellhop_minus_atlas5km_db": {"median": float(np.nanmedian(diff)),
