@@ -182,7 +182,7 @@ class Propagation:
     # explicitly: BELLHOP's automatic step, a tenth of the depth, is not converged on deep radials)
     step_m: float | None = None
     # beams of the arrivals run that gives a table from the observer its near-surface rows (the
-    # fan's angles); None: the rule of acoustics.builder.surfaceimage.image_beams (at least 6000,
+    # fan's angles); None: the rule of Propagation.image_beams (at least 6000,
     # at least twice n_beams). `tmakit grids check` says whether an area's count is converged.
     surface_image_beams: int | None = None
 

@@ -21,7 +21,6 @@ import numpy as np
 from acoustics.builder.bandruns import BuildStats, surface_acts, uses_shortcut
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.radial import DEFAULT_STEP_M, radial_k_db
-from acoustics.builder.surfaceimage import image_beams
 from envdata.area import Area, TlMode
 from envdata.geometry import Bearings
 
@@ -72,7 +71,7 @@ def build_settings(area: Area) -> dict:
     return {"mode": str(prop.mode), "n_beams": prop.n_beams, "angle_min_deg": prop.angle_min_deg,
             "angle_max_deg": prop.angle_max_deg, "step_m": step, "freqs_per_band": prop.freqs_per_band,
             "one_run_per_band": uses_shortcut(area),
-            "surface_image_beams": image_beams(prop) if prop.mode is TlMode.SEMICOHERENT else None}
+            "surface_image_beams": prop.image_beams if prop.mode is TlMode.SEMICOHERENT else None}
 
 
 def _sample(area: Area) -> tuple[Area, str]:
@@ -101,14 +100,14 @@ def _variants(area: Area) -> list[tuple[str, str, Area]]:
     out = []
     semicoherent = prop.mode is TlMode.SEMICOHERENT
     if prop.n_beams > 0:  # the fan alone: the surface's arrivals run keeps its beams
-        kept = {"surface_image_beams": image_beams(prop)} if semicoherent else {}
+        kept = {"surface_image_beams": prop.image_beams} if semicoherent else {}
         doubled = dataclasses.replace(prop, n_beams=2 * prop.n_beams, **kept)
         out.append(("beams", f"n_beams {prop.n_beams} -> {2 * prop.n_beams}",
                     dataclasses.replace(area, propagation=doubled)))
     near = any(surface_acts(area, b, c.depth_m, NOMINAL_SPEED_MPS) for c in area.classes for b in area.bands)
     if semicoherent and area.is_bearing_dependent and near:
         # the arrivals run that gives a table from the observer its near-surface rows
-        n = image_beams(prop)
+        n = prop.image_beams
         out.append(("surface_image_beams", f"surface_image_beams {n} -> {2 * n}",
                     dataclasses.replace(area, propagation=dataclasses.replace(prop, surface_image_beams=2 * n))))
     step = build_settings(area)["step_m"]

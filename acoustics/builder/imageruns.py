@@ -2,7 +2,7 @@
 observer), and its rows in a band's TL (``acoustics.builder.surfaceimage``).
 
 One arrivals run per table from the observer (a radial, or a flat grid's ``tl_obs_db``): the
-fan's angles with more beams (``surfaceimage.image_beams``), receivers at the depths within the surface's
+fan's angles with more beams (``Propagation.image_beams``), receivers at the depths within the surface's
 reach of the lowest band (the grid's depths there, the classes' and ``SURFACE_ROW_M``), at the
 lowest band's centre frequency (geometric beams do not depend on frequency but through volume
 attenuation, which the reduction rescales). Its result replaces those rows of every band's TL.
@@ -19,7 +19,7 @@ from acoustics.bellhop.envfile import RunSpec
 from acoustics.builder.bandruns import run_timeout_s, surface_acts
 from acoustics.builder.plan import run_spec
 from acoustics.builder.runs import Run
-from acoustics.builder.surfaceimage import ImageBand, SurfaceImage, image_beams
+from acoustics.builder.surfaceimage import ImageBand, SurfaceImage
 from acoustics.kcurve import band_weights
 from acoustics.surface import band_quadrature, surface_reach_m
 from envdata.area import Absorption, Area
@@ -70,7 +70,7 @@ def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.
         return None
     depths = receivers[rows]
     run_hz = float(area.bands[0].center_hz)
-    n_beams = image_beams(prop)
+    n_beams = prop.image_beams
     spec = run_spec(area, title=f"{title} surface image", freq_hz=run_hz,
                     source_depths_m=(area.observer.depth_m,), receiver_depths_m=depths, ranges_m=rng,
                     fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True)

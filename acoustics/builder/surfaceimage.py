@@ -9,8 +9,8 @@ came out 2.1 dB lossier than from the target (ocean-deep, 60 km; 1.5 dB at 12 m,
 20 m, nothing below 40 m).
 
 One arrivals run (run type 'a') from the observer, with more beams than the fan
-(``image_beams``) and receivers only at the depths within the surface's reach, gives every arrival's intensity
-I (spreading and bottom loss; volume attenuation at the run's frequency, rescaled to each
+(``Propagation.image_beams``) and receivers only at the depths within the surface's reach, gives
+every arrival's intensity I (spreading and bottom loss; volume attenuation at the run's frequency, rescaled to each
 frequency of a band through its path's attenuation), its angle theta at the receiver and its
 surface reflections. Each arrival and its surface image form a pair that carries the Lloyd
 factor G(theta) of ``acoustics.surface``; where the pair's twin is in the list (opposite
@@ -37,14 +37,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.bellhop.arrfile import Arrivals
-from envdata.area import Propagation
-
-
-def image_beams(prop: Propagation) -> int:
-    """Beams of the arrivals run: the area's ``surface_image_beams``, or by default at least
-    ``envdata.area.IMAGE_MIN_BEAMS`` and at least twice the fan's (``Propagation.image_beams``)."""
-    return prop.image_beams
-
 
 #: Two arrivals at one receiver are a pair when their angles' magnitudes differ by less than this,
 #: deg, or than 1.5 times the angle 2 z / r that separates a ray from its image at depth z and range r.

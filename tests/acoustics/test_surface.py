@@ -128,16 +128,15 @@ def test_grids_check_doubles_the_fan_and_the_surfaces_arrivals_run_apart():
     import dataclasses
 
     from acoustics.builder.check import _variants, build_settings
-    from acoustics.builder.surfaceimage import image_beams
 
     area = envdata.load_area("shelf-break")
-    assert image_beams(area.propagation) == max(6000, 2 * area.propagation.n_beams)
+    assert area.propagation.image_beams == max(6000, 2 * area.propagation.n_beams)
     variants = {name: varied.propagation for name, _, varied in _variants(area)}
     assert variants["beams"].n_beams == 2 * area.propagation.n_beams
-    assert image_beams(variants["beams"]) == image_beams(area.propagation)
-    assert image_beams(variants["surface_image_beams"]) == 2 * image_beams(area.propagation)
+    assert variants["beams"].image_beams == area.propagation.image_beams
+    assert variants["surface_image_beams"].image_beams == 2 * area.propagation.image_beams
     assert variants["surface_image_beams"].n_beams == area.propagation.n_beams
-    assert build_settings(area)["surface_image_beams"] == image_beams(area.propagation)
+    assert build_settings(area)["surface_image_beams"] == area.propagation.image_beams
     # a flat area's tables have no arrivals run (every class's runs start at its depth), nor has
     # an incoherent area
     assert "surface_image_beams" not in {n for n, _, _ in _variants(envdata.load_area("ocean-deep"))}
@@ -147,4 +146,4 @@ def test_grids_check_doubles_the_fan_and_the_surfaces_arrivals_run_apart():
     # an area file can set it; the setting reads back
     doc = area.to_dict()
     doc["propagation"]["surface_image_beams"] = 9000
-    assert image_beams(envdata.parse_area(doc, "x").propagation) == 9000
+    assert envdata.parse_area(doc, "x").propagation.image_beams == 9000
