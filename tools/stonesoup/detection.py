@@ -27,10 +27,8 @@ from scipy.special import log_ndtr
 from stonesoup.base import Property
 from stonesoup.updater.particle import BernoulliParticleUpdater
 
-from acoustics.detection import band_snr_db, class_mean_level, detection_terms
-from envdata.classes import SourceLevelModel, ross_source_level_db
-
-X, VX, Y, VY = 0, 1, 2, 3
+from acoustics.detection import band_snr_db, detection_terms
+from tools.stonesoup.model import geometry, source_level_db
 
 
 @dataclass(frozen=True)
@@ -49,15 +47,11 @@ class DetectionProbability:
         """log P_band and log(1 - P_band) for states (4, N): each (bands, N)."""
         tables = self.tables.at_observer(observer_x_m, observer_y_m)
         cls = tables.classes[self.class_index]
-        sv = np.asarray(state_vector, dtype=float).reshape(4, -1)
-        dx, dy = sv[X] - observer_x_m, sv[Y] - observer_y_m
-        rng, bearing = np.hypot(dx, dy), np.degrees(np.arctan2(dx, dy)) % 360.0
+        bearing_rad, rng, speed = geometry(state_vector, observer_x_m, observer_y_m)
+        bearing = np.degrees(bearing_rad) % 360.0
         k = np.atleast_2d(tables.k_at(self.class_index, rng, depth_m=observer_depth_m, bearing_deg=bearing)).T
         terms = detection_terms(tables.area, cls, tables.bands)
-        if cls.source_level_model is SourceLevelModel.ROSS:
-            p0 = ross_source_level_db(np.hypot(sv[VX], sv[VY]))[None, :]
-        else:
-            p0 = class_mean_level(cls)[0]
+        p0 = source_level_db(cls, speed)[None, :]
         snr = band_snr_db(k, p0, terms.noise_band_db[:, None], terms.directivity_index_db)
         needed = 10.0 * np.log10(terms.threshold / np.sqrt(terms.bandwidth_hz * terms.integration_time_s))
         if self.level_sd_db is None:

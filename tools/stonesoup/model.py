@@ -30,6 +30,22 @@ from envdata.classes import SourceLevelModel, ross_source_level_db
 X, VX, Y, VY = 0, 1, 2, 3
 
 
+def geometry(state_vector, observer_x_m: float, observer_y_m: float
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Bearing (rad, clockwise from north), range (m) and speed (m/s) of states (4, N) from an
+    observer."""
+    sv = np.asarray(state_vector, dtype=float).reshape(4, -1)
+    dx, dy = sv[X] - observer_x_m, sv[Y] - observer_y_m
+    return np.arctan2(dx, dy), np.hypot(dx, dy), np.hypot(sv[VX], sv[VY])
+
+
+def source_level_db(cls, speed_mps: np.ndarray) -> np.ndarray:
+    """The class's source level at each state's speed: Ross's for a Ross class, else its mean."""
+    if cls.source_level_model is SourceLevelModel.ROSS:
+        return ross_source_level_db(speed_mps)
+    return np.full(np.shape(speed_mps), float(cls.noise_mean_db))
+
+
 class TablesMeasurementModel(NonLinearGaussianMeasurement):
     """Bearing (rad, clockwise from north) and band levels (dB re 1 uPa) from tmakit's tables,
     for one detection: the observer where it was, the bands it holds."""
@@ -68,9 +84,7 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
         return self._cls.noise_sd_db ** 2 + self.level_sd_db ** 2 + np.asarray(k_sd_db, dtype=float) ** 2
 
     def _geometry(self, state_vector) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        sv = np.asarray(state_vector, dtype=float)
-        dx, dy = sv[X] - self.observer_x_m, sv[Y] - self.observer_y_m
-        return np.arctan2(dx, dy), np.hypot(dx, dy), np.hypot(sv[VX], sv[VY])
+        return geometry(state_vector, self.observer_x_m, self.observer_y_m)
 
     def levels_db(self, state_vector) -> np.ndarray:
         """W of each band of the measurement for states (4, N): shape (bands, N), dB."""
@@ -78,11 +92,7 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
         k = self.tables.k_at(self.class_index, rng, depth_m=self.observer_depth_m,
                              bearing_deg=np.degrees(bearing) % 360.0)         # (N, M)
         k = np.atleast_2d(k)[:, list(self.band_index)].T                       # (bands, N)
-        if self._cls.source_level_model is SourceLevelModel.ROSS:
-            level = ross_source_level_db(speed)
-        else:
-            level = np.full(rng.shape, float(self._cls.noise_mean_db))
-        return level[None, :] + k + self.tables.area.sonar.receiver_gain_db
+        return source_level_db(self._cls, speed)[None, :] + k + self.tables.area.sonar.receiver_gain_db
 
     def function(self, state, noise=False, **kwargs) -> StateVector | StateVectors:
         """The measurement of ``state`` (its particles at once)."""
