@@ -99,9 +99,13 @@ class MLBatch:
         # per row and cycle: highest detected band (-1: none) and its level (eq. 29), dB
         self.top_band = np.full((b, self.capacity), -1)
         self.top_level_db = np.full((b, self.capacity), np.nan)
-        # the same level less K(r) at the range tracked until then (eq. 29 with level_vs_k), dB,
         # eq. 29's statistics on the level and on the level less K along the track (level_vs_k), dB
         self.level_step_db = np.full((2, b, self.capacity), np.nan)
+        # each row's K(r) in that cycle's highest detected band (band 0 without one) at its bearing,
+        # from the tables where the observer was then, for the last F + 4 cycles that eq. 29's
+        # window and current cycle span (a ring: cycle n at n % (F + 4)), dB (level_vs_k)
+        self.k_top_db = (np.full((self.params.level_f + 4, b, self.range_axis_m.size), np.nan)
+                         if self.params.level_vs_k else None)
         # the current tack of each row: first cycle, number (1, 2, ...), and the number of
         # consecutive cycles on which a maneuver test (eqs. 26-29) has fired
         self.tack_start = np.zeros(b, dtype=int)
@@ -190,6 +194,8 @@ class MLBatch:
         # K at the row's bearing from the observer on a bearing-dependent grid, from the tables
         # where the observer is (an atlas's follow it): (C, M, B, R)
         k_db = self.tables.at_observer(obs_x_m, obs_y_m).k_db(obs_depth_m, bearing_deg=brg)
+        if self.k_top_db is not None:
+            self.k_top_db[n % len(self.k_top_db)] = self._k_rows(k_db, np.maximum(top, 0))
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
         k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
@@ -321,9 +327,13 @@ class MLBatch:
         """Eq. 29 on the level and on the level less K along the track tracked until now, each row
         on the one whose sd is the smaller (`tracker.mltma.maneuver.level_maneuver_robust`).
 
-        K is this cycle's profile read at the window's and this cycle's ranges on one track (the
-        last estimates carried back and forth), so that the jitter of the range tracked from cycle
-        to cycle does not enter the step. Model sds: sigma_dW's (floored, with the window mean's);
+        K is read at the window's and this cycle's ranges on one track (the last estimates carried
+        back and forth), so that the jitter of the range tracked from cycle to cycle does not enter
+        the step; each cycle's K is its own (the tables where the observer was then, at that
+        cycle's bearing: an atlas's follow the observer, a bearing-dependent grid's change with the
+        bearing), so that K's change with the observer's position is not taken for the target's
+        (this cycle's K read at the window's ranges put up to 5 dB into the step where an
+        observer crossed a slope, docs/atlas-tracking.md). Model sds: sigma_dW's (floored, with the window mean's);
         for the level less K, K's structure under the range sd of eq. 21; for the level, the change
         of K along that track less what that structure leaves unknown (a change the tracked range
         cannot predict does not count against the level's own prediction, no change)."""
@@ -343,8 +353,11 @@ class MLBatch:
             dt = self.t_s[cycles] - self.t_s[n - 1]                                         # (F + 1,)
             r = np.hypot(last["x_m"][:, None] + vx[:, None] * dt - self.obs_x_m[cycles],
                          last["y_m"][:, None] + vy[:, None] * dt - self.obs_y_m[cycles])
-            k_rows = self._k_rows(k_db, top)
-            k_track = self._k_interp(k_rows, r)                                                # (B, F + 1)
+            k_rows = self._k_rows(k_db, top)                                                   # (B, R)
+            ring = self.k_top_db
+            k_win = np.moveaxis(ring[np.arange(lo, n - 3) % len(ring)], 0, 1)                  # (B, F, R)
+            k_track = np.concatenate([self._k_interp(k_win, r[:, :-1]), self._k_interp(k_rows, r[:, -1:])],
+                                     axis=1)                                                   # (B, F + 1)
             steps[1] = maneuver.level_step_db(self.top_band, self.top_level_db, self.tack_start, n,
                                               f_cycles=p.level_f, k_window_db=k_track[:, :-1],
                                               k_now_db=k_track[:, -1])
@@ -352,7 +365,7 @@ class MLBatch:
             if test.any():
                 window = np.where(self.top_band[:, lo:n - 3] == self.top_band[:, n:n + 1], r[:, :-1], np.nan)
                 structure = maneuver.k_structure_var_db2(k_rows, self.range_axis_m, np.where(test, r[:, -1], np.nan),
-                                                         window, range_sd_m)
+                                                         window, range_sd_m, k_window_db=k_win)
                 var_k = var + structure
                 # the change of K along the track, which the level itself leaves in its step, as
                 # far as the range is known well enough to predict it
@@ -365,13 +378,11 @@ class MLBatch:
         return fired
 
     def _k_interp(self, k_rows, range_m):
-        """Each row's K (B, R) at its ranges (B, J), linear, held at the axis's ends, dB."""
+        """Each row's K (B, R), or each row's per column (B, J, R), at its ranges (B, J), linear,
+        held at the axis's ends (`tracker.mltma.maneuver.k_along_range`), NaN at a NaN range, dB."""
         axis = self.range_axis_m
-        rc = np.clip(np.nan_to_num(range_m, nan=axis[0]), axis[0], axis[-1])
-        i = np.clip(np.searchsorted(axis, rc, side="right") - 1, 0, axis.size - 2)
-        w = (rc - axis[i]) / (axis[i + 1] - axis[i])
-        rows = np.arange(k_rows.shape[0])[:, None]
-        return np.where(np.isfinite(range_m), (1.0 - w) * k_rows[rows, i] + w * k_rows[rows, i + 1], np.nan)
+        k = maneuver.k_along_range(k_rows, axis, np.nan_to_num(range_m, nan=axis[0]))
+        return np.where(np.isfinite(range_m), k, np.nan)
 
     def _k_rows(self, k_db, band):
         """Each row's K(r) in the given band (B,) of its class, (B, R), dB."""

@@ -300,20 +300,42 @@ def level_step_db(top_band, level_db, tack_start, n, *, f_cycles: int, k_window_
     return out
 
 
-def k_structure_var_db2(k_row_db, range_axis_m, range_now_m, range_window_m, range_sd_m, nodes: int = 7):
+def k_along_range(k_db, range_axis_m, range_m):
+    """K profiles read at ranges: linear on the range axis, held at its ends, dB.
+
+    Parameters
+    ----------
+    k_db : ndarray, shape (B, R) or (B, J, R)
+        One K profile per row, or per row and column of ``range_m``, dB.
+    range_axis_m : ndarray, shape (R,)
+    range_m : ndarray, shape (B,) or (B, J)
+        Finite ranges, m.
+    """
+    r = np.clip(range_m, range_axis_m[0], range_axis_m[-1])
+    i = np.clip(np.searchsorted(range_axis_m, r, side="right") - 1, 0, range_axis_m.size - 2)
+    f = (r - range_axis_m[i]) / (range_axis_m[i + 1] - range_axis_m[i])
+    rows = np.arange(len(r))[:, None] if r.ndim == 2 else np.arange(len(r))
+    if k_db.ndim == 3:
+        cols = np.arange(r.shape[1])[None, :]
+        return (1.0 - f) * k_db[rows, cols, i] + f * k_db[rows, cols, i + 1]
+    return (1.0 - f) * k_db[rows, i] + f * k_db[rows, i + 1]
+
+
+def k_structure_var_db2(k_row_db, range_axis_m, range_now_m, range_window_m, range_sd_m, nodes: int = 7,
+                        k_window_db=None):
     """How much a range error moves eq. 29's statistic on the level less K, dB^2.
 
     With the tracked ranges off by a factor (1 + e / R_N) (a range error without an observer
     manoeuvre is mostly one of scale), K read at the current range R_N and at the window's R_i is
-    off by g(e) = [K(R_N + e) - K(R_N)] - mean_i [K(R_i (1 + e / R_N)) - K(R_i)]; returned is
-    E[g^2] for e ~ N(0, range_sd^2) (Gauss-Hermite nodes). Where K is smooth this is small even
+    off by g(e) = [K_N(R_N + e) - K_N(R_N)] - mean_i [K_i(R_i (1 + e / R_N)) - K_i(R_i)]; returned
+    is E[g^2] for e ~ N(0, range_sd^2) (Gauss-Hermite nodes). Where K is smooth this is small even
     for a large range sd (the two differences cancel); across a caustic or a steep ripple it is
     the K structure the tracked range cannot place.
 
     Parameters
     ----------
     k_row_db : ndarray, shape (B, R)
-        Each row's K on the range axis, dB.
+        Each row's K on the range axis now (K_N), dB.
     range_axis_m : ndarray, shape (R,)
     range_now_m : ndarray, shape (B,)
     range_window_m : ndarray, shape (B, F)
@@ -321,6 +343,9 @@ def k_structure_var_db2(k_row_db, range_axis_m, range_now_m, range_window_m, ran
     range_sd_m : ndarray, shape (B,)
         NaN where unknown: 0 returned.
     nodes : int
+    k_window_db : ndarray, shape (B, F, R), optional
+        Each window cycle's own K (K_i: the tables where the observer was then, at that cycle's
+        bearing), dB; default ``k_row_db`` for every cycle.
     """
     u, w = np.polynomial.hermite_e.hermegauss(nodes)
     w = w / w.sum()
@@ -330,20 +355,14 @@ def k_structure_var_db2(k_row_db, range_axis_m, range_now_m, range_window_m, ran
     use = np.isfinite(range_window_m) & ok[:, None]
     rw = np.where(use, range_window_m, rn[:, None])
     cnt = np.maximum(use.sum(axis=1), 1)
+    k_win = k_row_db if k_window_db is None else k_window_db
 
-    def k_at(r):
-        r = np.clip(r, range_axis_m[0], range_axis_m[-1])
-        i = np.clip(np.searchsorted(range_axis_m, r, side="right") - 1, 0, range_axis_m.size - 2)
-        f = (r - range_axis_m[i]) / (range_axis_m[i + 1] - range_axis_m[i])
-        rows = np.arange(len(r))[:, None] if r.ndim == 2 else np.arange(len(r))
-        return (1.0 - f) * k_row_db[rows, i] + f * k_row_db[rows, i + 1]
-
-    k_n, k_w = k_at(rn), k_at(rw)
+    k_n, k_w = k_along_range(k_row_db, range_axis_m, rn), k_along_range(k_win, range_axis_m, rw)
     g2 = np.zeros(len(rn))
     for uj, wj in zip(u, w):
         scale = 1.0 + uj * sd / np.maximum(rn, 1.0)
-        d_w = np.where(use, k_at(rw * scale[:, None]) - k_w, 0.0).sum(axis=1) / cnt
-        g2 += wj * np.square(k_at(rn * scale) - k_n - d_w)
+        d_w = np.where(use, k_along_range(k_win, range_axis_m, rw * scale[:, None]) - k_w, 0.0).sum(axis=1) / cnt
+        g2 += wj * np.square(k_along_range(k_row_db, range_axis_m, rn * scale) - k_n - d_w)
     return np.where(ok, g2, 0.0)
 
 

@@ -107,3 +107,28 @@ def test_a_range_error_moves_the_level_less_k_only_where_k_has_structure():
     args = (r, np.array([10300.0]), window, np.array([500.0]))
     assert k_structure_var_db2(smooth[None], *args)[0] < 0.1
     assert k_structure_var_db2(caustic[None], *args)[0] > 4.0 ** 2
+
+
+def test_the_k_structure_takes_each_window_cycle_s_own_k():
+    """Window cycles with their own K (the tables where the observer was then): the same K for
+    every cycle gives the one-profile figure; K that differs by a constant from cycle to cycle
+    moves nothing (a range error moves K's differences, not its level); a caustic in the window
+    cycles' own K counts where the current K has none."""
+    from tracker.mltma.maneuver import k_structure_var_db2
+
+    r = np.arange(100.0, 20000.0, 100.0)
+    smooth = -60.0 - 1e-3 * r
+    caustic = smooth + np.where((r > 10000.0) & (r < 10600.0), 8.0, 0.0)
+    window = np.linspace(9000.0, 9800.0, 10)[None]
+    args = (r, np.array([10300.0]), window, np.array([500.0]))
+    one = k_structure_var_db2(caustic[None], *args)
+    same = np.broadcast_to(caustic, (1, 10, r.size))
+    assert k_structure_var_db2(caustic[None], *args, k_window_db=same) == one
+    shifted = same + np.linspace(-3.0, 3.0, 10)[None, :, None]
+    np.testing.assert_allclose(k_structure_var_db2(caustic[None], *args, k_window_db=shifted), one, rtol=1e-9)
+    # each window cycle's own K with a caustic just beyond that cycle's range: the window's K
+    # structure counts though the current K is smooth
+    window_caustic = (smooth + np.where((r[None] > window[0, :, None] + 100.0)
+                                        & (r[None] < window[0, :, None] + 600.0), 8.0, 0.0))[None]
+    assert k_structure_var_db2(smooth[None], *args, k_window_db=window_caustic)[0] > 4.0
+    assert k_structure_var_db2(smooth[None], *args)[0] < 0.1
