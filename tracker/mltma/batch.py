@@ -332,11 +332,12 @@ class MLBatch:
         the step; each cycle's K is its own (the tables where the observer was then, at that
         cycle's bearing: an atlas's follow the observer, a bearing-dependent grid's change with the
         bearing), so that K's change with the observer's position is not taken for the target's
-        (this cycle's K read at the window's ranges put up to 5 dB into the step where an
-        observer crossed a slope, docs/atlas-tracking.md). Model sds: sigma_dW's (floored, with the window mean's);
-        for the level less K, K's structure under the range sd of eq. 21; for the level, the change
-        of K along that track less what that structure leaves unknown (a change the tracked range
-        cannot predict does not count against the level's own prediction, no change)."""
+        (this cycle's K read at the window's ranges put up to 5 dB into the step where an observer
+        crossed a slope, docs/atlas-tracking.md). Model sds: sigma_dW's (floored, with the window
+        mean's); for the level less K, K's structure under the range sd of eq. 21; for the level,
+        the change of K along that track less what that structure leaves unknown (a change the
+        tracked range cannot predict does not count against the level's own prediction, no
+        change)."""
         p = self.params
         top = np.maximum(self.top_band[:, n], 0)
         rows = np.arange(self.n_rows)
