@@ -74,7 +74,7 @@ def test_an_error_that_persists_is_counted_once():
 def test_posterior_quantiles_masses_and_sd():
     z = np.array([2.0, 10.0, 50.0, 100.0, 200.0, 300.0])
     span = (2.0, 300.0)
-    flat = posterior(z, np.zeros(z.size), span)  # uniform in depth over the span
+    flat = posterior(z, np.zeros(z.size), span, prior="uniform")  # uniform in depth over the span
     assert_allclose(flat.weight.sum(), 1.0)
     assert_allclose(flat.quantile(0.5), 151.0, atol=1e-9)
     assert_allclose([flat.quantile(0.05), flat.quantile(0.95)], [2.0 + 0.05 * 298, 300.0 - 0.05 * 298], atol=1e-9)
@@ -85,3 +85,34 @@ def test_posterior_quantiles_masses_and_sd():
     sure = posterior(z, np.where(z == 100.0, 0.0, -50.0), span)
     assert 75.0 < sure.quantile(0.05) < sure.quantile(0.95) < 150.0
     assert sure.surface_probability()[1] == pytest.approx(1.0)
+
+
+def test_the_default_prior_leaves_surface_or_submerged_open_when_the_levels_say_nothing():
+    # a likelihood that says nothing gives the prior back: uniform in ln(z + 1 m), so that the
+    # 90 % interval reaches from a surface ship to a deep submarine, and the surface-or-submerged
+    # call is near even; a prior uniform in depth would call it submerged at 11 to 1
+    z = np.array([2.0, 2.5, 5.0, 10.0, 20.0, 30.0, 50.0, 100.0, 200.0, 300.0])
+    span = (2.0, 300.0)
+    flat = posterior(z, np.zeros(z.size), span)
+    assert flat.quantile(0.05) < 6.0 and flat.quantile(0.95) > 200.0
+    surf, sub = flat.surface_probability()
+    assert 0.7 < surf / sub < 1.2
+    uni_surf, uni_sub = posterior(z, np.zeros(z.size), span, prior="uniform").surface_probability()
+    assert uni_sub / uni_surf > 10.0
+    # the mass within a cell follows the prior: the grid does not matter where the likelihood is flat
+    fine = posterior(np.linspace(2.0, 300.0, 300), np.zeros(300), span)
+    for q in (0.05, 0.5, 0.95):
+        assert_allclose(flat.quantile(q), fine.quantile(q), rtol=1e-9)
+    assert_allclose(flat.mean(), fine.mean(), rtol=1e-9)
+    assert_allclose(flat.sd(), fine.sd(), rtol=1e-9)
+    assert_allclose(flat.mass_between(10.0, 60.0), fine.mass_between(10.0, 60.0), rtol=1e-9)
+    # a sampled check of the cells' moments: the posterior's mean and sd are those of its draws
+    rng = np.random.default_rng(3)
+    w = rng.dirichlet(np.ones(z.size))
+    post = flat.at_cycle(w)
+    cell = rng.choice(z.size, 400_000, p=w)
+    u = rng.uniform(np.log(post.edges_m[cell] + 1.0), np.log(post.edges_m[cell + 1] + 1.0))
+    draws = np.exp(u) - 1.0
+    assert_allclose([post.mean(), post.sd()], [draws.mean(), draws.std()], rtol=5e-3)
+    with pytest.raises(ValueError, match="prior"):
+        posterior(z, np.zeros(z.size), span, prior="flat")

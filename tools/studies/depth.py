@@ -63,7 +63,7 @@ from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.depthbatch import DepthConfig
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
-from tracker.simulate import simulate_batch
+from tracker.simulate import TruePaths, simulate_batch
 
 AREA = "shelf-break"
 #: The scenario the command names; the study runs `SCENARIOS`.
@@ -213,7 +213,7 @@ def _weighed(sim, pos_z, z, like):
     w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
     best = np.argmax(w, axis=-1)                                                            # (E, T)
     pos = np.take_along_axis(pos_z, best[None, ..., None], axis=0)[0]
-    final = DepthPosterior(depth_m=post.depth_m, weight=post.weight[:, -1], edges_m=post.edges_m)
+    final = post.at_cycle(post.weight[:, -1])
     return pos, final, w[:, -1]
 
 
@@ -247,6 +247,46 @@ def _k_mismatch(sim, like, z_true: float, scenario: str) -> pd.DataFrame:
     return pd.DataFrame({"scenario": scenario, "true_depth_m": z_true,
                          "band": np.tile(np.arange(k.shape[-1]), k.shape[0]),
                          "band_offset_db": band_mean.ravel(), "along_track_sd_db": along.ravel()})
+
+
+#: The tables against BELLHOP from the target where nothing but the two methods differs: the
+#: observer at the grid's origin, targets on one of its radials (deg), at these ranges (m) and
+#: depths (m); what the depth likelihood's error model (``tracker.depthpost.LevelErrors``)
+#: takes its fine sds from.
+CHECK_BEARING_DEG = 150.0
+CHECK_RANGES_M = tuple(float(r) for r in range(3000, 20001, 1000))
+CHECK_DEPTHS_M = (3.0, 6.0, 10.0, 20.0, 60.0)
+
+
+def _table_check(tables, provider, ic: int) -> dict:
+    """K from BELLHOP with the source at the target (the truth's runs) less the tables' K (from
+    the observer, read as the depth likelihood reads it) with the observer at the origin on the
+    radial `CHECK_BEARING_DEG`: per depth, the mean, the bands' offsets from it, and the sd
+    along range of the part common to the bands and of each band's own, dB."""
+    r = np.asarray(CHECK_RANGES_M)
+    x, y = r * math.sin(math.radians(CHECK_BEARING_DEG)), r * math.cos(math.radians(CHECK_BEARING_DEG))
+    like = TrackDepthLikelihood(tables, ic, tables.band_names, DEPTH_SPAN_M)
+    out = {}
+    for z in CHECK_DEPTHS_M:
+        paths = TruePaths(ic=ic, obs_x_m=np.zeros(1), obs_y_m=np.zeros(1), obs_depth_m=tables.area.observer.depth_m,
+                          x_m=x[:, None], y_m=y[:, None], range_m=r[:, None],
+                          bearing_deg=np.full((r.size, 1), CHECK_BEARING_DEG), target_depth_m=z)
+        k_truth = provider(paths)[:, 0, :]                                              # (R, M)
+        k_table = np.stack([m.at(z, r, CHECK_BEARING_DEG) for m in like._mean], axis=-1)
+        d = k_truth - k_table
+        d0 = d - np.nanmean(d)
+        band = np.nanmean(d0, axis=0)
+        common = np.nanmean(d0 - band, axis=1)
+        own = d0 - band - common[:, None]
+        out[f"{z:g}"] = {"mean_db": round(float(np.nanmean(d)), 2),
+                         "band_offsets_db": [round(float(v), 2) for v in band],
+                         "common_sd_db": round(float(np.nanstd(common)), 2),
+                         "band_own_sd_db": round(float(np.nanstd(own)), 2)}
+    summary = {"bearing_deg": CHECK_BEARING_DEG, "ranges_km": [CHECK_RANGES_M[0] / 1e3, CHECK_RANGES_M[-1] / 1e3],
+               "by_depth_m": out}
+    for key in ("common_sd_db", "band_own_sd_db"):
+        summary[f"median_{key}"] = round(float(np.median([v[key] for v in out.values()])), 2)
+    return summary
 
 
 def _mismatch_summary(parts) -> dict:
@@ -354,6 +394,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     summary = _summary(frame, tables, ic, runs=runs, seed=seed, n_particles=n_particles, truth=truth,
                        grid=grid, provider=provider)
     summary["level_residual_at_true_depth_db"] = _mismatch_summary(mismatch)
+    if provider is not None:
+        summary["tables_vs_bellhop_from_target_db"] = _table_check(tables, provider, ic)
     summary["seconds"] = round(time.perf_counter() - start, 1)
     files = [out / "depth_runs.csv", out / "depth.json", out / "depth.png"]
     from acoustics.plots.figures import save_figure

@@ -207,7 +207,7 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
         post, own = depth_posterior(like, z, span, good.t_s, r, b, np.asarray(good.level_db, dtype=float),
                                     np.asarray(good.snr_db, dtype=float))
         last_t = post.weight[:, -1]                                      # (C, D): each its own cycle's
-        post = DepthPosterior(depth_m=post.depth_m, weight=last_t, edges_m=post.edges_m)
+        post = post.at_cycle(last_t)
         w = hypothesis_weights(post, own, z.size)                        # (C, H)
         held = np.searchsorted(at, np.arange(n_t), side="right") - 1     # the last taken at or before
         best = np.argmax(w, axis=1)[held]
@@ -221,7 +221,7 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             lw = np.log(last)
         order = np.argsort(last)[::-1]
         own_depth = np.flatnonzero(np.isclose(z, cls.depth_m))
-        final = DepthPosterior(depth_m=post.depth_m, weight=post.weight[-1], edges_m=post.edges_m)
+        final = post.at_cycle(post.weight[-1])
         surf, sub = final.surface_probability()
         choices.append(DepthChoice(
             cls_name=name, depth_m=float(z[order[0]]), depths_m=tuple(float(v) for v in z),
