@@ -579,6 +579,22 @@ def depth_mismatch(root: Path) -> str:
             + _source(d, "depth/depth.json"))
 
 
+def depth_check(root: Path) -> str:
+    d = _load(root, "depth/depth.json")
+    c = d["tables_vs_bellhop_from_target_db"]
+    rows = [("target depth", "mean", "bands' offsets", "sd common to the bands", "sd of each band's own"),
+            ("---",) * 5]
+    for z, v in c["by_depth_m"].items():
+        rows.append((f"{z} m", f"{v['mean_db']:+.1f} dB", " / ".join(f"{o:+.1f}" for o in v["band_offsets_db"]),
+                     f"{v['common_sd_db']:.1f} dB", f"{v['band_own_sd_db']:.1f} dB"))
+    rows.append(("median", "", "", f"**{c['median_common_sd_db']:.1f} dB**",
+                 f"**{c['median_band_own_sd_db']:.1f} dB**"))
+    return (_table(rows) + "\nK from BELLHOP run from the target less the tables' K, the observer at the "
+            "grid's origin, "
+            f"targets on its {c['bearing_deg']:g} deg radial at {c['ranges_km'][0]:g}-{c['ranges_km'][1]:g} km "
+            "every km; the sds along range.\n\n" + _source(d, "depth/depth.json"))
+
+
 def depth_weights(root: Path) -> str:
     d = _load(root, "depth/depth.json")
     w = d["hypothesis_weights_mean"]["ml"]
@@ -605,6 +621,7 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk,
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
                                              "depth-weights": depth_weights, "depth-mismatch": depth_mismatch,
+                                             "depth-check": depth_check,
                                              "follow-rmse": follow_rmse, "follow-manoeuvres": follow_manoeuvres,
                                              "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse}
 

@@ -15,10 +15,10 @@ which bands they touch),
 - g, f_m: the tables' fine K error along the track (the interference pattern a little off), a
   Gauss-Markov process in time (exponential correlation over ``fine_time_s``): g common to the
   bands, sd ``fine_sd_db``, and f_m per band, sd ``fine_band_sd_db``. Their sds are the tables'
-  K against BELLHOP run from the target where nothing else differs (the depth study's
-  ``tables_vs_bellhop_from_target_db``: shelf-break, the observer at the grid's origin, targets
-  at 3-60 m on one of its radials, 3-20 km): 2.2 dB common to the bands, 0.7 dB each band's
-  own (medians over the depths), the along-range correlation gone within 1 km. The correlation
+  K, read as here (averaged over the range uncertainty), against BELLHOP run from the target
+  where nothing else differs (the depth study's ``tables_vs_bellhop_from_target_db``:
+  shelf-break, the observer at the grid's origin, targets at 3-60 m on one of its radials,
+  3-20 km): 1.8 dB common to the bands, 0.5 dB each band's own (medians over the depths). The correlation
   time is from the shelf-break slope along a true path (a submarine at 60 m, 10 s cycles, the
   range changing by 20 m a cycle: 0.35 after 50 s);
 - u: a slow error common to the bands (the water or the bottom a little off), sd
@@ -83,8 +83,8 @@ class LevelErrors:
 
     offset_sd_db: float
     band_sd_db: float = 1.0
-    fine_sd_db: float = 2.2
-    fine_band_sd_db: float = 0.7
+    fine_sd_db: float = 1.8
+    fine_band_sd_db: float = 0.5
     fine_time_s: float = 60.0
     slow_sd_db: float = 1.0
     slow_time_s: float = 600.0
