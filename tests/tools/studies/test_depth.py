@@ -37,3 +37,31 @@ def test_the_particles_interval_is_kept_inside_the_span():
     assert_allclose(rows["lo_m"], [depth.DEPTH_SPAN_M[0], 150.0 - depth.Z90])
     assert_allclose(rows["hi_m"], [5.0 + depth.Z90 * 10.0, 150.0 + depth.Z90])
     assert rows["p_surface"][0] > 0.8 and rows["p_submerged"][1] > 0.999
+
+
+def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_file):
+    # a "BELLHOP from the target" that is the tables' K as the likelihood reads it, plus a known
+    # offset, a known offset per band and a known ripple along range common to the bands: the
+    # check gives each back, and nothing as the bands' own part
+    from acoustics.grid.opentables import open_tables
+    from tracker.depthlevels import TrackDepthLikelihood
+
+    tables = open_tables(tiny_depth_grid_file)
+    ic = tables.class_index("SUB")
+    like = TrackDepthLikelihood(tables, ic, tables.band_names, depth.DEPTH_SPAN_M)
+    pattern = np.linspace(-1.0, 1.0, len(tables.band_names))
+    ripple = 1.5 * np.sin(np.asarray(depth.CHECK_RANGES_M) / 1300.0)
+
+    def provider(paths):
+        r = np.hypot(paths.x_m, paths.y_m)[:, 0]
+        k = np.stack([m.at(paths.target_depth_m, r, 0.0) for m in like._mean], axis=-1)
+        return (k + 2.0 + pattern + ripple[:, None])[:, None, :]
+
+    check = depth._table_check(tables, provider, ic)
+    assert set(check["by_depth_m"]) == {f"{z:g}" for z in depth.CHECK_DEPTHS_M}
+    for v in check["by_depth_m"].values():
+        assert_allclose(v["mean_db"], 2.0 + ripple.mean(), atol=0.006)
+        assert_allclose(v["band_offsets_db"], pattern - pattern.mean(), atol=0.006)
+        assert_allclose(v["common_sd_db"], ripple.std(), atol=0.006)
+        assert v["band_own_sd_db"] < 0.006
+    assert_allclose(check["median_common_sd_db"], ripple.std(), atol=0.006)
