@@ -35,13 +35,35 @@ from envdata.files import atomic_paths
 from tools.studies.trackerrors import ml_errors, rpf_errors
 from tracker.mltma import MLParams
 from tracker.scenario import load_scenario
-from tracker.simulate import simulate_batch
+from tracker.simulate import TruePaths, simulate_batch, tables_k
 
 AREA, ATLAS_AREA, SCENARIO = "shelf-break", "shelf-break-atlas", "shelf-cross"
 SPACINGS_KM = (10.0, 5.0)
 TABLES = ("origin", "atlas-10km", "atlas-5km")
 TRUTHS = ("bellhop", "tables")
 REPORT_MIN = (10, 20, 30, 40)
+#: The time bins of the tables' K error along the path, min.
+K_ERROR_BINS_MIN = (0, 10, 20, 30, 40)
+
+
+def k_error_by_time(sim, sc, ic: int, truth, tables: dict) -> dict:
+    """BELLHOP's K along the true path (the runs share it) less each table's K there, every band:
+    per time bin of `K_ERROR_BINS_MIN`, the mean and the RMS over cycles and bands, dB."""
+    paths = TruePaths(ic=ic, obs_x_m=sim.obs_x_m, obs_y_m=sim.obs_y_m, obs_depth_m=sim.obs_depth_m,
+                      x_m=sim.x_m[:1], y_m=sim.y_m[:1], range_m=sim.range_m[:1],
+                      bearing_deg=sim.bearing_true_deg[:1], target_depth_m=sc.target_depth_m)
+    k_truth = truth(paths)[0]                                                       # (T, M)
+    minutes = (sim.t_s - sim.t_s[0]) / 60.0
+    out = {}
+    for name, tab in tables.items():
+        d = k_truth - tables_k(tab)(paths)[0]
+        bins = {}
+        for lo, hi in zip(K_ERROR_BINS_MIN[:-1], K_ERROR_BINS_MIN[1:]):
+            sel = d[(minutes >= lo) & (minutes < hi)]
+            bins[f"{lo}-{hi}"] = {"mean_db": round(float(np.nanmean(sel)), 2),
+                                  "rms_db": round(float(np.sqrt(np.nanmean(sel ** 2))), 2)}
+        out[name] = bins
+    return out
 
 
 def _shown(path: Path) -> str:
@@ -95,6 +117,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     for col in frame.columns[1:]:
         rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}
     diff = sims["bellhop"].level_true_db[0, :, band] - sims["tables"].level_true_db[0, :, band]
+    k_error = k_error_by_time(sims["bellhop"], sc, ic, truth, tables)
     obs_travel = float(np.hypot(np.ptp(sims["bellhop"].obs_x_m), np.ptp(sims["bellhop"].obs_y_m)))
     summary = {"scenario": sc.name, "runs": runs, "seed": seed, "n_particles": n_particles, "class": sc.target_class,
                "band": tables["origin"].band_names[band], "observer_travel_m": obs_travel,
@@ -104,6 +127,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "level_bellhop_minus_atlas5km_db": {"median": float(np.nanmedian(diff)),
                                                    "sd": float(np.nanstd(diff)),
                                                    "p95_abs": float(np.nanpercentile(np.abs(diff), 95))},
+               "bellhop_minus_tables_k_db": k_error,
                "rmse_m": rmse, "mean_rmse_after_10min_m": {
                    col.removesuffix("_rmse_m"): float(np.sqrt(np.nanmean(frame[col][minutes >= 10.0] ** 2)))
                    for col in frame.columns[1:]},
