@@ -234,7 +234,8 @@ def follow_kerror(root: Path) -> str:
     for key, label in FOLLOW_TABLES:
         rows.append((label, *(f"{k[key][b]['rms_db']:.1f} ({k[key][b]['mean_db']:+.1f})" for b in bins)))
     return (_table(rows) + "\nBELLHOP's K along the true path less the tables' K there, every band: RMS over the "
-            "cycles and bands of each time bin (in brackets the mean), dB.\n\n" + _source(d, "atlas-tracking/follow.json"))
+            "cycles and bands of each time bin (in brackets the mean), dB.\n\n"
+            + _source(d, "atlas-tracking/follow.json"))
 
 
 def follow_manoeuvres(root: Path) -> str:
@@ -633,7 +634,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
                                              "depth-weights": depth_weights, "depth-mismatch": depth_mismatch,
                                              "depth-check": depth_check,
-                                             "follow-rmse": follow_rmse, "follow-kerror": follow_kerror, "follow-manoeuvres": follow_manoeuvres,
+                                             "follow-rmse": follow_rmse, "follow-kerror": follow_kerror,
+                                             "follow-manoeuvres": follow_manoeuvres,
                                              "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse}
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
