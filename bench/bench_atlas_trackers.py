@@ -67,6 +67,14 @@ def _rpf_seconds(tables, sim, ic: int, runs: int) -> float:
     return time.perf_counter() - start
 
 
+def _shown(path: Path) -> str:
+    """A path as a result file records it: relative to the repository when inside it."""
+    try:
+        return str(Path(path).resolve().relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
 def main(path: Path) -> dict:
     sc = load_scenario("shelf-cross")
     base = _tables(path, "grid")
@@ -94,11 +102,3 @@ def main(path: Path) -> dict:
 
 if __name__ == "__main__":
     print(json.dumps(main(Path(sys.argv[1]) if len(sys.argv) > 1 else ATLAS), indent=1))
-
-
-def _shown(path: Path) -> str:
-    """A path as a result file records it: relative to the repository when inside it."""
-    try:
-        return str(Path(path).resolve().relative_to(ROOT))
-    except ValueError:
-        return str(path)
