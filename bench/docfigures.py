@@ -513,7 +513,7 @@ def models_bench(root: Path) -> str:
              f"{_fig(d, 'ram_w1_wall'):.1f} s ({_fig(d, 'ram_run_seconds_sum_w1'):.1f} s of runs), "
              f"peak {_fig(d, 'ram_w1_peak_rss'):.0f} MiB"),
             ("RAM build, 2 workers", f"{_fig(d, 'ram_w2_wall'):.1f} s, peak {_fig(d, 'ram_w2_peak_rss'):.0f} MiB"),
-            ("RAM on 2 workers over BELLHOP on 2 workers", f"{_fig(d, 'ram_w2_over_bellhop_w2'):.0f}x"),
+            ("RAM on 2 workers over BELLHOP on 2 workers", f"{_fig(d, 'ram_w2_over_bellhop_w2'):.2g}x"),
             ("RAM, 2 workers against 1", f"{_fig(d, 'ram_speedup_2_vs_1'):.2f}x (target >= 1.8x)")]
     return _table(rows) + "\n" + _source(d, "models.json")
 
