@@ -30,12 +30,15 @@ REPEATS = 3  # timings interleaved and repeated; the figures are medians
 
 
 
-def raw_bellhop_seconds(envs: list[str], exe: Path) -> float:
-    """Sum of the wall times of bellhop.exe itself on the given environment files, one at a time."""
+def raw_bellhop_seconds(runs, exe: Path) -> float:
+    """Sum of the wall times of bellhop.exe itself on the runs' files (the .env and the files
+    beside it, such as a source pattern's .sbp), one at a time."""
     total = 0.0
-    for env in envs:
+    for run in runs:
         with tempfile.TemporaryDirectory() as tmp:
-            (Path(tmp) / "raw.env").write_text(env)
+            (Path(tmp) / "raw.env").write_text(run.env)
+            for suffix, text in run.files:
+                (Path(tmp) / f"raw.{suffix}").write_text(text)
             start = time.perf_counter()
             subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
             total += time.perf_counter() - start
@@ -59,7 +62,7 @@ def main() -> None:
                                               "--force"])
             w1.append(wall1)
             w2.append(wall2)
-            raws.append(raw_bellhop_seconds([r.env for r in runs], exe))
+            raws.append(raw_bellhop_seconds(runs, exe))
             rss.append(max(rss1, rss2))
         wall1, wall2, raw = median(w1), median(w2), median(raws)
         session.say("repeats", REPEATS)
@@ -90,7 +93,7 @@ def main() -> None:
     # check the cost model on one real automatic-beam run (FB1 centre, the NPS depth)
     auto_area = dataclasses.replace(area, propagation=dataclasses.replace(area.propagation, n_beams=0))
     probe = [r for r in plan_runs(auto_area) if r.source_depth_m == 200.0][0]
-    probe_s = raw_bellhop_seconds([probe.env], exe)
+    probe_s = raw_bellhop_seconds([probe], exe)
     predicted = auto_beams(probe.freq_hz) * receivers * ns_per * 1e-9
     session.say("cost_model_check_auto_beam_run", probe_s / predicted, "measured/predicted")
     naive_runs = len(area.classes) * len(area.bands) * area.propagation.freqs_per_band
