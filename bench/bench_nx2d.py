@@ -15,7 +15,6 @@ from __future__ import annotations
 import os
 import resource
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -28,7 +27,7 @@ from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial
 from acoustics.builder.runs import execute_runs
 from acoustics.nx2d.box3d import box_positions
 from acoustics.nx2d.route import Nx2dStats, box_range_m, nx2d_fields, sample_area_box
-from bench.harness import REPO, Session
+from bench.harness import Session, portable_path
 from envdata.radials import area_radials, geodesic_points
 
 REPEATS = int(os.environ.get("NX2D_REPEATS", "3"))
@@ -327,11 +326,8 @@ def report(label: str, res: dict) -> None:
 
 
 def _relative(described: dict) -> dict:
-    """An executable's description with its path relative to the repository when it is inside."""
-    path = Path(described.get("path", ""))
-    if path.is_absolute() and path.is_relative_to(REPO):
-        return {**described, "path": str(path.relative_to(REPO))}
-    return described
+    """An executable's description with its path as a result file may name it (`portable_path`)."""
+    return {**described, "path": portable_path(described["path"])} if described.get("path") else described
 
 
 def main() -> None:

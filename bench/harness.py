@@ -103,6 +103,19 @@ def portable(command: str) -> str:
     return command.replace(str(REPO) + "/", "")
 
 
+def portable_path(path) -> str:
+    """A file's path as a result file may name it on any machine: relative to the repository when
+    inside it, relative to the environment (``VENV/...``) when inside the running Python's prefix
+    (a venv outside the checkout), else its name alone."""
+    p = Path(path)
+    if not p.is_absolute():
+        return str(p)
+    for root, shown in ((REPO, ""), (Path(sys.prefix), "VENV/")):
+        if p.is_relative_to(root):
+            return shown + str(p.relative_to(root))
+    return p.name
+
+
 def provenance(*, command: str | None = None, load_before: list[float] | None = None,
                extra_versions: Mapping[str, str] | None = None,
                git: tuple[str | None, bool | None] | None = None) -> dict:

@@ -68,6 +68,15 @@ def _result_files():
     return sorted(p for p in RESULTS.rglob("*.json") if "grids" not in p.relative_to(RESULTS).parts[1:2])
 
 
+def _strings(x):
+    """Every string value in a JSON document."""
+    if isinstance(x, dict):
+        return [s for v in x.values() for s in _strings(v)]
+    if isinstance(x, list):
+        return [s for v in x for s in _strings(v)]
+    return [x] if isinstance(x, str) else []
+
+
 @pytest.mark.parametrize("path", _result_files(), ids=lambda p: str(p.relative_to(RESULTS)))
 def test_every_result_file_says_how_it_was_made(path):
     data = json.loads(path.read_text())
@@ -77,6 +86,9 @@ def test_every_result_file_says_how_it_was_made(path):
     assert prov["command"], f"{path}: no command"
     # typed from the repository's root on any machine: no absolute path (bench.harness.portable)
     assert not re.search(r"(^|\s)/\S", prov["command"]), f"{path}: a machine path in {prov['command']!r}"
+    # nor anywhere else in the file (an executable's path: bench.harness.portable_path)
+    machine_paths = [v for v in _strings(data) if re.match(r"/(work|home|root|tmp|usr|opt)/", v)]
+    assert not machine_paths, f"{path}: machine paths {machine_paths[:3]}"
     if prov.get("rerun_pending"):
         assert prov.get("reason"), f"{path}: marked to be made again without a reason"
     else:  # made by the harness: all of it
