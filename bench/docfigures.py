@@ -188,12 +188,19 @@ def shelf_rmse(root: Path) -> str:
     names = (("ml_bearing", "ML (G&M), bearing-dependent"), ("ml_isotropic", "ML (G&M), origin's column, flat"),
              ("rpf_bearing", "particle filter, bearing-dependent"),
              ("rpf_isotropic", "particle filter, origin's column, flat"))
-    rows = [("tracker, grid", "5 min", "10 min", "20 min", "30 min", "5-30 min"), ("---",) * 6]
+    rows = _rmse_rows(d, names, ("tracker, grid", "5-30 min"), "{:.0f}", 1.0)
+    return _table(rows) + "\n" + _source(d, "shelf/shelf.json")
+
+
+def _rmse_rows(d: dict, names, heads: tuple[str, str], fmt: str, scale: float) -> list[tuple]:
+    """A tracker study's position RMSE at 5, 10, 20 and 30 min and its mean after 5 min, a row per
+    (key, label) of ``names``, each value divided by ``scale`` and printed with ``fmt``."""
+    rows = [(heads[0], "5 min", "10 min", "20 min", "30 min", heads[1]), ("---",) * 6]
     for key, label in names:
         r = d["rmse_m"][key]
-        rows.append((label, *(f"{r[t]:.0f}" for t in ("5", "10", "20", "30")),
-                     f"{d['mean_rmse_after_5min_m'][key]:.0f}"))
-    return _table(rows) + "\n" + _source(d, "shelf/shelf.json")
+        rows.append((label, *(fmt.format(r[t] / scale) for t in ("5", "10", "20", "30")),
+                     fmt.format(d["mean_rmse_after_5min_m"][key] / scale)))
+    return rows
 
 
 def shelf_dk(root: Path) -> str:
@@ -266,11 +273,7 @@ def kerror_rmse(root: Path) -> str:
     d = _load(root, "kerror/kerror.json")
     names = (("rpf_map", "particle filter, sd by bearing and range"), ("rpf_scalar", "particle filter, one number"),
              ("ml_map", "ML analysis, sd by bearing and range"), ("ml_scalar", "ML analysis, one number"))
-    rows = [("position RMSE, km", "5 min", "10 min", "20 min", "30 min", "mean after 5 min"), ("---",) * 6]
-    for key, label in names:
-        r = d["rmse_m"][key]
-        rows.append((label, *(f"{r[t] / 1000:.2f}" for t in ("5", "10", "20", "30")),
-                     f"{d['mean_rmse_after_5min_m'][key] / 1000:.2f}"))
+    rows = _rmse_rows(d, names, ("position RMSE, km", "mean after 5 min"), "{:.2f}", 1000.0)
     return _table(rows) + "\n" + _source(d, "kerror/kerror.json")
 
 
