@@ -144,6 +144,50 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     return summary
 
 
+def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int = 2,
+                n_particles: int = 2000) -> dict:
+    """How the atlas's blend between positions serves the trackers (docs/atlas-tracking.md): on
+    BELLHOP's levels along the true paths, for each seed a batch of ``runs`` runs tracked by the
+    ML analysis (default tests) and the particle filter with the origin table and with each atlas
+    whose positions are weighted with each water-depth ratio of ``ratios`` (None: bilinear alone;
+    ``AtlasStore.water_depth_ratio``). Per tracker, table and seed: the RMS over t >= 10 min of
+    the RMSE over runs (as ``follow.json``'s ``mean_rmse_after_10min_m``) and the median over
+    runs of each run's mean error after 10 min; per atlas and ratio, BELLHOP's K along the path
+    less the tables' (`k_error_by_time`). Grids and atlases as `run` builds them in ``out_dir``."""
+    from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO
+
+    paths = build_tables(Path(out_dir) / "grids", workers)
+    sc = load_scenario(SCENARIO)
+    origin = open_tables(paths["origin"])
+    ic = origin.class_index(sc.target_class)
+    truth = BellhopTruth(load_area(AREA), cache_dir=Path(out_dir) / "grids" / "truth-runs", workers=workers)
+    label = {r: "bilinear" if r is None else f"water-{r:g}" for r in ratios}
+    scores, k_error = {}, {}
+    for seed in seeds:
+        sim = simulate_batch(sc, origin, np.random.default_rng([seed, 0]), dk_db=np.zeros(runs), k_provider=truth)
+        late = (sim.t_s - sim.t_s[0]) >= 600.0
+        tables = {"origin": origin}
+        for ratio in ratios:
+            for spacing in SPACINGS_KM:
+                name = f"atlas-{spacing:g}km"
+                tab = open_tables(paths[name])
+                tab.store.water_depth_ratio = ratio
+                tables[f"{name} {label[ratio]}"] = tab
+        for name, tab in tables.items():
+            errs = {"ml": ml_errors(tab, sim, ic, MLParams())[0],
+                    "rpf": rpf_errors(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles)}
+            for method, err in errs.items():
+                rmse = np.sqrt(np.nanmean(err ** 2, axis=0))
+                scores.setdefault(f"{method} {name}", {})[str(seed)] = {
+                    "rmse_after_10min_m": round(float(np.sqrt(np.nanmean(rmse[late] ** 2))), 1),
+                    "median_run_mean_after_10min_m": round(float(np.median(np.nanmean(err[:, late], axis=1))), 1)}
+        if seed == seeds[0]:
+            k_error = k_error_by_time(sim, sc, ic, truth, tables)
+    return {"scenario": sc.name, "runs_per_seed": runs, "seeds": list(seeds), "n_particles": n_particles,
+            "default_ratio": WATER_DEPTH_RATIO, "ratios": [label[r] for r in ratios], "scores": scores,
+            "bellhop_minus_tables_k_db": k_error}
+
+
 def _figure(frame: pd.DataFrame, summary: dict):
     from acoustics.plots.figures import new_figure
 
@@ -170,4 +214,4 @@ def _figure(frame: pd.DataFrame, summary: dict):
     return fig
 
 
-__all__ = ["run"]
+__all__ = ["blend_trial", "run"]

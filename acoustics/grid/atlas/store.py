@@ -6,7 +6,8 @@ here, and every table's area derived from it. An `AtlasStore` holds the tables a
 nothing itself: ``store.sel(month=M, origin=i)`` is the bearing-dependent grid face
 (``RadialTables``) of that month with ``[origin]`` at position i, ``store.weights_at(x, y)`` the
 positions around observers and their weights (``acoustics.grid.atlas.weights``: bilinear on the
-lattice, barycentric over a triangle of listed positions), and the faces that answer between
+lattice, barycentric over a triangle of listed positions, tempered by how alike each position's
+water depth is to the observer's, read from the positions' own radials), and the faces that answer between
 positions are ``acoustics.grid.atlas.follow``'s (through ``acoustics.open_tables``). A table
 whose chunks are missing or fail their checksum is never read as numbers: it counts as not
 built, and reading it is an ``AtlasFileError`` naming the command that rebuilds it.
@@ -23,9 +24,10 @@ import numpy as np
 import xarray as xr
 
 from acoustics.grid.atlas.format import AtlasFileError, check_format, chunk_exists, is_atlas_attrs, read_attrs
-from acoustics.grid.atlas.weights import lattice_weights, listed_weights
+from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO, lattice_weights, listed_weights, water_weights
 from acoustics.grid.checked import checked_tables
 from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.grid.lookup import axis_cells, bearing_weights
 from acoustics.grid.radialtables import RadialTables
 from envdata.area import Area
 from envdata.areafile import area_from_json
@@ -51,6 +53,10 @@ class AtlasStore:
     lattice : dict or None
         The lattice's ``lat0_deg, lon0_deg, dlat_deg, dlon_deg, rows, cols`` (None: listed
         positions).
+    water_depth_ratio : float or None
+        How the positions' water tempers their weights around an observer
+        (``weights.water_weights``); None: the bilinear (barycentric) weights alone. Set it
+        before any face of the store is asked for tables (they keep their weights).
     """
 
     path: Path
@@ -69,6 +75,7 @@ class AtlasStore:
     left_out: list
     lattice: dict | None
     _group: object = field(repr=False)
+    water_depth_ratio: float | None = WATER_DEPTH_RATIO
     _slabs: dict = field(default_factory=dict, repr=False)
     _k_tables: dict = field(default_factory=dict, repr=False)
     _kept: dict = field(default_factory=dict, repr=False)
@@ -167,26 +174,67 @@ class AtlasStore:
     def weights(self, lat_deg, lon_deg) -> tuple[np.ndarray, np.ndarray]:
         """The positions around observers at latitudes and longitudes and their weights, (P, 3
         or 4) each; ``ObserverPositionError`` for the first observer outside."""
+        lat = np.atleast_1d(np.asarray(lat_deg, dtype=float))
+        lon = np.atleast_1d(np.asarray(lon_deg, dtype=float))
+        x, y = lat_lon_to_local_plane(*self._plane_origin(), lat, lon)
         if self.lattice is not None:
-            return lattice_weights(lat_deg, lon_deg, self.lattice, self._nodes())
-        x, y = lat_lon_to_local_plane(*self._plane_origin(), np.asarray(lat_deg, dtype=float),
-                                      np.asarray(lon_deg, dtype=float))
+            return self._tempered(*lattice_weights(lat, lon, self.lattice, self._nodes()), x, y)
         return self.weights_at(x, y)
 
     def weights_at(self, x_m, y_m) -> tuple[np.ndarray, np.ndarray]:
         """`weights` of observers x east and y north of the area's ``[origin]`` (the local plane of
         the trackers), m: listed positions are weighted in that plane itself, a lattice (rows and
-        columns of latitude and longitude) at the observers' latitudes and longitudes."""
-        origin = self._plane_origin()
+        columns of latitude and longitude) at the observers' latitudes and longitudes; then both
+        tempered by the water depth (`observer_water_depth`, ``weights.water_weights``)."""
+        x = np.atleast_1d(np.asarray(x_m, dtype=float))
+        y = np.atleast_1d(np.asarray(y_m, dtype=float))
         if self.lattice is not None:
-            lat, lon = local_plane_to_lat_lon(*origin, np.atleast_1d(np.asarray(x_m, dtype=float)),
-                                              np.atleast_1d(np.asarray(y_m, dtype=float)))
-            return lattice_weights(lat, lon, self.lattice, self._nodes())
+            lat, lon = local_plane_to_lat_lon(*self._plane_origin(), x, y)
+            return self._tempered(*lattice_weights(lat, lon, self.lattice, self._nodes()), x, y)
+        px, py = self._plane_positions()
+        return self._tempered(*listed_weights(x, y, px, py), x, y)
+
+    def observer_water_depth(self, idx: np.ndarray, w: np.ndarray, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """The water depth at observers (P,), m, read from the atlas itself: each surrounding
+        position's bottom along its radials (stored with its table) at the observer's bearing and
+        distance from it (linear between the two radials around the bearing and along range), those
+        depths weighted by ``w``. NaN where a position's bottom is unknown or not finite there."""
+        px, py = self._plane_positions()
+        bottom = self._bottoms()                                     # (O, N, R)
+        dx, dy = x_m[:, None] - px[idx], y_m[:, None] - py[idx]       # (P, K)
+        j0, j1, wb = bearing_weights(self.bearing_deg, np.degrees(np.arctan2(dx, dy)))
+        r0, r1, wr = axis_cells(np.asarray(self.range_m, dtype=float), np.hypot(dx, dy))
+        along = [(1.0 - wr) * bottom[idx, j, r0] + wr * bottom[idx, j, r1] for j in (j0, j1)]
+        h = (1.0 - wb) * along[0] + wb * along[1]
+        return np.sum(np.where(w > 0, w * h, 0.0), axis=1)
+
+    def _tempered(self, idx: np.ndarray, w: np.ndarray, x_m: np.ndarray, y_m: np.ndarray):
+        """``(idx, w)`` with the weights tempered by the water (``weights.water_weights``)."""
+        if self.water_depth_ratio is None:
+            return idx, w
+        h_obs = self.observer_water_depth(idx, w, x_m, y_m)
+        # a position's own depth: its bottom on the ring of its radials' first range (200 m)
+        h_pos = self._bottoms()[:, :, 0].mean(axis=1)
+        return idx, water_weights(w, h_pos[idx], h_obs, self.water_depth_ratio)
+
+    def _bottoms(self) -> np.ndarray:
+        """Every position's bottom along its radials (O, N, R), m; NaN for a position none of
+        whose tables is done (its bottom may be missing from the store)."""
+        key = ("bottoms",)
+        if key not in self._kept:
+            bottom = self._read("bottom_depth_m", slice(None)).astype(float)
+            bottom[~self.done.any(axis=0)] = np.nan
+            bottom.setflags(write=False)
+            self._kept[key] = bottom
+        return self._kept[key]
+
+    def _plane_positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """The positions x east and y north of the area's ``[origin]``, m (kept)."""
         key = ("plane",)
         if key not in self._kept:
-            self._kept[key] = lat_lon_to_local_plane(*origin, self.lat_deg, self.lon_deg)
-        px, py = self._kept[key]
-        return listed_weights(x_m, y_m, np.asarray(px), np.asarray(py))
+            self._kept[key] = tuple(np.asarray(v, dtype=float) for v in
+                                    lat_lon_to_local_plane(*self._plane_origin(), self.lat_deg, self.lon_deg))
+        return self._kept[key]
 
     def _plane_origin(self) -> tuple[float, float]:
         origin = self.area.origin

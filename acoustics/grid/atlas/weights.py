@@ -7,9 +7,17 @@ three if it lies in their triangle. Listed positions are triangulated (Delaunay,
 azimuthal equidistant plane about the area's origin) and the observer weighted barycentrically
 over the triangle around it. An observer outside (the hull of the positions, or a lattice cell
 without tables enough around it) is an error, never an extrapolation.
+
+Those weights are then tempered by the water (`water_weights`): a position whose water is much
+deeper or shallower than the observer's counts less, so that an observer on a slope is not
+given the tables of a shelf position beside it (on a 10 km lattice across a shelf break, one
+cell holds 175 m and 1375 m of water; docs/atlas-tracking.md). Where the positions around have
+the observer's depth, the weights are the bilinear (barycentric) ones.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -18,6 +26,11 @@ from envdata.errors import InputError
 
 #: A weight this far below 0 still counts as inside a triangle (rounding).
 INSIDE_TOLERANCE = 1e-9
+#: A position whose water is this many times as deep (or as shallow) as the observer's keeps
+#: e^-1/2 of its weight (`water_weights`). Chosen on the follow study (docs/atlas-tracking.md,
+#: docs/results/atlas-tracking/blend.json): with 2 the K along the path was closer still, but
+#: the particle filter lost more runs on the flatter K(r); with 3 both trackers gained.
+WATER_DEPTH_RATIO = 3.0
 
 
 def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -72,6 +85,38 @@ def lattice_weights(lat_deg, lon_deg, lattice: dict, node_origin: np.ndarray) ->
     idx = np.where(w > 0, idx, np.maximum(idx, 0))  # a corner of no weight: any valid index
     idx = np.where(idx < 0, 0, idx)
     return idx, w
+
+
+def water_weights(w: np.ndarray, position_depth_m: np.ndarray, observer_depth_m: np.ndarray,
+                  ratio: float = WATER_DEPTH_RATIO) -> np.ndarray:
+    """Weights (P, K) of positions around observers tempered by how alike their water is.
+
+    Each weight is multiplied by ``exp(-0.5 (ln(h_position / h_observer) / ln(ratio))^2)`` and
+    the row renormalised: positions of the observer's depth keep their share, one ``ratio``
+    times as deep or as shallow e^-1/2 of it. A row whose depths are not all known and positive
+    (a position without a bottom, an observer's depth that could not be read) is left as it is.
+
+    Parameters
+    ----------
+    w : ndarray, shape (P, K)
+        Bilinear or barycentric weights, rows summing to 1.
+    position_depth_m : ndarray, shape (P, K)
+        The water depth at each of those positions, m.
+    observer_depth_m : ndarray, shape (P,)
+        The water depth at each observer, m.
+    ratio : float
+        > 1.
+    """
+    h = np.asarray(position_depth_m, dtype=float)
+    ho = np.asarray(observer_depth_m, dtype=float)
+    counted = w > 0
+    known = np.all(~counted | (np.isfinite(h) & (h > 0)), axis=1) & np.isfinite(ho) & (ho > 0)
+    out = np.array(w, dtype=float)
+    if known.any():
+        x = np.log(np.where(counted[known], h[known], 1.0) / ho[known, None]) / math.log(ratio)
+        tempered = w[known] * np.exp(-0.5 * x ** 2)
+        out[known] = tempered / tempered.sum(axis=1, keepdims=True)
+    return out
 
 
 def _barycentric(tri: np.ndarray, point: np.ndarray) -> np.ndarray | None:

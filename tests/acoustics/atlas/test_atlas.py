@@ -4,6 +4,7 @@ interpolation between positions, and a Dask cluster of worker processes losing a
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import signal
@@ -18,9 +19,12 @@ from acoustics.builder.atlas import build_atlas_file
 from acoustics.grid.atlas.format import AtlasFileError
 from acoustics.grid.atlas.sample import values_at
 from acoustics.grid.atlas.store import open_store
+from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO
 from acoustics.grid.radialtables import RadialTables
 from envdata.atlasarea import table_area
+from envdata.bathymetry import open_bathymetry
 from envdata.errors import InputError
+from envdata.geometry import lat_lon_to_local_plane
 from tests.acoustics.atlas.atlasarea import load_atlas_area
 
 pytestmark = pytest.mark.bellhop
@@ -76,11 +80,32 @@ def test_values_between_positions_are_weighted_in_db_and_outside_is_an_error(bui
     k, tl = values_at(atlas, lat_deg=atlas.lat_deg, lon_deg=atlas.lon_deg, **kw)
     for o in range(atlas.lat_deg.size):  # at a position: its own table (k_db at 90 deg, 5 km)
         assert k[o] == pytest.approx(atlas.slab(1, o)[1][0, 0, 1, 24], abs=1e-9)
-    # midway between two nodes of a row: the mean of their values in dB (bilinear, tc = 0.5)
+    # midway between two nodes of a row, with the bilinear weights alone: the mean of their
+    # values in dB (tc = 0.5)
     mid_lon = 0.5 * (atlas.lon_deg[0] + atlas.lon_deg[1])
+    atlas.water_depth_ratio = None
     km, tlm = values_at(atlas, lat_deg=[atlas.lat_deg[0]], lon_deg=[mid_lon], **kw)
     assert km[0] == pytest.approx(0.5 * (k[0] + k[1]), abs=1e-9)
     assert tlm[0] == pytest.approx(0.5 * (tl[0] + tl[1]), abs=1e-6)
+    # as the atlas weighs by default, each weight tempered by the water; midway between a node on
+    # the slope (position 1, ~925 m) and the one north of it on the shelf edge (position 4, ~190 m):
+    # the depth there read along the two nodes' radials (north from one, south from the other:
+    # both reach it) is the relief's, and the node whose water is nearer it (in ratio) weighs more
+    atlas.water_depth_ratio = WATER_DEPTH_RATIO
+    area, _, _ = built
+    lat, lon = np.array([0.5 * (atlas.lat_deg[1] + atlas.lat_deg[4])]), atlas.lon_deg[[1]]
+    with open_bathymetry(area.water.bathymetry) as relief:
+        h_mid = float(-relief.load_box(lat, lon).elevation_at(lat, lon)[0])
+    x, y = lat_lon_to_local_plane(area.origin.lat_deg, area.origin.lon_deg, lat, lon)
+    idx, w = atlas.weights(lat, lon)
+    assert atlas.observer_water_depth(idx, np.where(w > 1e-6, 0.5, 0.0), x, y)[0] == pytest.approx(h_mid, rel=0.02)
+    kc, tlc = values_at(atlas, lat_deg=atlas.lat_deg[[1, 4]], lon_deg=atlas.lon_deg[[1, 4]], **kw)
+    kt, tlt = values_at(atlas, lat_deg=lat, lon_deg=lon, **kw)
+    h = atlas.slab(1, 1)[2][:, 0].mean(), atlas.slab(1, 4)[2][:, 0].mean()  # on a ring 200 m out
+    share = (kt[0] - kc[1]) / (kc[0] - kc[1])  # position 1's weight (0.5 with the bilinear weights)
+    assert (share > 0.5) == (abs(math.log(h[0] / h_mid)) < abs(math.log(h[1] / h_mid)))
+    assert 0.0 < share < 1.0 and abs(share - 0.5) > 0.01  # 0.52 here: 925 and 192 m about 468 m
+    assert tlt[0] == pytest.approx(share * tlc[0] + (1.0 - share) * tlc[1], abs=1e-6)
     with pytest.raises(InputError, match=r"observer 0: .* outside the atlas's lattice"):
         values_at(atlas, lat_deg=[42.5], lon_deg=[5.0], **kw)
     # between the middle row and the left-out northern row: no tables to weight
