@@ -152,8 +152,10 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
     whose positions are weighted with each water-depth ratio of ``ratios`` (None: bilinear alone;
     ``AtlasStore.water_depth_ratio``). Per tracker, table and seed: the RMS over t >= 10 min of
     the RMSE over runs (as ``follow.json``'s ``mean_rmse_after_10min_m``) and the median over
-    runs of each run's mean error after 10 min; per atlas and ratio, BELLHOP's K along the path
-    less the tables' (`k_error_by_time`). Grids and atlases as `run` builds them in ``out_dir``."""
+    runs of each run's mean error after 10 min, and the RMS of the RMSE over the whole run
+    (the first 10 min, when the ML analysis ranges on the levels alone, included); per atlas and
+    ratio, BELLHOP's K along the path less the tables' (`k_error_by_time`). Grids and atlases as
+    `run` builds them in ``out_dir``."""
     from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO
 
     paths = build_tables(Path(out_dir) / "grids", workers)
@@ -180,7 +182,8 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
                 rmse = np.sqrt(np.nanmean(err ** 2, axis=0))
                 scores.setdefault(f"{method} {name}", {})[str(seed)] = {
                     "rmse_after_10min_m": round(float(np.sqrt(np.nanmean(rmse[late] ** 2))), 1),
-                    "median_run_mean_after_10min_m": round(float(np.median(np.nanmean(err[:, late], axis=1))), 1)}
+                    "median_run_mean_after_10min_m": round(float(np.median(np.nanmean(err[:, late], axis=1))), 1),
+                    "rmse_whole_run_m": round(float(np.sqrt(np.nanmean(rmse ** 2))), 1)}
         if seed == seeds[0]:
             k_error = k_error_by_time(sim, sc, ic, truth, tables)
     return {"scenario": sc.name, "runs_per_seed": runs, "seeds": list(seeds), "n_particles": n_particles,
