@@ -245,6 +245,37 @@ def follow_kerror(root: Path) -> str:
             + _source(d, "atlas-tracking/follow.json"))
 
 
+def follow_blend(root: Path) -> str:
+    d = _load(root, "atlas-tracking/blend.json")
+    seeds = [str(v) for v in d["seeds"]]
+    sc = d["scores"]
+    names = ["origin"] + [f"atlas-{sp} {r}" for sp in ("10km", "5km") for r in d["ratios"]]
+    heads = [f"{m}, seed {sd}" for m in ("ML", "PF") for sd in seeds]
+    rows = [("tables, weights", *heads, "ML whole run"), ("---",) * (2 + len(heads))]
+    for name in names:
+        shown = name.replace("atlas-", "atlas ").replace("km", " km").replace("water-", "water, ratio ")
+        rows.append((shown, *(f"{sc[f'{m} {name}'][sd]['rmse_after_10min_m']:.0f}" for m in ("ml", "rpf")
+                              for sd in seeds),
+                     " / ".join(f"{sc[f'ml {name}'][sd]['rmse_whole_run_m']:.0f}" for sd in seeds)))
+    return (_table(rows) + f"\nPosition RMSE over {d['runs_per_seed']} runs per seed, RMS over 10-40 min, m (the "
+            "last column over 0-40 min, a value per seed); BELLHOP's levels along the true paths; the "
+            f"default ratio is {d['default_ratio']:g}.\n\n" + _source(d, "atlas-tracking/blend.json"))
+
+
+def atlas_trackers_speed(root: Path) -> str:
+    d = _load(root, "atlas-trackers.json")
+    m = d["median_s"]
+    rows = [("figure", "one grid", "atlas", f"ratio (target {d['target_ratio']:g})"), ("---",) * 4,
+            (f"ML cycle, {d['ml_rows']} class rows", f"{d['ml_cycle_ms']['grid']:.1f} ms",
+             f"{d['ml_cycle_ms']['atlas']:.1f} ms", f"{d['ratio_ml_atlas_over_grid']:.2f}"),
+            (f"particle filter, a batch of 20 runs x {d['rpf_particles']} particles", f"{m['rpf20_grid']:.2f} s",
+             f"{m['rpf20_atlas']:.2f} s", f"{d['ratio_rpf20_atlas_over_grid']:.2f}"),
+            (f"particle filter, one run x {d['rpf_particles']} particles", f"{1e3 * m['rpf_grid']:.0f} ms",
+             f"{1e3 * m['rpf_atlas']:.0f} ms", f"{d['ratio_rpf_atlas_over_grid']:.2f}")]
+    return (_table(rows) + f"\nThe {d['scenario']} scenario, {d['cycles']} cycles, the 5 km atlas against one of its "
+            f"tables, {d['repeats']} interleaved repeats, medians.\n\n" + _source(d, "atlas-trackers.json"))
+
+
 def follow_manoeuvres(root: Path) -> str:
     d = _load(root, "atlas-tracking/follow.json")
     m = d["ml_manoeuvres_declared"]
@@ -696,7 +727,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "depth-weights": depth_weights, "depth-mismatch": depth_mismatch,
                                              "depth-check": depth_check,
                                              "follow-rmse": follow_rmse, "follow-kerror": follow_kerror,
-                                             "follow-manoeuvres": follow_manoeuvres,
+                                             "follow-manoeuvres": follow_manoeuvres, "follow-blend": follow_blend,
+                                             "atlas-trackers-speed": atlas_trackers_speed,
                                              "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse,
                                              "nx2d-times": nx2d_times, "nx2d-bearings": nx2d_bearings,
                                              "nx2d-attribution": nx2d_attribution}
