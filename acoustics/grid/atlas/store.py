@@ -200,11 +200,11 @@ class AtlasStore:
         distance from it (linear between the two radials around the bearing and along range), those
         depths weighted by ``w``. NaN where a position's bottom is unknown or not finite there."""
         px, py = self._plane_positions()
-        bottom = self._bottoms()                                     # (O, N, R)
+        bottom, slot = self._bottoms(idx, w)                         # (U, N, R), (P, K)
         dx, dy = x_m[:, None] - px[idx], y_m[:, None] - py[idx]       # (P, K)
         j0, j1, wb = bearing_weights(self.bearing_deg, np.degrees(np.arctan2(dx, dy)))
         r0, r1, wr = axis_cells(np.asarray(self.range_m, dtype=float), np.hypot(dx, dy))
-        along = [(1.0 - wr) * bottom[idx, j, r0] + wr * bottom[idx, j, r1] for j in (j0, j1)]
+        along = [(1.0 - wr) * bottom[slot, j, r0] + wr * bottom[slot, j, r1] for j in (j0, j1)]
         h = (1.0 - wb) * along[0] + wb * along[1]
         return np.sum(np.where(w > 0, w * h, 0.0), axis=1)
 
@@ -214,19 +214,28 @@ class AtlasStore:
             return idx, w
         h_obs = self.observer_water_depth(idx, w, x_m, y_m)
         # a position's own depth: its bottom on the ring of its radials' first range (200 m)
-        h_pos = self._bottoms()[:, :, 0].mean(axis=1)
-        return idx, water_weights(w, h_pos[idx], h_obs, self.water_depth_ratio)
+        bottom, slot = self._bottoms(idx, w)
+        h_pos = bottom[:, :, 0].mean(axis=1)
+        return idx, water_weights(w, h_pos[slot], h_obs, self.water_depth_ratio)
 
-    def _bottoms(self) -> np.ndarray:
-        """Every position's bottom along its radials (O, N, R), m; NaN for a position none of
+    def _bottoms(self, idx: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The bottoms along their radials (U, N, R), m, of the positions ``idx`` weighs (``w`` >
+        0), and each entry's row in them (its slot; any row where its weight is 0). Read from the
+        store for the positions not read yet, in one read, and kept. NaN for a position none of
         whose tables is done (its bottom may be missing from the store)."""
-        key = ("bottoms",)
-        if key not in self._kept:
-            bottom = self._read("bottom_depth_m", slice(None)).astype(float)
-            bottom[~self.done.any(axis=0)] = np.nan
-            bottom.setflags(write=False)
-            self._kept[key] = bottom
-        return self._kept[key]
+        kept = self._kept.setdefault(("bottoms",), {})
+        used = np.unique(idx[w > 0])
+        missing = [int(o) for o in used if int(o) not in kept]
+        if missing:
+            block = self._read("bottom_depth_m", missing).astype(float)
+            for o, b in zip(missing, block):
+                if not self.done[:, o].any():
+                    b[...] = np.nan
+                b.setflags(write=False)
+                kept[o] = b
+        bottom = np.stack([kept[int(o)] for o in used])  # every row of weights has a weight > 0
+        slot = np.clip(np.searchsorted(used, idx), 0, used.size - 1)
+        return bottom, slot
 
     def _plane_positions(self) -> tuple[np.ndarray, np.ndarray]:
         """The positions x east and y north of the area's ``[origin]``, m (kept)."""
