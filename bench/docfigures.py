@@ -628,17 +628,20 @@ def depth_mismatch(root: Path) -> str:
 def depth_check(root: Path) -> str:
     d = _load(root, "depth/depth.json")
     c = d["tables_vs_bellhop_from_target_db"]
-    rows = [("target depth", "mean", "bands' offsets", "sd common to the bands", "sd of each band's own"),
-            ("---",) * 5]
-    for z, v in c["by_depth_m"].items():
-        rows.append((f"{z} m", f"{v['mean_db']:+.1f} dB", " / ".join(f"{o:+.1f}" for o in v["band_offsets_db"]),
-                     f"{v['common_sd_db']:.1f} dB", f"{v['band_own_sd_db']:.1f} dB"))
-    rows.append(("median", "", "", f"**{c['median_common_sd_db']:.1f} dB**",
-                 f"**{c['median_band_own_sd_db']:.1f} dB**"))
-    return (_table(rows) + "\nK from BELLHOP run from the target less the tables' K, the observer at the "
-            "grid's origin, "
-            f"targets on its {c['bearing_deg']:g} deg radial at {c['ranges_km'][0]:g}-{c['ranges_km'][1]:g} km "
-            "every km; the sds along range.\n\n" + _source(d, "depth/depth.json"))
+    zs = list(c["geometries"][0]["by_depth_m"])
+    rows = [("observer (x, y), km", "bearing", *(f"{z} m" for z in zs), "median"), ("---",) * (3 + len(zs))]
+    for g in c["geometries"]:
+        by = g["by_depth_m"]
+        rows.append((f"({g['observer_x_m'] / 1e3:g}, {g['observer_y_m'] / 1e3:g})", f"{g['bearing_deg']:g} deg",
+                     *(f"{by[z]['common_sd_db']:.1f} / {by[z]['band_own_sd_db']:.1f}" for z in zs),
+                     f"**{g['median_common_sd_db']:.1f} / {g['median_band_own_sd_db']:.1f}**"))
+    f = c["fit"]
+    return (_table(rows) + "\nK from BELLHOP run from the target less the tables' K read from the observer, targets "
+            f"at {c['ranges_km'][0]:g}-{c['ranges_km'][1]:g} km every km on one bearing: the sd along range of the "
+            "part common to the bands / of each band's own, dB. The likelihood's fine errors from it: "
+            f"{f['fine_sd_db']:.1f} / {f['fine_band_sd_db']:.1f} dB where the tables were computed, growing by "
+            f"{f['fine_growth_db_per_km']:.1f} / {f['fine_band_growth_db_per_km']:.2f} dB per km of the observer's "
+            "distance from there (sd^2 = sd_0^2 + (g d)^2, least squares).\n\n" + _source(d, "depth/depth.json"))
 
 
 def depth_weights(root: Path) -> str:

@@ -14,17 +14,25 @@ which bands they touch),
   (its interference ripple) read there is not the one the target's levels went through;
 - g, f_m: the tables' fine K error along the track (the interference pattern a little off), a
   Gauss-Markov process in time (exponential correlation over ``fine_time_s``): g common to the
-  bands, sd ``fine_sd_db``, and f_m per band, sd ``fine_band_sd_db``. Their sds are the tables'
+  bands, sd ``fine_sd_db``, and f_m per band, sd ``fine_band_sd_db``, each growing with the
+  observer's distance d from where the tables were computed (hypot(sd, growth x d); tables
+  that hold everywhere, d = 0). Their sds are the tables'
   K, read as here (averaged over the range uncertainty), against BELLHOP run from the target
   where nothing else differs (the depth study's ``tables_vs_bellhop_from_target_db``:
-  shelf-break, the observer at the grid's origin, targets at 3-60 m on one of its radials,
-  3-20 km): 1.8 dB common to the bands, 0.5 dB each band's own (medians over the depths). The correlation
+  shelf-break, targets at 3-60 m and 3-20 km on a bearing from the observer): 1.94 dB common to
+  the bands, 0.73 dB each band's own with the observer at the grid's origin (medians over the
+  depths and over a radial and a bearing halfway between two), growing by 1.37 and 0.28 dB per
+  km of the observer's distance from the origin (the same check with the observer 2.5 and 5 km
+  away, the origin's tables read from there as a moving observer reads them; c_m by 0.32 dB per
+  km). The correlation
   time is from the shelf-break slope along a true path (a submarine at 60 m, 10 s cycles, the
   range changing by 20 m a cycle: 0.35 after 50 s);
 - u: a slow error common to the bands (the water or the bottom a little off), sd
   ``slow_sd_db`` over ``slow_time_s``;
 - c_m: an offset per band, sd ``band_sd_db`` (the source's spectrum is the class's only to
-  within it);
+  within it), growing with the observer's distance from the tables' origin as the fine errors
+  do (the tables' band ratios read away from where they were computed; its increments a random
+  walk: what the bands' offsets were stays);
 - b: the offset common to every band and cycle, sd ``offset_sd_db`` (P0's sd and dK's).
 
 All of them are Gaussian and enter linearly: a Kalman filter over (b, c, g, f, u) along the
@@ -74,23 +82,32 @@ class LevelErrors:
     offset_sd_db : float
         sd of b, common to bands and cycles (hypot of the class's noise_sd_db and k_error_sd_db).
     band_sd_db : float
-        sd of c_m.
+        sd of c_m where the tables were computed.
+    band_growth_db_per_km : float
+        How it grows with the observer's distance d from there: hypot(sd, growth x d).
     fine_sd_db, fine_band_sd_db, fine_time_s : float
-        sd of g and of f_m, and their correlation time.
+        sd of g and of f_m where the tables were computed, and their correlation time.
+    fine_growth_db_per_km, fine_band_growth_db_per_km : float
+        How the sds of g and f_m grow with the observer's distance d from there: hypot(sd,
+        growth x d).
     slow_sd_db, slow_time_s : float
         sd of u and its correlation time.
     """
 
     offset_sd_db: float
     band_sd_db: float = 1.0
-    fine_sd_db: float = 1.8
-    fine_band_sd_db: float = 0.5
+    fine_sd_db: float = 1.94
+    fine_band_sd_db: float = 0.73
     fine_time_s: float = 60.0
+    fine_growth_db_per_km: float = 1.37
+    fine_band_growth_db_per_km: float = 0.28
+    band_growth_db_per_km: float = 0.32
     slow_sd_db: float = 1.0
     slow_time_s: float = 600.0
 
     def __post_init__(self) -> None:
-        for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db"):
+        for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db",
+                     "fine_growth_db_per_km", "fine_band_growth_db_per_km", "band_growth_db_per_km"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0.0):
                 raise ValueError(f"{name} must be >= 0 dB, got {v}")
@@ -106,17 +123,18 @@ class LevelErrors:
 
     def effects(self, n_bands: int):
         """The state's components: (sd, correlation time in s or None when constant, band or -1
-        for every band), in the Kalman filter's order."""
+        for every band, growth of the sd per km of the observer's distance), in the Kalman
+        filter's order."""
         fine, slow = self.fine_time_s, self.slow_time_s
-        out = [(self.offset_sd_db, None, -1)]
-        out += [(self.band_sd_db, None, m) for m in range(n_bands)]
-        out += [(self.fine_sd_db, fine, -1)]
-        out += [(self.fine_band_sd_db, fine, m) for m in range(n_bands)]
-        out += [(self.slow_sd_db, slow, -1)]
-        return [e for e in out if e[0] > 0.0]
+        out = [(self.offset_sd_db, None, -1, 0.0)]
+        out += [(self.band_sd_db, None, m, self.band_growth_db_per_km) for m in range(n_bands)]
+        out += [(self.fine_sd_db, fine, -1, self.fine_growth_db_per_km)]
+        out += [(self.fine_band_sd_db, fine, m, self.fine_band_growth_db_per_km) for m in range(n_bands)]
+        out += [(self.slow_sd_db, slow, -1, 0.0)]
+        return [e for e in out if e[0] > 0.0 or e[3] > 0.0]
 
 
-def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors) -> np.ndarray:
+def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors, displacement_m=None) -> np.ndarray:
     """ln of the levels' density with b, c, g, f and u integrated out, after each cycle.
 
     Parameters
@@ -128,6 +146,9 @@ def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors) -> np.ndarray:
     t_s : array_like, shape (T,)
         Cycle times, s (the processes' correlation).
     errors : LevelErrors
+    displacement_m : array_like, shape (T,), optional
+        The observer's distance from where the tables were computed at each cycle, m (the fine
+        errors' growth); default 0.
 
     Returns
     -------
@@ -145,15 +166,18 @@ def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors) -> np.ndarray:
     effects = errors.effects(m_n)
     s = len(effects)
     h = np.zeros((m_n, s))
-    for j, (_, _, band) in enumerate(effects):
+    for j, (_, _, band, _) in enumerate(effects):
         if band < 0:
             h[:, j] = 1.0
         else:
             h[band, j] = 1.0
-    prior = np.array([sd ** 2 for sd, _, _ in effects])
-    moving = [(j, corr) for j, (_, corr, _) in enumerate(effects) if corr is not None]
+    d_km = np.zeros(t_n) if displacement_m is None else np.broadcast_to(
+        np.asarray(displacement_m, dtype=float) / 1000.0, (t_n,))
+    # each component's variance at each cycle (T, S): constant unless the tables' error grows
+    prior = np.array([[sd ** 2 + (g * d) ** 2 for sd, _, _, g in effects] for d in d_km]).reshape(t_n, s)
+    moving = [(j, corr) for j, (_, corr, _, _) in enumerate(effects) if corr is not None]
     mean = np.zeros((n, s))
-    cov = np.broadcast_to(np.diag(prior), (n, s, s)).copy()
+    cov = np.broadcast_to(np.diag(prior[0]), (n, s, s)).copy()
     out = np.zeros((n, t_n))
     total = np.zeros(n)
     eye = np.eye(m_n)
@@ -165,7 +189,9 @@ def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors) -> np.ndarray:
                 rho[j] = math.exp(-abs(t[i] - t[i - 1]) / tau)
             mean *= rho
             cov *= rho[:, None] * rho[None, :]
-            cov[:, diag, diag] += prior * (1.0 - rho ** 2)
+            # the innovation that brings each process to this cycle's variance (stationary: the
+            # usual prior (1 - rho^2); a variance that shrinks is left to the forgetting)
+            cov[:, diag, diag] += np.maximum(prior[i] - rho ** 2 * prior[i - 1], 0.0)
         ok = use[:, i]
         if ok.any():
             hm = h[None] * ok[..., None]                                   # (n, M, S)

@@ -48,6 +48,53 @@ def test_the_kalman_filter_is_the_models_gaussian_density():
     assert ll[7] == ll[6]
 
 
+def test_fine_errors_that_grow_with_the_observers_distance_are_the_models_density():
+    # the observer moving away from the tables' origin: g's, f_m's and c_m's variance at a cycle
+    # is sd^2 + (growth d)^2, and two cycles share the earlier one's (g and f_m forget it over
+    # fine_time_s)
+    err = LevelErrors(offset_sd_db=3.0, fine_growth_db_per_km=1.9, fine_band_growth_db_per_km=0.75,
+                      band_growth_db_per_km=0.4)
+    rng = np.random.default_rng(2)
+    t_n, m_n = 10, 3
+    t_s = np.cumsum(rng.uniform(5.0, 60.0, t_n))
+    d_m = np.sort(rng.uniform(0.0, 5000.0, t_n))
+    e, v = rng.normal(0.0, 4.0, (t_n, m_n)), rng.uniform(0.3, 2.0, (t_n, m_n))
+    ll = log_marginal(e, v, t_s, err, d_m)
+    idx = [(t, m) for t in range(t_n) for m in range(m_n)]
+    c = np.zeros((len(idx), len(idx)))
+    for a, (t, m) in enumerate(idx):
+        for b, (u, k) in enumerate(idx):
+            dt, first = abs(t_s[t] - t_s[u]), min(t, u)
+            fine = math.exp(-dt / err.fine_time_s)
+            c[a, b] = (err.offset_sd_db ** 2 + err.slow_sd_db ** 2 * math.exp(-dt / err.slow_time_s)
+                       + fine * (err.fine_sd_db ** 2 + (err.fine_growth_db_per_km * d_m[first] / 1e3) ** 2))
+            if m == k:  # c_m's variance grows too, its increments kept (a random walk)
+                c[a, b] += err.band_sd_db ** 2 + (err.band_growth_db_per_km * d_m[first] / 1e3) ** 2
+                c[a, b] += fine * (err.fine_band_sd_db ** 2
+                                                         + (err.fine_band_growth_db_per_km * d_m[first] / 1e3) ** 2)
+            if a == b:
+                c[a, b] += v[t, m]
+    y = np.array([e[t, m] for t, m in idx])
+    assert_allclose(ll[-1], multivariate_normal(np.zeros(len(y)), c).logpdf(y), rtol=1e-10)
+    # at the origin all along: the fine errors of the tables where they were computed
+    assert_allclose(log_marginal(e, v, t_s, err, np.zeros(t_n)), log_marginal(e, v, t_s, ERR), rtol=1e-12)
+
+
+def test_a_band_ratio_far_from_the_tables_origin_says_less():
+    # a band 6 dB off the others, the observer at the origin or 4 km from it all along
+    t_s = 10.0 * np.arange(60)
+    v = np.full((60, 3), 0.04)
+    noise = np.random.default_rng(1).normal(0.0, 0.2, (60, 3))
+    err = LevelErrors(offset_sd_db=3.0, fine_growth_db_per_km=1.9, fine_band_growth_db_per_km=0.75)
+    shift = np.array([6.0, 0.0, 0.0])
+
+    def diff(d_m):
+        return (log_marginal(noise, v, t_s, err, np.full(60, d_m))[-1]
+                - log_marginal(noise - shift, v, t_s, err, np.full(60, d_m))[-1])
+
+    assert diff(0.0) > 2.0 * diff(4000.0) > 0.0
+
+
 def _ll_difference(shift_db, cycles):
     """ln L of the levels of depth A less that of depth B, whose K is A's plus ``shift_db`` (per
     band), along ``cycles`` 10 s cycles of levels from A with eq. 11's small error."""

@@ -209,7 +209,8 @@ def _weighed(sim, pos_z, z, like):
     the final estimates carried back, `tracker.mltma.depths.depth_posterior`), (E, T, 4); the
     final posterior (E, D) and the hypotheses' final weights (E, H)."""
     r, b = _carried_back(sim, pos_z)
-    post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db)    # weight (E, T, D)
+    post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db,
+                                sim.obs_x_m, sim.obs_y_m)                                   # weight (E, T, D)
     w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
     best = np.argmax(w, axis=-1)                                                            # (E, T)
     pos = np.take_along_axis(pos_z, best[None, ..., None], axis=0)[0]
@@ -228,7 +229,7 @@ def _track_posterior(sim, pos, like, polar=None) -> DepthPosterior:
     given range and bearing)."""
     z = depth_grid_m(like.tables.depth_m, DEPTH_SPAN_M)
     r, b = _polar(sim, pos) if polar is None else polar
-    ll = like(z, sim.t_s, r, b, sim.level_db, sim.snr_db)[..., -1]                                  # (D, E)
+    ll = like(z, sim.t_s, r, b, sim.level_db, sim.snr_db, sim.obs_x_m, sim.obs_y_m)[..., -1]        # (D, E)
     return posterior(z, ll.T, DEPTH_SPAN_M)
 
 
@@ -249,44 +250,62 @@ def _k_mismatch(sim, like, z_true: float, scenario: str) -> pd.DataFrame:
                          "band_offset_db": band_mean.ravel(), "along_track_sd_db": along.ravel()})
 
 
-#: The tables against BELLHOP from the target where nothing but the two methods differs: the
-#: observer at the grid's origin, targets on one of its radials (deg), at these ranges (m) and
-#: depths (m); what the depth likelihood's error model (``tracker.depthpost.LevelErrors``)
-#: takes its fine sds from.
-CHECK_BEARING_DEG = 150.0
+#: The tables against BELLHOP from the target (``tracker.depthpost.LevelErrors`` takes its fine
+#: sds and their growth from it): observers at the grid's origin and away from it (x east, y north,
+#: m; the origin's tables read from there, as a moving observer reads them), each with targets on
+#: one bearing (deg; 150 is a radial, 165 halfway between two) at these ranges (m) and depths (m).
+CHECK_GEOMETRIES = ((0.0, 0.0, 150.0), (0.0, 0.0, 165.0), (-2500.0, 0.0, 150.0), (0.0, -2500.0, 165.0),
+                    (-5000.0, 0.0, 150.0), (0.0, -5000.0, 165.0))
 CHECK_RANGES_M = tuple(float(r) for r in range(3000, 20001, 1000))
 CHECK_DEPTHS_M = (3.0, 6.0, 10.0, 20.0, 60.0)
 
 
 def _table_check(tables, provider, ic: int) -> dict:
-    """K from BELLHOP with the source at the target (the truth's runs) less the tables' K (from
-    the observer, read as the depth likelihood reads it) with the observer at the origin on the
-    radial `CHECK_BEARING_DEG`: per depth, the mean, the bands' offsets from it, and the sd
-    along range of the part common to the bands and of each band's own, dB."""
+    """K from BELLHOP with the source at the target (the truth's runs) less the tables' K (read as
+    the depth likelihood reads it, from the observer) for each of `CHECK_GEOMETRIES`: per depth,
+    the mean, the bands' offsets from it (and their sd), and the sd along range of the part common
+    to the bands and of each band's own, dB; per geometry their medians over the depths; and the
+    sds and growth they give (``fit``; ``fine``: the common part, ``fine_band``: each band's own,
+    ``band``: the bands' offsets): the sd where the tables were computed (the median over the
+    origin's geometries) and the growth g of sd^2 = sd_0^2 + (g d)^2 fitted (least squares) to
+    the medians away from it, dB/km."""
     r = np.asarray(CHECK_RANGES_M)
-    x, y = r * math.sin(math.radians(CHECK_BEARING_DEG)), r * math.cos(math.radians(CHECK_BEARING_DEG))
     like = TrackDepthLikelihood(tables, ic, tables.band_names, DEPTH_SPAN_M)
-    out = {}
-    for z in CHECK_DEPTHS_M:
-        paths = TruePaths(ic=ic, obs_x_m=np.zeros(1), obs_y_m=np.zeros(1), obs_depth_m=tables.area.observer.depth_m,
-                          x_m=x[:, None], y_m=y[:, None], range_m=r[:, None],
-                          bearing_deg=np.full((r.size, 1), CHECK_BEARING_DEG), target_depth_m=z)
-        k_truth = provider(paths)[:, 0, :]                                              # (R, M)
-        k_table = np.stack([m.at(z, r, CHECK_BEARING_DEG) for m in like._mean], axis=-1)
-        d = k_truth - k_table
-        d0 = d - np.nanmean(d)
-        band = np.nanmean(d0, axis=0)
-        common = np.nanmean(d0 - band, axis=1)
-        own = d0 - band - common[:, None]
-        out[f"{z:g}"] = {"mean_db": round(float(np.nanmean(d)), 2),
-                         "band_offsets_db": [round(float(v), 2) for v in band],
-                         "common_sd_db": round(float(np.nanstd(common)), 2),
-                         "band_own_sd_db": round(float(np.nanstd(own)), 2)}
-    summary = {"bearing_deg": CHECK_BEARING_DEG, "ranges_km": [CHECK_RANGES_M[0] / 1e3, CHECK_RANGES_M[-1] / 1e3],
-               "by_depth_m": out}
-    for key in ("common_sd_db", "band_own_sd_db"):
-        summary[f"median_{key}"] = round(float(np.median([v[key] for v in out.values()])), 2)
-    return summary
+    geometries = []
+    for ox, oy, bearing in CHECK_GEOMETRIES:
+        x, y = ox + r * math.sin(math.radians(bearing)), oy + r * math.cos(math.radians(bearing))
+        out = {}
+        for z in CHECK_DEPTHS_M:
+            paths = TruePaths(ic=ic, obs_x_m=np.full(1, ox), obs_y_m=np.full(1, oy),
+                              obs_depth_m=tables.area.observer.depth_m, x_m=x[:, None], y_m=y[:, None],
+                              range_m=r[:, None], bearing_deg=np.full((r.size, 1), bearing), target_depth_m=z)
+            k_truth = provider(paths)[:, 0, :]                                          # (R, M)
+            k_table = np.stack([m.at(z, r, bearing) for m in like._mean], axis=-1)
+            d = k_truth - k_table
+            d0 = d - np.nanmean(d)
+            band = np.nanmean(d0, axis=0)
+            common = np.nanmean(d0 - band, axis=1)
+            own = d0 - band - common[:, None]
+            out[f"{z:g}"] = {"mean_db": round(float(np.nanmean(d)), 2),
+                             "band_offsets_db": [round(float(v), 2) for v in band],
+                             "band_offset_sd_db": round(float(np.std(band)), 2),
+                             "common_sd_db": round(float(np.nanstd(common)), 2),
+                             "band_own_sd_db": round(float(np.nanstd(own)), 2)}
+        g = {"observer_x_m": ox, "observer_y_m": oy, "bearing_deg": bearing,
+             "distance_km": round(math.hypot(ox, oy) / 1e3, 2), "by_depth_m": out}
+        for key in ("common_sd_db", "band_own_sd_db", "band_offset_sd_db"):
+            g[f"median_{key}"] = round(float(np.median([v[key] for v in out.values()])), 2)
+        geometries.append(g)
+    fit = {}
+    for key, name in (("common_sd_db", "fine"), ("band_own_sd_db", "fine_band"), ("band_offset_sd_db", "band")):
+        base = float(np.median([g[f"median_{key}"] for g in geometries if g["distance_km"] == 0.0]))
+        away = [(g["distance_km"], g[f"median_{key}"]) for g in geometries if g["distance_km"] > 0.0]
+        d2 = np.array([d * d for d, _ in away])
+        excess = np.array([sd * sd - base * base for _, sd in away])
+        growth = math.sqrt(max(float(np.sum(d2 * excess) / np.sum(d2 * d2)), 0.0))
+        fit[f"{name}_sd_db"] = round(base, 2)
+        fit[f"{name}_growth_db_per_km"] = round(growth, 2)
+    return {"ranges_km": [CHECK_RANGES_M[0] / 1e3, CHECK_RANGES_M[-1] / 1e3], "geometries": geometries, "fit": fit}
 
 
 def _mismatch_summary(parts) -> dict:

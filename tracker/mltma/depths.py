@@ -108,7 +108,7 @@ def owners(depth_m, hypotheses_m) -> np.ndarray:
 
 
 def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, t_s, range_m, bearing_deg,
-                    level_db, snr_db) -> tuple[DepthPosterior, np.ndarray]:
+                    level_db, snr_db, obs_x_m=None, obs_y_m=None) -> tuple[DepthPosterior, np.ndarray]:
     """The posterior over the tables' depths inside the span after each cycle, each depth along
     its owner's track.
 
@@ -122,6 +122,9 @@ def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, t_s,
     range_m, bearing_deg : array_like, shape (H, ..., T)
         Each hypothesis's track from the observer, m and deg.
     level_db, snr_db : array_like, shape (..., T, M)
+    obs_x_m, obs_y_m : array_like, shape (T,), optional
+        The observer's positions (the tables' fine errors grow away from their origin;
+        ``TrackDepthLikelihood``).
 
     Returns
     -------
@@ -137,7 +140,7 @@ def depth_posterior(likelihood: TrackDepthLikelihood, hypotheses_m, span_m, t_s,
     ll = np.empty((z.size,) + r.shape[1:])
     for h in np.unique(own):
         rows = own == h
-        ll[rows] = likelihood(z[rows], t_s, r[h], b[h], level_db, snr_db)
+        ll[rows] = likelihood(z[rows], t_s, r[h], b[h], level_db, snr_db, obs_x_m, obs_y_m)
     return posterior(z, np.moveaxis(ll, 0, -1), span_m), own
 
 
@@ -205,7 +208,7 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
         r, b = _carried_back(tracks, good, at)                           # (H, C, T)
         like = TrackDepthLikelihood(tables, ic, good.band_names, span)
         post, own = depth_posterior(like, z, span, good.t_s, r, b, np.asarray(good.level_db, dtype=float),
-                                    np.asarray(good.snr_db, dtype=float))
+                                    np.asarray(good.snr_db, dtype=float), good.obs_x_m, good.obs_y_m)
         last_t = post.weight[:, -1]                                      # (C, D): each its own cycle's
         post = post.at_cycle(last_t)
         w = hypothesis_weights(post, own, z.size)                        # (C, H)

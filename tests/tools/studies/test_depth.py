@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 from numpy.testing import assert_allclose
@@ -52,16 +54,26 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     pattern = np.linspace(-1.0, 1.0, len(tables.band_names))
     ripple = 1.5 * np.sin(np.asarray(depth.CHECK_RANGES_M) / 1300.0)
 
-    def provider(paths):
-        r = np.hypot(paths.x_m, paths.y_m)[:, 0]
-        k = np.stack([m.at(paths.target_depth_m, r, 0.0) for m in like._mean], axis=-1)
-        return (k + 2.0 + pattern + ripple[:, None])[:, None, :]
+    def provider(paths, grow_db_per_km=0.0):
+        # the ripple grows with the observer's distance from the origin as sqrt(1 + (g d / sd)^2)
+        d_km = float(np.hypot(paths.obs_x_m[0], paths.obs_y_m[0])) / 1e3
+        scale = math.hypot(ripple.std(), grow_db_per_km * d_km) / ripple.std()
+        k = np.stack([m.at(paths.target_depth_m, paths.range_m[:, 0], paths.bearing_deg[:, 0])
+                      for m in like._mean], axis=-1)
+        return (k + 2.0 + pattern + scale * ripple[:, None])[:, None, :]
 
     check = depth._table_check(tables, provider, ic)
-    assert set(check["by_depth_m"]) == {f"{z:g}" for z in depth.CHECK_DEPTHS_M}
-    for v in check["by_depth_m"].values():
-        assert_allclose(v["mean_db"], 2.0 + ripple.mean(), atol=0.006)
-        assert_allclose(v["band_offsets_db"], pattern - pattern.mean(), atol=0.006)
-        assert_allclose(v["common_sd_db"], ripple.std(), atol=0.006)
-        assert v["band_own_sd_db"] < 0.006
-    assert_allclose(check["median_common_sd_db"], ripple.std(), atol=0.006)
+    assert len(check["geometries"]) == len(depth.CHECK_GEOMETRIES)
+    for g in check["geometries"]:
+        assert set(g["by_depth_m"]) == {f"{z:g}" for z in depth.CHECK_DEPTHS_M}
+        for v in g["by_depth_m"].values():
+            assert_allclose(v["mean_db"], 2.0 + ripple.mean(), atol=0.006)
+            assert_allclose(v["band_offsets_db"], pattern - pattern.mean(), atol=0.006)
+            assert_allclose(v["common_sd_db"], ripple.std(), atol=0.006)
+            assert v["band_own_sd_db"] < 0.006
+    assert_allclose(check["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
+    assert max(check["fit"][f"{k}_growth_db_per_km"] for k in ("fine", "fine_band", "band")) < 0.05
+    # a ripple that grows away from the origin: the fit gives its growth back
+    grown = depth._table_check(tables, lambda p: provider(p, 1.5), ic)
+    assert_allclose(grown["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
+    assert_allclose(grown["fit"]["fine_growth_db_per_km"], 1.5, atol=0.02)
