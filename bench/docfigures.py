@@ -641,7 +641,9 @@ def depth_check(root: Path) -> str:
             "part common to the bands / of each band's own, dB. The likelihood's fine errors from it: "
             f"{f['fine_sd_db']:.1f} / {f['fine_band_sd_db']:.1f} dB where the tables were computed, growing by "
             f"{f['fine_growth_db_per_km']:.1f} / {f['fine_band_growth_db_per_km']:.2f} dB per km of the observer's "
-            "distance from there (sd^2 = sd_0^2 + (g d)^2, least squares).\n\n" + _source(d, "depth/depth.json"))
+            "distance from there (sd^2 = sd_0^2 + (g d)^2, least squares); the bands' offsets (their sd over the "
+            f"bands, median {f['band_sd_db']:.2f} dB at the origin) by {f['band_growth_db_per_km']:.2f} dB per km, "
+            "added to the class's 1 dB.\n\n" + _source(d, "depth/depth.json"))
 
 
 def depth_weights(root: Path) -> str:

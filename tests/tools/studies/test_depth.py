@@ -77,3 +77,19 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     grown = depth._table_check(tables, lambda p: provider(p, 1.5), ic)
     assert_allclose(grown["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
     assert_allclose(grown["fit"]["fine_growth_db_per_km"], 1.5, atol=0.02)
+
+
+def test_the_likelihoods_errors_are_those_the_study_recorded():
+    # tracker.depthpost.LevelErrors's defaults are the fit the depth study's check of the tables
+    # against BELLHOP from the target wrote to docs/results/depth/depth.json
+    import json
+    from pathlib import Path
+
+    from tracker.depthpost import LevelErrors
+
+    result = Path(__file__).resolve().parents[3] / "docs" / "results" / "depth" / "depth.json"
+    fit = json.loads(result.read_text())["tables_vs_bellhop_from_target_db"]["fit"]
+    e = LevelErrors(offset_sd_db=1.0)
+    assert (e.fine_sd_db, e.fine_band_sd_db) == (fit["fine_sd_db"], fit["fine_band_sd_db"])
+    assert (e.fine_growth_db_per_km, e.fine_band_growth_db_per_km, e.band_growth_db_per_km) == (
+        fit["fine_growth_db_per_km"], fit["fine_band_growth_db_per_km"], fit["band_growth_db_per_km"])
