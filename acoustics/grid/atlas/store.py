@@ -199,8 +199,11 @@ class AtlasStore:
         position's bottom along its radials (stored with its table) at the observer's bearing and
         distance from it (linear between the two radials around the bearing and along range), those
         depths weighted by ``w``. NaN where a position's bottom is unknown or not finite there."""
+        return self._water_depth(*self._bottoms(idx, w), idx, w, x_m, y_m)
+
+    def _water_depth(self, bottom, slot, idx, w, x_m, y_m) -> np.ndarray:
+        """`observer_water_depth` from the positions' bottoms (U, N, R) and each entry's slot."""
         px, py = self._plane_positions()
-        bottom, slot = self._bottoms(idx, w)                         # (U, N, R), (P, K)
         dx, dy = x_m[:, None] - px[idx], y_m[:, None] - py[idx]       # (P, K)
         j0, j1, wb = bearing_weights(self.bearing_deg, np.degrees(np.arctan2(dx, dy)))
         r0, r1, wr = axis_cells(np.asarray(self.range_m, dtype=float), np.hypot(dx, dy))
@@ -212,9 +215,9 @@ class AtlasStore:
         """``(idx, w)`` with the weights tempered by the water (``weights.water_weights``)."""
         if self.water_depth_ratio is None:
             return idx, w
-        h_obs = self.observer_water_depth(idx, w, x_m, y_m)
-        # a position's own depth: its bottom on the ring of its radials' first range (200 m)
         bottom, slot = self._bottoms(idx, w)
+        h_obs = self._water_depth(bottom, slot, idx, w, x_m, y_m)
+        # a position's own depth: its bottom on the ring of its radials' first range (200 m)
         h_pos = bottom[:, :, 0].mean(axis=1)
         return idx, water_weights(w, h_pos[slot], h_obs, self.water_depth_ratio)
 
