@@ -47,6 +47,9 @@ def register(sub, common) -> None:
     sa.add_argument("--points", type=Path, required=True, metavar="CSV",
                     help="columns obs_lat_deg, obs_lon_deg, month, class, band, bearing_deg, range_m [, depth_m]")
     sa.add_argument("--out", type=Path, required=True, metavar="CSV", help="the rows with k_db and tl_db added")
+    sa.add_argument("--weights", choices=("water", "bilinear"), default="water",
+                    help="between positions: bilinear weights tempered by how alike each position's water depth "
+                         "is to the observer's (default), or the bilinear weights alone")
     sa.add_argument("--force", action="store_true", help="replace --out even if it is not a CSV")
     sa.set_defaults(func=run_sample)
 
@@ -137,6 +140,8 @@ def run_sample(args) -> Report:
     out = check_output_file(args.out, Kind.CSV, force=args.force)
     points = read_points(args.points)
     store = open_store(args.store)
+    if args.weights == "bilinear":
+        store.water_depth_ratio = None
     result = sample_store(store, points, str(args.points))
     with atomic_path(out) as tmp:
         result.to_csv(tmp, index=False, float_format="%.4f")

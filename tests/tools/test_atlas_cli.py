@@ -9,6 +9,7 @@ import sys
 import pandas as pd
 import pytest
 
+from acoustics.grid.atlas.store import open_store
 from tests.acoustics.atlas.atlasarea import write_atlas_area
 
 pytestmark = pytest.mark.bellhop
@@ -51,6 +52,18 @@ def test_show_plot_and_sample(store, tmp_path):
     # a depth given as the class's own (8 m) gives K = S - TL there: the table's K within the
     # linear-in-depth TL between the 0 and 50 m rows of the atlas's axis (a few dB at most here)
     assert abs(df["k_db"][0] - df["k_db"][1]) < 6.0
+    # midway between a slope position and the shelf-edge one north of it: the default weights
+    # (tempered by the water) and the bilinear ones alone give different K, the same at a position
+    atlas = open_store(out)
+    mid = 0.5 * (atlas.lat_deg[1] + atlas.lat_deg[4])
+    points.write_text("obs_lat_deg,obs_lon_deg,month,class,band,bearing_deg,range_m\n"
+                      f"{mid},{atlas.lon_deg[1]},8,TV,FB2,90,5000\n{atlas.lat_deg[1]},{atlas.lon_deg[1]},8,TV,FB2,90,5000\n")
+    k = {}
+    for weights in ("water", "bilinear"):
+        done = _tmakit("atlas", "sample", out, "--points", points, "--out", result, "--weights", weights)
+        assert done.returncode == 0, done.stderr
+        k[weights] = pd.read_csv(result)["k_db"].to_numpy()
+    assert abs(k["water"][0] - k["bilinear"][0]) > 0.01 and k["water"][1] == k["bilinear"][1]
 
 
 @pytest.mark.parametrize(("args", "message"), [
@@ -68,6 +81,8 @@ def test_show_plot_and_sample(store, tmp_path):
      "row 2: 45.00000 N 5.00000 E is outside the atlas's lattice"),
     (["atlas", "sample", "{store}", "--points", "{tmp}/nan.csv", "--out", "{tmp}/o.csv"],
      "row 1, column range_m: 'nan' is not a number"),
+    (["atlas", "sample", "{store}", "--points", "{tmp}/far.csv", "--out", "{tmp}/o.csv", "--weights", "cubic"],
+     "--weights: invalid choice: 'cubic'"),
 ])
 def test_hostile_inputs_end_with_one_error_line_and_nothing_written(store, tmp_path, args, message):
     area, out = store
