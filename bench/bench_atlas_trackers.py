@@ -21,7 +21,7 @@ from acoustics.grid.atlas.follow import follow
 from acoustics.grid.atlas.store import open_store
 from acoustics.grid.formats import RESULT_FORMAT
 from bench.harness import REPO as ROOT
-from bench.harness import Session
+from bench.harness import Session, portable_path
 from envdata.classes import SourceLevelModel
 from tracker.mltma import MLBatch
 from tracker.rpf import RpfConfig, run_batch
@@ -67,14 +67,6 @@ def _rpf_seconds(tables, sim, ic: int, runs: int) -> float:
     return time.perf_counter() - start
 
 
-def _shown(path: Path) -> str:
-    """A path as a result file records it: relative to the repository when inside it."""
-    try:
-        return str(Path(path).resolve().relative_to(ROOT))
-    except ValueError:
-        return str(path)
-
-
 def main(path: Path) -> dict:
     sc = load_scenario("shelf-cross")
     base = _tables(path, "grid")
@@ -90,7 +82,8 @@ def main(path: Path) -> dict:
         for kind in ("ml", "rpf", "rpf20") for which in ("grid", "atlas")}
     session.interleave(workloads, REPEATS)
     med = {k: float(np.median(v)) for k, v in times.items()}
-    result = {"tmakit_format": RESULT_FORMAT, "atlas": _shown(path), "scenario": sc.name, "cycles": int(sim.t_s.size),
+    result = {"tmakit_format": RESULT_FORMAT, "atlas": portable_path(path), "scenario": sc.name,
+              "cycles": int(sim.t_s.size),
               "ml_rows": len(base.classes), "rpf_particles": N_PARTICLES, "repeats": REPEATS, "times_s": times,
               "median_s": med, "ml_cycle_ms": {"grid": 1e3 * med["ml_grid"], "atlas": 1e3 * med["ml_atlas"]},
               "ratio_ml_atlas_over_grid": med["ml_atlas"] / med["ml_grid"],
