@@ -174,7 +174,9 @@ def log_marginal(resid_db, var_db2, t_s, errors: LevelErrors, displacement_m=Non
     d_km = np.zeros(t_n) if displacement_m is None else np.broadcast_to(
         np.asarray(displacement_m, dtype=float) / 1000.0, (t_n,))
     # each component's variance at each cycle (T, S): constant unless the tables' error grows
-    prior = np.array([[sd ** 2 + (g * d) ** 2 for sd, _, _, g in effects] for d in d_km]).reshape(t_n, s)
+    sd0 = np.array([e[0] for e in effects])
+    growth = np.array([e[3] for e in effects])
+    prior = sd0[None, :] ** 2 + (growth[None, :] * d_km[:, None]) ** 2
     moving = [(j, corr) for j, (_, corr, _, _) in enumerate(effects) if corr is not None]
     mean = np.zeros((n, s))
     cov = np.broadcast_to(np.diag(prior[0]), (n, s, s)).copy()
