@@ -33,7 +33,12 @@ which bands they touch),
   within it), growing with the observer's distance from the tables' origin as the fine errors
   do (the tables' band ratios read away from where they were computed; its increments a random
   walk: what the bands' offsets were stays);
-- b: the offset common to every band and cycle, sd ``offset_sd_db`` (P0's sd and dK's).
+- b: the offset common to every band and cycle, sd ``offset_sd_db`` (P0's sd and dK's), growing
+  with the observer's distance from the tables' origin by ``offset_growth_db_per_km`` as c_m
+  does: the origin's tables read from elsewhere are off by an amount that differs from depth to
+  depth (the depth study's check: each depth's mean error less the origin's, 1.33 dB per km,
+  RMS over 3-60 m) and changes slowly along the track, over kilometres of range (its lag-1 km
+  autocorrelation 0.6-0.9 away from the origin, about 0 at it).
 
 All of them are Gaussian and enter linearly: a Kalman filter over (b, c, g, f, u) along the
 cycles gives the exact log density of the levels with every one integrated out
@@ -81,6 +86,9 @@ class LevelErrors:
     ----------
     offset_sd_db : float
         sd of b, common to bands and cycles (hypot of the class's noise_sd_db and k_error_sd_db).
+    offset_growth_db_per_km : float
+        How b's sd grows with the observer's distance d from where the tables were computed:
+        hypot(sd, growth x d), its increments a random walk.
     band_sd_db : float
         sd of c_m where the tables were computed.
     band_growth_db_per_km : float
@@ -104,10 +112,12 @@ class LevelErrors:
     band_growth_db_per_km: float = 0.32
     slow_sd_db: float = 1.0
     slow_time_s: float = 600.0
+    offset_growth_db_per_km: float = 1.33
 
     def __post_init__(self) -> None:
         for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db",
-                     "fine_growth_db_per_km", "fine_band_growth_db_per_km", "band_growth_db_per_km"):
+                     "fine_growth_db_per_km", "fine_band_growth_db_per_km", "band_growth_db_per_km",
+                     "offset_growth_db_per_km"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0.0):
                 raise ValueError(f"{name} must be >= 0 dB, got {v}")
@@ -126,7 +136,7 @@ class LevelErrors:
         for every band, growth of the sd per km of the observer's distance), in the Kalman
         filter's order."""
         fine, slow = self.fine_time_s, self.slow_time_s
-        out = [(self.offset_sd_db, None, -1, 0.0)]
+        out = [(self.offset_sd_db, None, -1, self.offset_growth_db_per_km)]
         out += [(self.band_sd_db, None, m, self.band_growth_db_per_km) for m in range(n_bands)]
         out += [(self.fine_sd_db, fine, -1, self.fine_growth_db_per_km)]
         out += [(self.fine_band_sd_db, fine, m, self.fine_band_growth_db_per_km) for m in range(n_bands)]

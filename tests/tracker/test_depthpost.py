@@ -49,11 +49,11 @@ def test_the_kalman_filter_is_the_models_gaussian_density():
 
 
 def test_fine_errors_that_grow_with_the_observers_distance_are_the_models_density():
-    # the observer moving away from the tables' origin: g's, f_m's and c_m's variance at a cycle
+    # the observer moving away from the tables' origin: b's, g's, f_m's and c_m's variance at a cycle
     # is sd^2 + (growth d)^2, and two cycles share the earlier one's (g and f_m forget it over
     # fine_time_s)
     err = LevelErrors(offset_sd_db=3.0, fine_growth_db_per_km=1.9, fine_band_growth_db_per_km=0.75,
-                      band_growth_db_per_km=0.4)
+                      band_growth_db_per_km=0.4, offset_growth_db_per_km=1.3)
     rng = np.random.default_rng(2)
     t_n, m_n = 10, 3
     t_s = np.cumsum(rng.uniform(5.0, 60.0, t_n))
@@ -66,7 +66,9 @@ def test_fine_errors_that_grow_with_the_observers_distance_are_the_models_densit
         for b, (u, k) in enumerate(idx):
             dt, first = abs(t_s[t] - t_s[u]), min(t, u)
             fine = math.exp(-dt / err.fine_time_s)
-            c[a, b] = (err.offset_sd_db ** 2 + err.slow_sd_db ** 2 * math.exp(-dt / err.slow_time_s)
+            # b's variance grows as c_m's does, its increments kept
+            c[a, b] = (err.offset_sd_db ** 2 + (err.offset_growth_db_per_km * d_m[first] / 1e3) ** 2
+                       + err.slow_sd_db ** 2 * math.exp(-dt / err.slow_time_s)
                        + fine * (err.fine_sd_db ** 2 + (err.fine_growth_db_per_km * d_m[first] / 1e3) ** 2))
             if m == k:  # c_m's variance grows too, its increments kept (a random walk)
                 c[a, b] += err.band_sd_db ** 2 + (err.band_growth_db_per_km * d_m[first] / 1e3) ** 2

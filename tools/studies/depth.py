@@ -268,7 +268,9 @@ def _table_check(tables, provider, ic: int) -> dict:
     sds and growth they give (``fit``; ``fine``: the common part, ``fine_band``: each band's own,
     ``band``: the bands' offsets): the sd where the tables were computed (the median over the
     origin's geometries) and the growth g of sd^2 = sd_0^2 + (g d)^2 fitted (least squares) to
-    the medians away from it, dB/km."""
+    the medians away from it, dB/km; ``offset``: how the mean moves with the observer, each
+    depth's mean less the origin's on the same bearing (RMS over the depths), its growth fitted
+    through zero at the origin (the offset's own sd there is the class's)."""
     r = np.asarray(CHECK_RANGES_M)
     like = TrackDepthLikelihood(tables, ic, tables.band_names, DEPTH_SPAN_M)
     geometries = []
@@ -300,12 +302,24 @@ def _table_check(tables, provider, ic: int) -> dict:
     for key, name in (("common_sd_db", "fine"), ("band_own_sd_db", "fine_band"), ("band_offset_sd_db", "band")):
         base = float(np.median([g[f"median_{key}"] for g in geometries if g["distance_km"] == 0.0]))
         away = [(g["distance_km"], g[f"median_{key}"]) for g in geometries if g["distance_km"] > 0.0]
-        d2 = np.array([d * d for d, _ in away])
-        excess = np.array([sd * sd - base * base for _, sd in away])
-        growth = math.sqrt(max(float(np.sum(d2 * excess) / np.sum(d2 * d2)), 0.0))
         fit[f"{name}_sd_db"] = round(base, 2)
-        fit[f"{name}_growth_db_per_km"] = round(growth, 2)
+        fit[f"{name}_growth_db_per_km"] = round(_growth(base, away), 2)
+    # the offset common to the bands moves with the observer too, by depth: each depth's mean
+    # less the origin's on the same bearing, their RMS over the depths
+    origin = {g["bearing_deg"]: g["by_depth_m"] for g in geometries if g["distance_km"] == 0.0}
+    shifts = [(g["distance_km"], math.sqrt(np.mean([(v["mean_db"] - origin[g["bearing_deg"]][z]["mean_db"]) ** 2
+                                                    for z, v in g["by_depth_m"].items()])))
+              for g in geometries if g["distance_km"] > 0.0 and g["bearing_deg"] in origin]
+    fit["offset_growth_db_per_km"] = round(_growth(0.0, shifts), 2)
     return {"ranges_km": [CHECK_RANGES_M[0] / 1e3, CHECK_RANGES_M[-1] / 1e3], "geometries": geometries, "fit": fit}
+
+
+def _growth(base: float, away) -> float:
+    """The growth g of sd^2 = base^2 + (g d)^2 fitted by least squares to (d km, sd dB) pairs,
+    dB/km (0 where they are no larger than the base)."""
+    d2 = np.array([d * d for d, _ in away])
+    excess = np.array([sd * sd - base * base for _, sd in away])
+    return math.sqrt(max(float(np.sum(d2 * excess) / np.sum(d2 * d2)), 0.0))
 
 
 def _mismatch_summary(parts) -> dict:

@@ -54,13 +54,15 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     pattern = np.linspace(-1.0, 1.0, len(tables.band_names))
     ripple = 1.5 * np.sin(np.asarray(depth.CHECK_RANGES_M) / 1300.0)
 
-    def provider(paths, grow_db_per_km=0.0):
-        # the ripple grows with the observer's distance from the origin as sqrt(1 + (g d / sd)^2)
+    def provider(paths, grow_db_per_km=0.0, shift_db_per_km=0.0):
+        # the ripple grows with the observer's distance from the origin as sqrt(1 + (g d / sd)^2);
+        # the offset moves by s d, up for the shallow depths and down for the others
         d_km = float(np.hypot(paths.obs_x_m[0], paths.obs_y_m[0])) / 1e3
         scale = math.hypot(ripple.std(), grow_db_per_km * d_km) / ripple.std()
+        shift = shift_db_per_km * d_km * (1.0 if paths.target_depth_m < 15.0 else -1.0)
         k = np.stack([m.at(paths.target_depth_m, paths.range_m[:, 0], paths.bearing_deg[:, 0])
                       for m in like._mean], axis=-1)
-        return (k + 2.0 + pattern + scale * ripple[:, None])[:, None, :]
+        return (k + 2.0 + shift + pattern + scale * ripple[:, None])[:, None, :]
 
     check = depth._table_check(tables, provider, ic)
     assert len(check["geometries"]) == len(depth.CHECK_GEOMETRIES)
@@ -72,11 +74,13 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
             assert_allclose(v["common_sd_db"], ripple.std(), atol=0.006)
             assert v["band_own_sd_db"] < 0.006
     assert_allclose(check["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
-    assert max(check["fit"][f"{k}_growth_db_per_km"] for k in ("fine", "fine_band", "band")) < 0.05
-    # a ripple that grows away from the origin: the fit gives its growth back
-    grown = depth._table_check(tables, lambda p: provider(p, 1.5), ic)
+    assert max(check["fit"][f"{k}_growth_db_per_km"] for k in ("fine", "fine_band", "band", "offset")) < 0.05
+    # a ripple that grows away from the origin and an offset that moves by depth: the fit gives
+    # both back
+    grown = depth._table_check(tables, lambda p: provider(p, 1.5, 1.2), ic)
     assert_allclose(grown["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
     assert_allclose(grown["fit"]["fine_growth_db_per_km"], 1.5, atol=0.02)
+    assert_allclose(grown["fit"]["offset_growth_db_per_km"], 1.2, atol=0.02)
 
 
 def test_the_likelihoods_errors_are_those_the_study_recorded():
@@ -91,5 +95,6 @@ def test_the_likelihoods_errors_are_those_the_study_recorded():
     fit = json.loads(result.read_text())["tables_vs_bellhop_from_target_db"]["fit"]
     e = LevelErrors(offset_sd_db=1.0)
     assert (e.fine_sd_db, e.fine_band_sd_db) == (fit["fine_sd_db"], fit["fine_band_sd_db"])
-    assert (e.fine_growth_db_per_km, e.fine_band_growth_db_per_km, e.band_growth_db_per_km) == (
-        fit["fine_growth_db_per_km"], fit["fine_band_growth_db_per_km"], fit["band_growth_db_per_km"])
+    assert (e.fine_growth_db_per_km, e.fine_band_growth_db_per_km, e.band_growth_db_per_km,
+            e.offset_growth_db_per_km) == (fit["fine_growth_db_per_km"], fit["fine_band_growth_db_per_km"],
+                                           fit["band_growth_db_per_km"], fit["offset_growth_db_per_km"])
