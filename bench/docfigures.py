@@ -643,7 +643,25 @@ def depth_check(root: Path) -> str:
             f"{f['fine_growth_db_per_km']:.1f} / {f['fine_band_growth_db_per_km']:.2f} dB per km of the observer's "
             "distance from there (sd^2 = sd_0^2 + (g d)^2, least squares); the bands' offsets (their sd over the "
             f"bands, median {f['band_sd_db']:.2f} dB at the origin) by {f['band_growth_db_per_km']:.2f} dB per km, "
-            "added to the class's 1 dB.\n\n" + _source(d, "depth/depth.json"))
+            "added to the class's 1 dB; the offset common to the bands (each depth's mean less the origin's on the "
+            f"same bearing, RMS over the depths) by {f['offset_growth_db_per_km']:.2f} dB per km, added to the "
+            "class's P0 and dK." + _check_correlation(c) + "\n\n" + _source(d, "depth/depth.json"))
+
+
+def _check_correlation(c: dict) -> str:
+    """The common part's correlation from one range to the next, at the origin and away from it
+    (files made before the check recorded it: nothing)."""
+    at = {True: [], False: []}
+    for g in c["geometries"]:
+        if "median_common_lag1_correlation" in g:
+            at[g["distance_km"] == 0.0].append(g["median_common_lag1_correlation"])
+    if not (at[True] and at[False]):
+        return ""
+    span = c["ranges_km"]
+    return (f" The part common to the bands is correlated from one km to the next by {min(at[True]):.1f}-"
+            f"{max(at[True]):.1f} at the origin and {min(at[False]):.1f}-{max(at[False]):.1f} away from it "
+            f"(medians over the depths; targets {span[0]:g}-{span[1]:g} km): away from where they were "
+            "computed the tables are off slowly along range.")
 
 
 def depth_weights(root: Path) -> str:

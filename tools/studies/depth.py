@@ -264,7 +264,8 @@ def _table_check(tables, provider, ic: int) -> dict:
     """K from BELLHOP with the source at the target (the truth's runs) less the tables' K (read as
     the depth likelihood reads it, from the observer) for each of `CHECK_GEOMETRIES`: per depth,
     the mean, the bands' offsets from it (and their sd), and the sd along range of the part common
-    to the bands and of each band's own, dB; per geometry their medians over the depths; and the
+    to the bands and of each band's own, dB, and the common part's correlation from one range to
+    the next (`CHECK_RANGES_M`'s step); per geometry their medians over the depths; and the
     sds and growth they give (``fit``; ``fine``: the common part, ``fine_band``: each band's own,
     ``band``: the bands' offsets): the sd where the tables were computed (the median over the
     origin's geometries) and the growth g of sd^2 = sd_0^2 + (g d)^2 fitted (least squares) to
@@ -292,10 +293,11 @@ def _table_check(tables, provider, ic: int) -> dict:
                              "band_offsets_db": [round(float(v), 2) for v in band],
                              "band_offset_sd_db": round(float(np.std(band)), 2),
                              "common_sd_db": round(float(np.nanstd(common)), 2),
+                             "common_lag1_correlation": round(_lag1_correlation(common), 2),
                              "band_own_sd_db": round(float(np.nanstd(own)), 2)}
         g = {"observer_x_m": ox, "observer_y_m": oy, "bearing_deg": bearing,
              "distance_km": round(math.hypot(ox, oy) / 1e3, 2), "by_depth_m": out}
-        for key in ("common_sd_db", "band_own_sd_db", "band_offset_sd_db"):
+        for key in ("common_sd_db", "band_own_sd_db", "band_offset_sd_db", "common_lag1_correlation"):
             g[f"median_{key}"] = round(float(np.median([v[key] for v in out.values()])), 2)
         geometries.append(g)
     fit = {}
@@ -312,6 +314,13 @@ def _table_check(tables, provider, ic: int) -> dict:
               for g in geometries if g["distance_km"] > 0.0 and g["bearing_deg"] in origin]
     fit["offset_growth_db_per_km"] = round(_growth(0.0, shifts), 2)
     return {"ranges_km": [CHECK_RANGES_M[0] / 1e3, CHECK_RANGES_M[-1] / 1e3], "geometries": geometries, "fit": fit}
+
+
+def _lag1_correlation(x) -> float:
+    """Correlation of a series with itself one step on (NaN-free pairs)."""
+    a, b = np.asarray(x[:-1], dtype=float), np.asarray(x[1:], dtype=float)
+    ok = np.isfinite(a) & np.isfinite(b)
+    return float(np.corrcoef(a[ok], b[ok])[0, 1]) if ok.sum() > 2 else math.nan
 
 
 def _growth(base: float, away) -> float:

@@ -72,6 +72,8 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
             assert_allclose(v["mean_db"], 2.0 + ripple.mean(), atol=0.006)
             assert_allclose(v["band_offsets_db"], pattern - pattern.mean(), atol=0.006)
             assert_allclose(v["common_sd_db"], ripple.std(), atol=0.006)
+            # a sinusoid's autocorrelation one step on is the cosine of the step's phase
+            assert_allclose(v["common_lag1_correlation"], math.cos(1000.0 / 1300.0), atol=0.02)
             assert v["band_own_sd_db"] < 0.006
     assert_allclose(check["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
     assert max(check["fit"][f"{k}_growth_db_per_km"] for k in ("fine", "fine_band", "band", "offset")) < 0.05
