@@ -658,8 +658,8 @@ def _check_correlation(c: dict) -> str:
     if not (at[True] and at[False]):
         return ""
     span = c["ranges_km"]
-    return (f" The part common to the bands is correlated from one km to the next by {min(at[True]):.1f}-"
-            f"{max(at[True]):.1f} at the origin and {min(at[False]):.1f}-{max(at[False]):.1f} away from it "
+    return (f" The part common to the bands is correlated from one km to the next by {min(at[True]):.1f} to "
+            f"{max(at[True]):.1f} at the origin and {min(at[False]):.1f} to {max(at[False]):.1f} away from it "
             f"(medians over the depths; targets {span[0]:g}-{span[1]:g} km): away from where they were "
             "computed the tables are off slowly along range.")
 

@@ -37,8 +37,9 @@ which bands they touch),
   with the observer's distance from the tables' origin by ``offset_growth_db_per_km`` as c_m
   does: the origin's tables read from elsewhere are off by an amount that differs from depth to
   depth (the depth study's check: each depth's mean error less the origin's, 1.33 dB per km,
-  RMS over 3-60 m) and changes slowly along the track, over kilometres of range (its lag-1 km
-  autocorrelation 0.6-0.9 away from the origin, about 0 at it).
+  RMS over 3-60 m) and changes slowly along the track, over kilometres of range (the check's
+  part common to the bands, correlated from one km to the next by 0.7 to 0.9 away from the
+  origin, -0.1 to 0.6 at it).
 
 All of them are Gaussian and enter linearly: a Kalman filter over (b, c, g, f, u) along the
 cycles gives the exact log density of the levels with every one integrated out
