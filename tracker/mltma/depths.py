@@ -11,8 +11,9 @@ offset per band and the tables' K error along the track integrated out;
 hypothesis's weight is the posterior mass of the depths it owns.
 
 The track a depth is read along is each hypothesis's estimate at that cycle carried back over
-its tack (`tracker.depthlevels.line_back`): the causal estimates of the first minutes are
-kilometres off. The posterior is taken at the first cycle, every `DEPTH_EVERY` cycles after and
+its tack, and each earlier tack's last estimate over that tack (`tracker.depthlevels.line_back`):
+the causal estimates of the first minutes are kilometres off, and every depth is judged on the
+same cycles' levels. The posterior is taken at the first cycle, every `DEPTH_EVERY` cycles after and
 at the last; each cycle's row of a class is the track of the hypothesis of the largest weight
 then, with ``depth_m`` the posterior median and ``depth_sd_m`` the posterior sd (held between
 the cycles it is taken at);
@@ -238,19 +239,28 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
 
 
 def _carried_back(tracks, m: Measurements, at) -> tuple[np.ndarray, np.ndarray]:
-    """Range and bearing from the observer of each hypothesis's estimate at each cycle of ``at``
-    carried back over its tack (NaN outside it and after that cycle), (H, C, T) each."""
+    """Range and bearing from the observer of each hypothesis's track as known at each cycle of
+    ``at``: each of its tacks the estimate at that tack's last cycle (or at that cycle) carried
+    back over the tack (NaN after that cycle), (H, C, T) each. Every hypothesis has a track over
+    every cycle: its depths' likelihoods are compared over the same levels (a hypothesis that
+    declared a manoeuvre is not judged on its last tack's levels alone)."""
     n_t = len(m)
     r = np.full((len(tracks), len(at), n_t), np.nan)
     b = np.full(r.shape, np.nan)
+    t = np.asarray(m.t_s, dtype=float)
     for h, trk in enumerate(tracks):
         course = np.radians(trk["course_deg"].to_numpy())
         speed = trk["speed_mps"].to_numpy()
+        px, py = trk["x_m"].to_numpy(), trk["y_m"].to_numpy()
+        vx, vy = speed * np.sin(course), speed * np.cos(course)
         tack = trk["tack"].to_numpy()
+        firsts = np.flatnonzero(np.diff(tack, prepend=np.nan) != 0)      # each tack's first cycle
         for c, i in enumerate(at):
-            start = int(np.flatnonzero(tack[:i + 1] == tack[i])[0])
-            x, y = line_back(m.t_s[:i + 1], trk["x_m"].to_numpy()[:i + 1], trk["y_m"].to_numpy()[:i + 1],
-                             (speed * np.sin(course))[:i + 1], (speed * np.cos(course))[:i + 1], start)
+            x, y = np.empty(i + 1), np.empty(i + 1)
+            starts = firsts[firsts <= i]
+            for s0, e0 in zip(starts, np.append(starts[1:] - 1, i)):
+                part = slice(s0, e0 + 1)
+                x[part], y[part] = line_back(t[part], px[part], py[part], vx[part], vy[part])
             dx, dy = x - m.obs_x_m[:i + 1], y - m.obs_y_m[:i + 1]
             r[h, c, :i + 1] = np.hypot(dx, dy)
             b[h, c, :i + 1] = np.mod(np.degrees(np.arctan2(dx, dy)), 360.0)
