@@ -9,10 +9,10 @@ sigma_dW^2 at each depth asked for go to `tracker.depthpost.log_marginal`.
 
 The track should be a smoothed one: the final estimate of a tracker's motion carried back over
 the cycles of its tack (`line_back`), not each cycle's causal estimate, whose early cycles are
-kilometres off while the analysis converges (measured in docs/depth.md). Optionally the
-likelihood is integrated over the track's range scale s (every relative position times s,
-bearings kept), s log-normal about 1 with sd ``range_scale_sd``, on `RANGE_SCALE_NODES` nodes
-over +-2.5 sd: L(z) = sum_s p(s) L(z | s x track).
+kilometres off while the analysis converges (measured in docs/depth.md). The likelihood is
+integrated over the track's range scale s (every relative position times s, bearings kept), s
+log-normal about 1 with sd ``range_scale_sd`` (default `RANGE_SCALE_SD`), on
+`RANGE_SCALE_NODES` Gauss-Hermite nodes: L(z) = sum_s p(s) L(z | s x track).
 """
 
 from __future__ import annotations
@@ -26,8 +26,15 @@ from tracker.mltma import measurement_sd
 
 #: The range uncertainty K is averaged over along an estimated track.
 K_SMOOTHING = RangeSmoothing(fraction=0.07, floor_m=100.0)
-#: Nodes of the integral over the range scale.
-RANGE_SCALE_NODES = 9
+#: sd of ln(range scale) the likelihood is integrated over by default: the tracks a depth
+#: posterior reads are off in range by a scale (the final estimate carried back), RMS 0.26-0.61
+#: in ln over the depth study's trackers (docs/results/depth/depth.json,
+#: ``track_range_scale_ln_rms``); this is below all of them, and the table's K read at a
+#: scaled range also takes up part of the tables' error along range away from their origin.
+RANGE_SCALE_SD = 0.2
+#: Nodes of the integral over the range scale (Gauss-Hermite: exact for a likelihood
+#: polynomial in ln s up to degree 2n - 1).
+RANGE_SCALE_NODES = 5
 
 
 def line_back(t_s, x_m, y_m, vx_mps, vy_mps, start: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -58,23 +65,25 @@ class TrackDepthLikelihood:
     errors : LevelErrors, optional
         Default `LevelErrors.of_class`.
     range_scale_sd : float
-        sd of ln(range scale) the likelihood is integrated over (default 0: the track as it is).
+        sd of ln(range scale) the likelihood is integrated over (default `RANGE_SCALE_SD`; 0: the
+        track as it is).
     smoothing : RangeSmoothing, optional
         The range uncertainty K is averaged over (default `K_SMOOTHING`).
     """
 
     def __init__(self, tables, ic: int, band_names, span_m, *, errors: LevelErrors | None = None,
-                 range_scale_sd: float = 0.0, smoothing: RangeSmoothing | None = None):
+                 range_scale_sd: float = RANGE_SCALE_SD, smoothing: RangeSmoothing | None = None):
         self.tables = tables
         self.ic = int(ic)
         self.cls = tables.classes[ic]
         self.errors = errors or LevelErrors.of_class(self.cls)
         self.smoothing = K_SMOOTHING if smoothing is None else smoothing
+        if not (np.isfinite(range_scale_sd) and range_scale_sd >= 0.0):
+            raise ValueError(f"range_scale_sd must be >= 0, got {range_scale_sd}")
         if range_scale_sd > 0.0:
-            u = np.linspace(-2.5, 2.5, RANGE_SCALE_NODES)
+            u, w = np.polynomial.hermite_e.hermegauss(RANGE_SCALE_NODES)   # for the weight e^(-u^2/2)
             self.scales = np.exp(range_scale_sd * u)
-            lw = -0.5 * u * u
-            self.log_scale_weight = lw - np.log(np.exp(lw).sum())
+            self.log_scale_weight = np.log(w / w.sum())
         else:
             self.scales, self.log_scale_weight = np.ones(1), np.zeros(1)
         self.bands = [tables.band_index(b) for b in band_names]
@@ -142,6 +151,14 @@ class TrackDepthLikelihood:
         resid = level - (self._base_db + k)
         away = None if obs_x_m is None else self.displacement_m(obs_x_m, obs_y_m)
         ll = log_marginal(resid, sd ** 2, t_s, self.errors, away)             # (D, S, ..., T)
+        # a depth the tables have no K for where a level was measured and the track has a position
+        # (no water there: below the bottom) is ruled out from that cycle on, not spared the
+        # cycle's term, which would make it the most likely of all; a cycle before the track
+        # begins (NaN range) says nothing, whatever the depth
+        lost = (np.isfinite(level) & ~np.isfinite(k)).any(axis=-1) & np.isfinite(r)
+        ll = np.where(np.logical_or.accumulate(lost, axis=-1), -np.inf, ll)
         lw = self.log_scale_weight.reshape((1, -1) + (1,) * (ll.ndim - 2)) + ll
         top = lw.max(axis=1, keepdims=True)
-        return (top + np.log(np.exp(lw - top).sum(axis=1, keepdims=True)))[:, 0]
+        top = np.where(np.isfinite(top), top, 0.0)
+        with np.errstate(divide="ignore"):
+            return (top + np.log(np.exp(lw - top).sum(axis=1, keepdims=True)))[:, 0]

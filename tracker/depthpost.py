@@ -342,6 +342,8 @@ def posterior(depth_m, log_likelihood, span_m: tuple[float, float], *,
     z0 = PRIOR_LOG_OFFSET_M if prior == "log" else None
     cell = np.diff(edges) if z0 is None else np.log((edges[1:] + z0) / (edges[:-1] + z0))
     ll = np.asarray(log_likelihood, dtype=float)
+    # no depth possible (each ruled out somewhere, ``TrackDepthLikelihood``): the levels say nothing
+    ll = np.where(np.isneginf(ll).all(axis=-1, keepdims=True), 0.0, ll)
     lw = ll + np.log(np.maximum(cell, 1e-12))
     lw = lw - lw.max(axis=-1, keepdims=True)
     w = np.exp(lw)
