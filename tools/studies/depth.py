@@ -34,7 +34,9 @@ filter's final estimate carried back (`tracker.depthlevels`), and the bank's pos
 hypotheses' final weights are kept per run (``w_<depth>``). What the levels themselves allow,
 whatever a tracker makes of the motion: the posterior along the true track (``known_motion``),
 and the levels' residual about the tables' K at the true depth along it
-(``level_residual_at_true_depth_db``). The summary: medians of
+(``level_residual_at_true_depth_db``); how far in range scale each tracker's final estimate
+carried back is off (``track_range_scale_ln_rms``: what the depth likelihood's range-scale
+integral allows for, `tracker.depthlevels.RANGE_SCALE_SD`). The summary: medians of
 the position errors and their ratios, the 90 % intervals' coverage of the truth (target
 >= 85 %) and widths, the surface-or-submerged call's error rate.
 """
@@ -216,6 +218,15 @@ def _weighed(sim, pos_z, z, like):
     pos = np.take_along_axis(pos_z, best[None, ..., None], axis=0)[0]
     final = post.at_cycle(post.weight[:, -1])
     return pos, final, w[:, -1]
+
+
+def _range_scale(sim, pos, late) -> np.ndarray:
+    """Per run, ln of the final estimate's range carried back (what a depth posterior along a
+    tracker's track reads) over the true range, the median over the ``late`` cycles."""
+    r_track, _ = _carried_back(sim, pos)
+    r_true, _ = _polar(sim, np.stack([sim.x_m, sim.y_m], axis=-1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.nanmedian(np.log(r_track[:, late] / r_true[:, late]), axis=1)
 
 
 def _rpf_track_posterior(sim, pos, like) -> DepthPosterior:
@@ -421,12 +432,13 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                             depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
                     err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
                     rms = np.sqrt(np.nanmean(err[:, late] ** 2, axis=1))
+                    scale = _range_scale(sim, pos, late)
                     if not depth_info:
-                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant,
-                                                  "depth_from": "", "rms_error_m": rms}))
+                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant, "depth_from": "",
+                                                  "rms_error_m": rms, "range_scale_ln": scale}))
                     for source, d in depth_info.items():
-                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant,
-                                                  "depth_from": source, "rms_error_m": rms, **d}))
+                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant, "depth_from": source,
+                                                  "rms_error_m": rms, "range_scale_ln": scale, **d}))
             # the levels' own say with the motion known: the posterior along the true track
             true_pos = np.stack([sim.x_m, sim.y_m], axis=-1)
             rows.append(pd.DataFrame({**base, "method": KNOWN, "variant": "unknown", "depth_from": "true_track",
@@ -515,11 +527,19 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
            "ratio_unknown_to_true_by_scenario": ratio_by_scenario,
            "target_ratio": TARGET_RATIO, "target_coverage": TARGET_COVERAGE, "depth_estimates": estimators,
            "hypothesis_weights_mean": weights,
+           "track_range_scale_ln_rms": _scale_rms(pos),
            "late_min": LATE_MIN}
     if provider is not None:
         out["truth_runs"] = int(provider.stats.runs)
         out["truth_runs_cached"] = int(provider.stats.cached)
     return out
+
+
+def _scale_rms(pos: pd.DataFrame) -> dict:
+    """Per tracker (method_variant), the RMS over all runs of `_range_scale`: how far in range
+    scale the tracks a depth posterior reads are off (`tracker.depthlevels`'s range-scale sd)."""
+    g = pos.groupby(["method", "variant"])["range_scale_ln"]
+    return {f"{m}_{v}": round(float(np.sqrt(np.nanmean(x ** 2))), 3) for (m, v), x in g}
 
 
 def _text(summary: dict) -> str:
