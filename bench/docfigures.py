@@ -584,8 +584,13 @@ def depth_errors(root: Path) -> str:
     by_sc = d["ratio_unknown_to_true_by_scenario"]
     text = "; ".join(f"{k} {ratio[k]:.2f} (" + ", ".join(f"{sc} {v[k]:.2f}" for sc, v in by_sc.items()) + ")"
                      for k in ratio)
+    scale = d.get("track_range_scale_ln_rms")
+    scale_text = ("" if scale is None else " How far in range scale each tracker's final estimate carried back is "
+                  "off, RMS of ln(range / true range) over the runs: "
+                  + ", ".join(f"{k} {scale[k]:.2f}" for k in keys if k in scale) + ".")
     return (_table(rows) + f"\nPosition error with the depth unknown over that given the true depth, medians over "
-            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.\n\n" + _source(d, "depth/depth.json"))
+            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.{scale_text}\n\n"
+            + _source(d, "depth/depth.json"))
 
 
 def depth_estimates(root: Path) -> str:
