@@ -16,7 +16,7 @@ import io
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -137,6 +137,11 @@ class Measurements:
                             bearing_sigma_deg=self.bearing_sigma_deg[rows],
                             band_names=self.band_names, level_db=self.level_db[rows],
                             snr_db=self.snr_db[rows])
+
+    def with_bands(self, names) -> Measurements:
+        """The measurements with the levels and SNR of the named bands only, in that order."""
+        j = [self.band_index(n) for n in names]
+        return replace(self, band_names=tuple(names), level_db=self.level_db[:, j], snr_db=self.snr_db[:, j])
 
     def to_frame(self):
         """The measurements as a pandas DataFrame with the columns of the measurement CSV."""

@@ -42,8 +42,10 @@ N_DEPTHS = 9
 DEPTH_SPACING_OFFSET_M = 10.0
 #: The interval `DepthChoice` gives: from this quantile to 1 less it.
 INTERVAL_TAIL = 0.05
-#: The depth posterior is taken every this many cycles (from the first, and at the last).
+#: The depth posterior is taken every this many cycles (from the first, and at the last) ...
 DEPTH_EVERY = 6
+#: ... this many of those cycles' posteriors computed at once.
+POSTERIOR_CHUNK = 8
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -185,12 +187,7 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
     names = tables.class_names if cls_name is None else (cls_name,)
     good = m.take(np.flatnonzero(np.isfinite(m.bearing_deg)))
     if band is not None:
-        j = good.band_names.index(band)
-        good = Measurements(source=good.source, t_s=good.t_s, obs_x_m=good.obs_x_m,
-                            obs_y_m=good.obs_y_m, obs_depth_m=good.obs_depth_m,
-                            bearing_deg=good.bearing_deg, bearing_sigma_deg=good.bearing_sigma_deg,
-                            band_names=(band,), level_db=good.level_db[:, j:j + 1],
-                            snr_db=good.snr_db[:, j:j + 1])
+        good = good.with_bands((band,))
     frames, choices = [], []
     for name in names:
         ic = tables.class_index(name)
@@ -205,15 +202,8 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             tracks.append(track_measurements(view, good, cls_name=name, band=None,
                                              params=params).reset_index(drop=True))
         n_t = len(good)
-        at = np.unique(np.append(np.arange(0, n_t, DEPTH_EVERY), n_t - 1))  # from the first cycle on
-        r, b = _carried_back(tracks, good, at)                           # (H, C, T)
-        like = TrackDepthLikelihood(tables, ic, good.band_names, span)
-        post, own = depth_posterior(like, z, span, good.t_s, r, b, np.asarray(good.level_db, dtype=float),
-                                    np.asarray(good.snr_db, dtype=float), good.obs_x_m, good.obs_y_m)
-        last_t = post.weight[:, -1]                                      # (C, D): each its own cycle's
-        post = post.at_cycle(last_t)
+        post, own, held = posterior_along_tracks(tables, ic, good, tracks, z, span)
         w = hypothesis_weights(post, own, z.size)                        # (C, H)
-        held = np.searchsorted(at, np.arange(n_t), side="right") - 1     # the last taken at or before
         best = np.argmax(w, axis=1)[held]
         rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(n_t)], ignore_index=True)
         median, sd = post.quantile(0.5), post.sd()
@@ -236,6 +226,47 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
             surface_probability=float(surf), submerged_probability=float(sub)))
     return pd.concat(frames, ignore_index=True), choices
+
+
+def posterior_along_tracks(tables: Tables, ic: int, m: Measurements, tracks, hypotheses_m,
+                           span_m) -> tuple[DepthPosterior, np.ndarray, np.ndarray]:
+    """The depth posterior of class ``ic`` from the levels of every band of ``m``, taken at the
+    first cycle, every `DEPTH_EVERY` cycles after and at the last, each time along the tracks as
+    known then (`_carried_back`), each depth along its hypothesis's track (`depth_posterior`).
+
+    Parameters
+    ----------
+    tables : Tables
+    ic : int
+    m : Measurements
+        The cycles the tracks have rows for.
+    tracks : list of pandas.DataFrame
+        One per hypothesis (``x_m``, ``y_m``, ``course_deg``, ``speed_mps``, ``tack`` per cycle).
+    hypotheses_m : array_like, shape (H,)
+    span_m : (float, float)
+
+    Returns
+    -------
+    post : DepthPosterior
+        ``weight`` of shape (C, D): the posterior as taken at each of the C cycles.
+    owner : ndarray of int, shape (D,)
+        Each depth's hypothesis.
+    held : ndarray of int, shape (T,)
+        For each cycle, the row of ``post`` last taken at or before it.
+    """
+    n_t = len(m)
+    at = np.unique(np.append(np.arange(0, n_t, DEPTH_EVERY), n_t - 1))  # from the first cycle on
+    r, b = _carried_back(tracks, m, at)                                 # (H, C, T)
+    like = TrackDepthLikelihood(tables, ic, m.band_names, span_m)
+    level, snr = np.asarray(m.level_db, dtype=float), np.asarray(m.snr_db, dtype=float)
+    weights = []
+    for c0 in range(0, at.size, POSTERIOR_CHUNK):  # a few at a time: memory grows with depths x cycles
+        part = slice(c0, c0 + POSTERIOR_CHUNK)
+        post, own = depth_posterior(like, hypotheses_m, span_m, m.t_s, r[:, part], b[:, part], level, snr,
+                                    m.obs_x_m, m.obs_y_m)
+        weights.append(post.weight[:, -1])                              # each its own cycle's
+    held = np.searchsorted(at, np.arange(n_t), side="right") - 1
+    return post.at_cycle(np.concatenate(weights)), own, held
 
 
 def _carried_back(tracks, m: Measurements, at) -> tuple[np.ndarray, np.ndarray]:
