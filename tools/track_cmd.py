@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from envdata.errors import InputError
 from envdata.files import atomic_paths
@@ -89,17 +90,23 @@ def run_track(args) -> Report:
         data["final"][r["class"]] = {k: float(r[k]) for k in ("range_m", "course_deg",
                                                                "speed_mps", "depth_m", "depth_sd_m")}
     for choice in df.attrs.get("depth", []):
-        vs_class = ("" if choice.log_lr_class_depth is None else
-                    f", {choice.log_lr_class_depth:.1f} over its table depth")
-        lines.append(f"  {choice.cls_name}: most likely depth {choice.depth_m:.0f} m of "
-                     f"{len(choice.depths_m)} hypotheses (ln likelihood ratio "
-                     f"{choice.log_lr_next:.1f} over the next{vs_class}); depth {choice.median_m:.0f} m, "
-                     f"90 % in {choice.interval_m[0]:.0f}-{choice.interval_m[1]:.0f} m, "
-                     f"P(<= 15 m) {choice.surface_probability:.2f}, P(>= 40 m) {choice.submerged_probability:.2f}")
-        lines.append("    weights: " + ", ".join(f"{z:g} m {w:.2f}" for z, w in zip(choice.depths_m, choice.weights)))
+        posterior = (f"depth {choice.median_m:.0f} m, 90 % in {choice.interval_m[0]:.0f}-"
+                     f"{choice.interval_m[1]:.0f} m, P(<= 15 m) {choice.surface_probability:.2f}, "
+                     f"P(>= 40 m) {choice.submerged_probability:.2f}")
+        if choice.depths_m:  # the ML analysis's depth hypotheses
+            vs_class = ("" if choice.log_lr_class_depth is None else
+                        f", {choice.log_lr_class_depth:.1f} over its table depth")
+            lines.append(f"  {choice.cls_name}: most likely depth {choice.depth_m:.0f} m of "
+                         f"{len(choice.depths_m)} hypotheses (ln likelihood ratio "
+                         f"{choice.log_lr_next:.1f} over the next{vs_class}); {posterior}")
+            lines.append("    weights: " + ", ".join(f"{z:g} m {w:.2f}"
+                                                     for z, w in zip(choice.depths_m, choice.weights)))
+        else:  # the particle filter: the levels along its track
+            lines.append(f"  {choice.cls_name}: from the levels along the filter's track, {posterior}")
         data.setdefault("depth", {})[choice.cls_name] = {
             "depth_m": choice.depth_m, "depths_m": list(choice.depths_m), "weights": list(choice.weights),
-            "log_likelihood": list(choice.log_likelihood), "log_lr_next": choice.log_lr_next,
+            "log_likelihood": list(choice.log_likelihood),
+            "log_lr_next": choice.log_lr_next if math.isfinite(choice.log_lr_next) else None,
             "log_lr_class_depth": choice.log_lr_class_depth, "median_m": choice.median_m,
             "interval_m": list(choice.interval_m), "surface_probability": choice.surface_probability,
             "submerged_probability": choice.submerged_probability}

@@ -48,10 +48,15 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         complete, sets sigma_theta (its median).
     depth_unknown : bool
         Carry the target's depth as a state (`tracker.rpf.depthbatch`): prior uniform over the
-        class's ``depth_range_m`` (else the water the tables hold), K at each particle's depth;
-        the rows' ``depth_m`` and ``depth_sd_m`` are its estimate. Needs levels (``rpf``,
-        ``rpf-vp``). Otherwise those columns are blank here (``tracker.track.track`` fills in
-        the depth the tables assume).
+        class's ``depth_range_m`` (else the water the tables hold), K at each particle's depth.
+        The rows' ``depth_m`` and ``depth_sd_m`` are then the median and sd of the depth
+        posterior from the levels of every band along the filter's track (``band`` given: its
+        levels alone; `tracker.mltma.depths.posterior_along_tracks`, taken every few cycles),
+        not the particles' own depth, which counts every cycle's level as independent and is
+        confidently wrong (docs/depth.md); ``DataFrame.attrs["depth"]`` holds each class's
+        final posterior (a `tracker.mltma.depths.DepthChoice` without hypotheses). Needs levels
+        (``rpf``, ``rpf-vp``). Otherwise those columns are blank here (``tracker.track.track``
+        fills in the depth the tables assume).
 
     Returns
     -------
@@ -86,6 +91,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         cfg = replace(cfg, bearing_sigma_deg=float(np.median(sig)))
     levels = None
     bands = tables.band_names
+    band_given = band is not None
     if spl:
         if band is None:
             usable = [b for b in bands if b in m.band_names]
@@ -120,7 +126,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     hypotheses = [cls_name] if cls_name is not None else list(tables.class_names)
     if method is Method.RPF_BOT:
         hypotheses = hypotheses[:1]  # bearings alone do not depend on the class
-    frames = []
+    frames, choices = [], []
     for name in hypotheses:
         profiles = [None] * t.size
         model, p0, p0_sd = SourceLevelModel.ROSS, math.nan, 0.0
@@ -148,15 +154,44 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         ax, ay = mean[:, 0] + obs[:, 0], mean[:, 1] + obs[:, 1]
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]
         sds = res.extra["sd"][0]
-        frames.append(pd.DataFrame({
+        frame = pd.DataFrame({
             "t_s": t, "class": name if spl or cls_name else "any",
             "x_m": ax, "y_m": ay, "range_m": np.hypot(mean[:, 0], mean[:, 1]),
             "bearing_deg": np.mod(np.degrees(bearing_rad(mean[:, 0], mean[:, 1])), 360.0),
             "course_deg": np.mod(np.degrees(np.arctan2(tvx, tvy)), 360.0),
             "speed_mps": np.hypot(tvx, tvy), "range_sd_m": sds[:, 0],
             "course_sd_deg": sds[:, 1], "speed_sd_mps": sds[:, 2], "tack": 1,
-            "method": method.value, "depth_m": depth_m, "depth_sd_m": depth_sd_m}))
-    return pd.concat(frames, ignore_index=True)
+            "method": method.value, "depth_m": depth_m, "depth_sd_m": depth_sd_m})
+        if depth_unknown:
+            choices.append(_depth_along_track(tables, ic, name, m.take(np.arange(first, len(m))),
+                                              band if band_given else None, frame))
+        frames.append(frame)
+    out = pd.concat(frames, ignore_index=True)
+    if depth_unknown:
+        out.attrs["depth"] = choices
+    return out
+
+
+def _depth_along_track(tables, ic: int, name: str, m, band: str | None, frame):
+    """The depth posterior along the filter's track: the rows' ``depth_m`` and ``depth_sd_m``
+    (median and sd as last taken) set in ``frame``, and the final one as a `DepthChoice`."""
+    import math
+
+    from tracker.mltma.depths import INTERVAL_TAIL, DepthChoice, posterior_along_tracks
+
+    if band is not None:
+        m = m.with_bands((band,))
+    lo, hi = tables.target_depth_span_m(ic)
+    post, _, held = posterior_along_tracks(tables, ic, m, [frame], np.array([0.5 * (lo + hi)]), (lo, hi))
+    frame["depth_m"] = post.quantile(0.5)[held]
+    frame["depth_sd_m"] = post.sd()[held]
+    final = post.at_cycle(post.weight[-1])
+    surf, sub = final.surface_probability()
+    median = float(final.quantile(0.5))
+    return DepthChoice(cls_name=name, depth_m=median, depths_m=(), weights=(), log_likelihood=(),
+                       log_lr_next=math.nan, log_lr_class_depth=None, median_m=median,
+                       interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
+                       surface_probability=float(surf), submerged_probability=float(sub))
 
 
 def _run_depth(tables, ic, ib, t, obs, bearings_rad, levels, cfg, rng, model, p0, p0_sd):
