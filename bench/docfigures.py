@@ -588,8 +588,12 @@ def depth_errors(root: Path) -> str:
     scale_text = ("" if scale is None else " How far in range scale each tracker's final estimate carried back is "
                   "off, RMS of ln(range / true range) over the runs: "
                   + ", ".join(f"{k} {scale[k]:.2f}" for k in keys if k in scale) + ".")
+    nearest = d.get("ratio_nearest_hypothesis_to_true_pooled")
+    nearest_text = ("" if not nearest else " Each method at the depth hypothesis nearest to the true depth (the best "
+                    "any weighing of its hypotheses could pick) over the true depth: "
+                    + ", ".join(f"{k} {v:.2f}" for k, v in nearest.items()) + ".")
     return (_table(rows) + f"\nPosition error with the depth unknown over that given the true depth, medians over "
-            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.{scale_text}\n\n"
+            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.{nearest_text}{scale_text}\n\n"
             + _source(d, "depth/depth.json"))
 
 

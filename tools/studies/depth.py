@@ -36,7 +36,9 @@ whatever a tracker makes of the motion: the posterior along the true track (``kn
 and the levels' residual about the tables' K at the true depth along it
 (``level_residual_at_true_depth_db``); how far in range scale each tracker's final estimate
 carried back is off (``track_range_scale_ln_rms``: what the depth likelihood's range-scale
-integral allows for, `tracker.depthlevels.RANGE_SCALE_SD`). The summary: medians of
+integral allows for, `tracker.depthlevels.RANGE_SCALE_SD`); each weighed method's track at the
+hypothesis nearest to the true depth (variant ``nearest``: the best any weighing of its
+hypotheses could pick; ``ratio_nearest_hypothesis_to_true_pooled``). The summary: medians of
 the position errors and their ratios, the 90 % intervals' coverage of the truth (target
 >= 85 %) and widths, the surface-or-submerged call's error rate.
 """
@@ -60,7 +62,7 @@ from envdata.files import atomic_paths
 from tracker.depthlevels import TrackDepthLikelihood, line_back
 from tracker.depthpost import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
 from tracker.mltma import MLBatch
-from tracker.mltma.depths import depth_hypotheses_m, depth_posterior, hypothesis_weights
+from tracker.mltma.depths import depth_hypotheses_m, depth_posterior, hypothesis_weights, owners
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.depthbatch import DepthConfig
 from tracker.rpf.track import cycle_profiles
@@ -197,13 +199,28 @@ def _ml_hypotheses(tables, sim, ic: int, z, hypotheses) -> np.ndarray:
     return hypotheses["ml"]
 
 
-def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int):
+def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int, hypotheses):
     """The bank of particle filters at the depth hypotheses, each given its depth as the
-    variant "true" is, weighed as the ML analysis's hypotheses are (`_weighed`)."""
+    variant "true" is, weighed as the ML analysis's hypotheses are (`_weighed`); their positions
+    (H, E, T, 4) kept in ``hypotheses["rpf"]``."""
     z = depth_hypotheses_m(DEPTH_SPAN_M, tables.classes[ic].depth_m)
     pos_z = np.array([_rpf(tables, sim, ic, "true", float(h), np.random.default_rng([*seed, h_i]), n_particles)[0]
                       for h_i, h in enumerate(z)])
+    hypotheses["rpf"] = pos_z
     return _weighed(sim, pos_z, z, like)
+
+
+def _nearest_rows(sim, hypotheses, z, z_true: float, late, base) -> list:
+    """Rows of variant "nearest": each method's track at the hypothesis nearest to the true depth
+    (`tracker.mltma.depths.owners`), the best any weighing of those hypotheses could pick."""
+    h = int(owners(np.array([z_true]), z)[0])
+    rows = []
+    for method, pos_z in hypotheses.items():
+        err = np.hypot(pos_z[h][..., 0] - sim.x_m, pos_z[h][..., 1] - sim.y_m)
+        rows.append(pd.DataFrame({**base, "method": method, "variant": "nearest", "depth_from": "",
+                                  "rms_error_m": np.sqrt(np.nanmean(err[:, late] ** 2, axis=1)),
+                                  "range_scale_ln": _range_scale(sim, pos_z[h], late)}))
+    return rows
 
 
 def _weighed(sim, pos_z, z, like):
@@ -418,7 +435,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                 for v_i, variant in enumerate(VARIANTS[:2] + UNKNOWN[method]):
                     depth_info = {}
                     if method == "rpf" and variant == "bank":
-                        pos, final, w = _rpf_bank(tables, sim, ic, like, (seed, s_i, z_i, v_i), n_particles)
+                        pos, final, w = _rpf_bank(tables, sim, ic, like, (seed, s_i, z_i, v_i), n_particles,
+                                                             hypotheses)
                         depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
                     elif method == "rpf":
                         pos, depth = _rpf(tables, sim, ic, variant, z_true,
@@ -439,6 +457,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                     for source, d in depth_info.items():
                         rows.append(pd.DataFrame({**base, "method": method, "variant": variant, "depth_from": source,
                                                   "rms_error_m": rms, "range_scale_ln": scale, **d}))
+            rows += _nearest_rows(sim, hypotheses, hyp_z, float(z_true), late, base)
             # the levels' own say with the motion known: the posterior along the true track
             true_pos = np.stack([sim.x_m, sim.y_m], axis=-1)
             rows.append(pd.DataFrame({**base, "method": KNOWN, "variant": "unknown", "depth_from": "true_track",
@@ -493,6 +512,8 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
     pooled = pos.groupby(["method", "variant"])["rms_error_m"].median()
     unknown = [(m, u) for m in METHODS for u in UNKNOWN[m]]
     ratios = {f"{m}_{u}": float(pooled[(m, u)] / pooled[(m, "true")]) for m, u in unknown}
+    nearest = {m: round(float(pooled[(m, "nearest")] / pooled[(m, "true")]), 3)
+               for m in METHODS if (m, "nearest") in pooled.index}
     per_combo_ratio = {}
     for sc, by_z in errors.items():
         for z, v in by_z.items():
@@ -524,6 +545,7 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
            "median_rms_error_m": errors, "median_rms_error_pooled_m": {f"{m}_{v}": round(float(x), 1)
                                                                       for (m, v), x in pooled.items()},
            "ratio_unknown_to_true_pooled": ratios, "ratio_unknown_to_true": per_combo_ratio,
+           "ratio_nearest_hypothesis_to_true_pooled": nearest,
            "ratio_unknown_to_true_by_scenario": ratio_by_scenario,
            "target_ratio": TARGET_RATIO, "target_coverage": TARGET_COVERAGE, "depth_estimates": estimators,
            "hypothesis_weights_mean": weights,
