@@ -767,6 +767,11 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
+    ("docs/depth.md", "depth.json", ("figures", "rpf_depth_state_throughput_ratio", "value"), "a ratio\nof **{:.2f}**"),
+    ("docs/depth.md", "depth.json", ("figures", "depth_likelihood_range_scale_cost_ratio", "value"),
+     "a ratio of {:.1f}"),
+    ("docs/depth.md", "depth.json", ("figures", "track_depth_posterior_cpu_s_whole_water_column", "value"),
+     "it costs {:.1f} s of CPU"),
     ("docs/atlas-tracking.md", "truth-bellhop.json", ("first", "seconds"), "{:.1f} s on 2 workers"),
     ("docs/atlas-tracking.md", "truth-bellhop.json", ("cached", "seconds"), "{:.1f} s again from the run"),
     *(("README.md", "gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
