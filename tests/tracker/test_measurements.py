@@ -29,7 +29,8 @@ def test_round_trip_keeps_blanks_and_velocity(tmp_path):
     assert np.isnan(m.bearing_deg[1]) and np.isnan(m.level_db[0, 1])
     assert_allclose(m.level_db[:, 0], 80.0)
     vx, vy = m.obs_velocity_mps()
-    assert_allclose(vx, 2.5) and assert_allclose(vy, 0.0)
+    assert_allclose(vx, 2.5)
+    assert_allclose(vy, 0.0)
 
 
 @pytest.mark.parametrize("name, match", [
