@@ -592,8 +592,13 @@ def depth_errors(root: Path) -> str:
     nearest_text = ("" if not nearest else " Each method at the depth hypothesis nearest to the true depth (the best "
                     "any weighing of its hypotheses could pick) over the true depth: "
                     + ", ".join(f"{k} {v:.2f}" for k, v in nearest.items()) + ".")
+    other = d.get("ratio_other_track_rule_to_true_pooled")
+    other_text = ("" if not other else " Each weighed method with the other rule for the track it reports ("
+                  + ", ".join(f"{m} by {r}" for m, r in d["track_rule"].items()) + " above): "
+                  + ", ".join(f"{k} {v:.2f}" for k, v in other.items()) + ".")
     return (_table(rows) + f"\nPosition error with the depth unknown over that given the true depth, medians over "
-            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.{nearest_text}{scale_text}\n\n"
+            f"all runs (by scenario): {text}; target <= {d['target_ratio']:g}.{other_text}{nearest_text}"
+            f"{scale_text}\n\n"
             + _source(d, "depth/depth.json"))
 
 

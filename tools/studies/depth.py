@@ -20,10 +20,12 @@ eq. 11's level errors and eq. 2's bearing errors. The same measurements are trac
   hypotheses (``tracker.mltma.depths``).
 
 With a depth weighed over hypotheses (the ML analysis, the bank) each cycle's position is that
-of the hypothesis of the largest weight, the weight after that cycle along each hypothesis's
-final estimate carried back: a study's shortcut (the final estimate is not known at that
-cycle) for the position error; the depth's figures are those after the last cycle, where it is
-what the tracker has.
+of the hypothesis of the largest weight (the ML analysis, as ``tmakit track`` reports it), or of
+the largest weight times the bearings' fit along its track (the bank; `TRACK_RULE`, the other
+rule's figures kept beside), the weight after that cycle along each hypothesis's final estimate
+carried back: a study's shortcut (the final estimate is not known at that cycle) for the
+position error; the depth's figures are those after the last cycle, where it is what the
+tracker has.
 
 Per run: the RMS position error over 5 min to the end; with the depth unknown, the final
 depth posterior's median, 90 % interval and its surface (<= 15 m) and submerged (>= 40 m)
@@ -83,6 +85,14 @@ METHODS = ("rpf", "ml")
 #: depth hypotheses weighed by the depth posterior along each one's track; the ML analysis
 #: over its hypotheses.
 UNKNOWN = {"rpf": ("unknown", "bank"), "ml": ("unknown",)}
+#: How a method weighing depth hypotheses picks the track it reports each cycle: the hypothesis
+#: of the largest posterior weight (``weight``), or of the largest weight times the bearings'
+#: fit along its track (``bearings``: the levels' posterior leaves hypotheses it cannot tell
+#: apart whose tracks differ, and the bearings, which the posterior does not read, tell those
+#: tracks apart). Each method's rule; the other's figures are kept as variant
+#: ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the weight alone).
+TRACK_RULES = ("weight", "bearings")
+TRACK_RULE = {"rpf": "bearings", "ml": "weight"}
 #: The rows of the depth posterior along the true track (the motion known): what the levels
 #: themselves say of the depth, whatever a tracker makes of the motion.
 KNOWN = "known_motion"
@@ -214,27 +224,43 @@ def _nearest_rows(sim, hypotheses, z, z_true: float, late, base) -> list:
     """Rows of variant "nearest": each method's track at the hypothesis nearest to the true depth
     (`tracker.mltma.depths.owners`), the best any weighing of those hypotheses could pick."""
     h = int(owners(np.array([z_true]), z)[0])
-    rows = []
-    for method, pos_z in hypotheses.items():
-        err = np.hypot(pos_z[h][..., 0] - sim.x_m, pos_z[h][..., 1] - sim.y_m)
-        rows.append(pd.DataFrame({**base, "method": method, "variant": "nearest", "depth_from": "",
-                                  "rms_error_m": np.sqrt(np.nanmean(err[:, late] ** 2, axis=1)),
-                                  "range_scale_ln": _range_scale(sim, pos_z[h], late)}))
-    return rows
+    return [_position_rows(sim, pos_z[h], late, {**base, "method": method, "variant": "nearest"})
+            for method, pos_z in hypotheses.items()]
+
+
+def _position_rows(sim, pos, late, base) -> pd.DataFrame:
+    """Rows of positions (E, T, 2+) without a depth of their own: the RMS position error over the
+    ``late`` cycles and the range scale (`_range_scale`)."""
+    err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
+    return pd.DataFrame({**base, "depth_from": "", "rms_error_m": np.sqrt(np.nanmean(err[:, late] ** 2, axis=1)),
+                         "range_scale_ln": _range_scale(sim, pos, late)})
 
 
 def _weighed(sim, pos_z, z, like):
-    """Each cycle the position of the hypothesis of the largest weight (its posterior mass along
-    the final estimates carried back, `tracker.mltma.depths.depth_posterior`), (E, T, 4); the
-    final posterior (E, D) and the hypotheses' final weights (E, H)."""
+    """Each cycle's position among the hypotheses' (H, E, T, 4) by each rule of `TRACK_RULES`,
+    {rule: (E, T, 4)}; the final posterior (E, D) and the hypotheses' final weights (E, H). The
+    weights are each hypothesis's posterior mass along the final estimates carried back
+    (`tracker.mltma.depths.depth_posterior`)."""
     r, b = _carried_back(sim, pos_z)
     post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db,
                                 sim.obs_x_m, sim.obs_y_m)                                   # weight (E, T, D)
     w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
-    best = np.argmax(w, axis=-1)                                                            # (E, T)
-    pos = np.take_along_axis(pos_z, best[None, ..., None], axis=0)[0]
-    final = post.at_cycle(post.weight[:, -1])
-    return pos, final, w[:, -1]
+    with np.errstate(divide="ignore"):
+        score = {"weight": np.log(w), "bearings": np.log(w) + _bearing_fit(sim.bearing_deg, b)}
+    picked = {rule: np.take_along_axis(pos_z, np.argmax(score[rule], axis=-1)[None, ..., None], axis=0)[0]
+              for rule in TRACK_RULES}
+    return picked, post.at_cycle(post.weight[:, -1]), w[:, -1]
+
+
+def _bearing_fit(measured_deg, bearing_z) -> np.ndarray:
+    """ln of the measured bearings' (E, T) likelihood along each hypothesis's track (bearings
+    (H, E, T)) up to each cycle, their sd unknown and common to the hypotheses (concentrated:
+    -n/2 ln of the mean squared residual), (E, T, H)."""
+    resid = np.radians(np.mod(bearing_z - np.asarray(measured_deg)[None] + 180.0, 360.0) - 180.0)
+    ok = np.isfinite(resid)
+    n = np.cumsum(ok, axis=-1)
+    mean_sq = np.cumsum(np.where(ok, resid * resid, 0.0), axis=-1) / np.maximum(n, 1)
+    return np.moveaxis(-0.5 * n * np.log(np.maximum(mean_sq, 1e-300)), 0, -1)
 
 
 def _range_scale(sim, pos, late) -> np.ndarray:
@@ -448,6 +474,12 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                         pos, final, w = _ml(tables, sim, ic, variant, z_true, like, hypotheses)
                         if final is not None:
                             depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
+                    others = {}
+                    if isinstance(pos, dict):  # picked among the depth hypotheses by each rule
+                        others = {f"{variant}_by_{rule}": p for rule, p in pos.items() if rule != TRACK_RULE[method]}
+                        pos = pos[TRACK_RULE[method]]
+                    rows += [_position_rows(sim, p, late, {**base, "method": method, "variant": v})
+                             for v, p in others.items()]
                     err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
                     rms = np.sqrt(np.nanmean(err[:, late] ** 2, axis=1))
                     scale = _range_scale(sim, pos, late)
@@ -514,6 +546,8 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
     ratios = {f"{m}_{u}": float(pooled[(m, u)] / pooled[(m, "true")]) for m, u in unknown}
     nearest = {m: round(float(pooled[(m, "nearest")] / pooled[(m, "true")]), 3)
                for m in METHODS if (m, "nearest") in pooled.index}
+    other_rule = {f"{m}_{v}": round(float(pooled[(m, v)] / pooled[(m, "true")]), 3)
+                  for m, v in pooled.index if "_by_" in v}
     per_combo_ratio = {}
     for sc, by_z in errors.items():
         for z, v in by_z.items():
@@ -546,6 +580,7 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
                                                                       for (m, v), x in pooled.items()},
            "ratio_unknown_to_true_pooled": ratios, "ratio_unknown_to_true": per_combo_ratio,
            "ratio_nearest_hypothesis_to_true_pooled": nearest,
+           "track_rule": TRACK_RULE, "ratio_other_track_rule_to_true_pooled": other_rule,
            "ratio_unknown_to_true_by_scenario": ratio_by_scenario,
            "target_ratio": TARGET_RATIO, "target_coverage": TARGET_COVERAGE, "depth_estimates": estimators,
            "hypothesis_weights_mean": weights,
