@@ -93,16 +93,12 @@ def run_track(args) -> Report:
         posterior = (f"depth {choice.median_m:.0f} m, 90 % in {choice.interval_m[0]:.0f}-"
                      f"{choice.interval_m[1]:.0f} m, P(<= 15 m) {choice.surface_probability:.2f}, "
                      f"P(>= 40 m) {choice.submerged_probability:.2f}")
-        if choice.depths_m:  # the ML analysis's depth hypotheses
-            vs_class = ("" if choice.log_lr_class_depth is None else
-                        f", {choice.log_lr_class_depth:.1f} over its table depth")
-            lines.append(f"  {choice.cls_name}: most likely depth {choice.depth_m:.0f} m of "
-                         f"{len(choice.depths_m)} hypotheses (ln likelihood ratio "
-                         f"{choice.log_lr_next:.1f} over the next{vs_class}); {posterior}")
-            lines.append("    weights: " + ", ".join(f"{z:g} m {w:.2f}"
-                                                     for z, w in zip(choice.depths_m, choice.weights)))
-        else:  # the particle filter: the levels along its track
-            lines.append(f"  {choice.cls_name}: from the levels along the filter's track, {posterior}")
+        vs_class = ("" if choice.log_lr_class_depth is None else
+                    f", {choice.log_lr_class_depth:.1f} over its table depth")
+        lines.append(f"  {choice.cls_name}: most likely depth {choice.depth_m:.0f} m of "
+                     f"{len(choice.depths_m)} hypotheses (ln likelihood ratio "
+                     f"{choice.log_lr_next:.1f} over the next{vs_class}); {posterior}")
+        lines.append("    weights: " + ", ".join(f"{z:g} m {w:.2f}" for z, w in zip(choice.depths_m, choice.weights)))
         data.setdefault("depth", {})[choice.cls_name] = {
             "depth_m": choice.depth_m, "depths_m": list(choice.depths_m), "weights": list(choice.weights),
             "log_likelihood": list(choice.log_likelihood),

@@ -56,9 +56,9 @@ def track(tables: Tables, measurements: Measurements, *, method: Method | str = 
     target_depth : TargetDepth or float
         ``"class"``: K with the target at its class's depth (the tables as built); a depth, m:
         K with the target there (``Tables.at_target_depth``); ``"unknown"``: the depth is
-        estimated (the particle filters carry it as a state, the ML analysis weighs depth
-        hypotheses; either way the depth reported is the posterior from the levels along the
-        track, its final summary per class in ``DataFrame.attrs["depth"]``).
+        estimated over depth hypotheses (the ML analysis once per hypothesis, the particle filters
+        as a bank of one filter per hypothesis; the depth reported is the posterior from the
+        levels along the tracks, its final summary per class in ``DataFrame.attrs["depth"]``).
         The rows' ``depth_m`` is the depth used or estimated, ``depth_sd_m`` its sd (blank where
         assumed).
 

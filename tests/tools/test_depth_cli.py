@@ -38,17 +38,15 @@ def test_track_with_the_depth_unknown(tiny_depth_grid_file, measured, tmp_path, 
     lo, hi = 0.0, 1000.0  # SUB has no depth_range_m: the tiny grid's water column
     assert df["depth_m"].between(lo, hi).all() and (df["depth_sd_m"] >= 0).all()
     assert "depth" in text
-    assert "90 % in" in text and "P(<= 15 m)" in text
-    if method == "ml":
-        assert "most likely depth" in text and "ln likelihood ratio" in text and "weights: " in text
-    else:
-        # the particle filter reports the posterior from the levels along its track, whose median
-        # is the rows' last depth (not the particles' own)
-        line = next(x for x in text.splitlines() if "from the levels along the filter's track" in x)
-        median = float(line.split(", depth ")[1].split(" m,")[0])
-        assert median == pytest.approx(df["depth_m"].iloc[-1], abs=0.5)
-        lo90, hi90 = (float(v) for v in line.split("90 % in ")[1].split(" m,")[0].split("-"))
-        assert lo90 <= median <= hi90
+    # both trackers weigh depth hypotheses (the particle filter as a bank, one filter each) and
+    # print the posterior: the hypotheses' weights, its median (the rows' last depth), the 90 %
+    # interval around it
+    assert "most likely depth" in text and "ln likelihood ratio" in text and "weights: " in text
+    line = next(x for x in text.splitlines() if "most likely depth" in x)
+    median = float(line.split("); depth ")[1].split(" m,")[0])
+    assert median == pytest.approx(df["depth_m"].iloc[-1], abs=0.5)
+    lo90, hi90 = (float(v) for v in line.split("90 % in ")[1].split(" m,")[0].split("-"))
+    assert lo90 <= median <= hi90 and "P(<= 15 m)" in line
 
 
 def test_track_at_a_given_depth_and_at_the_class_depth(tiny_depth_grid_file, measured, tmp_path):

@@ -64,7 +64,14 @@ from envdata.files import atomic_paths
 from tracker.depthlevels import TrackDepthLikelihood, line_back
 from tracker.depthpost import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
 from tracker.mltma import MLBatch
-from tracker.mltma.depths import depth_hypotheses_m, depth_posterior, hypothesis_weights, owners
+from tracker.mltma.depths import (
+    TRACK_RULES,
+    bearing_fit,
+    depth_hypotheses_m,
+    depth_posterior,
+    hypothesis_weights,
+    owners,
+)
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.depthbatch import DepthConfig
 from tracker.rpf.track import cycle_profiles
@@ -85,13 +92,10 @@ METHODS = ("rpf", "ml")
 #: depth hypotheses weighed by the depth posterior along each one's track; the ML analysis
 #: over its hypotheses.
 UNKNOWN = {"rpf": ("unknown", "bank"), "ml": ("unknown",)}
-#: How a method weighing depth hypotheses picks the track it reports each cycle: the hypothesis
-#: of the largest posterior weight (``weight``), or of the largest weight times the bearings'
-#: fit along its track (``bearings``: the levels' posterior leaves hypotheses it cannot tell
-#: apart whose tracks differ, and the bearings, which the posterior does not read, tell those
-#: tracks apart). Each method's rule; the other's figures are kept as variant
-#: ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the weight alone).
-TRACK_RULES = ("weight", "bearings")
+#: How each method weighing depth hypotheses picks the track it reports each cycle
+#: (`tracker.mltma.depths.TRACK_RULES`, as `tmakit track` does); the other rule's figures are
+#: kept as variant ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the
+#: weight alone).
 TRACK_RULE = {"rpf": "bearings", "ml": "weight"}
 #: The rows of the depth posterior along the true track (the motion known): what the levels
 #: themselves say of the depth, whatever a tracker makes of the motion.
@@ -246,21 +250,10 @@ def _weighed(sim, pos_z, z, like):
                                 sim.obs_x_m, sim.obs_y_m)                                   # weight (E, T, D)
     w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
     with np.errstate(divide="ignore"):
-        score = {"weight": np.log(w), "bearings": np.log(w) + _bearing_fit(sim.bearing_deg, b)}
+        score = {"weight": np.log(w), "bearings": np.log(w) + bearing_fit(sim.bearing_deg, b)}
     picked = {rule: np.take_along_axis(pos_z, np.argmax(score[rule], axis=-1)[None, ..., None], axis=0)[0]
               for rule in TRACK_RULES}
     return picked, post.at_cycle(post.weight[:, -1]), w[:, -1]
-
-
-def _bearing_fit(measured_deg, bearing_z) -> np.ndarray:
-    """ln of the measured bearings' (E, T) likelihood along each hypothesis's track (bearings
-    (H, E, T)) up to each cycle, their sd unknown and common to the hypotheses (concentrated:
-    -n/2 ln of the mean squared residual), (E, T, H)."""
-    resid = np.radians(np.mod(bearing_z - np.asarray(measured_deg)[None] + 180.0, 360.0) - 180.0)
-    ok = np.isfinite(resid)
-    n = np.cumsum(ok, axis=-1)
-    mean_sq = np.cumsum(np.where(ok, resid * resid, 0.0), axis=-1) / np.maximum(n, 1)
-    return np.moveaxis(-0.5 * n * np.log(np.maximum(mean_sq, 1e-300)), 0, -1)
 
 
 def _range_scale(sim, pos, late) -> np.ndarray:

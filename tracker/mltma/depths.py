@@ -201,35 +201,70 @@ def track_depths(tables: Tables, m: Measurements, *, cls_name: str | None = None
             view = tables.at_target_depth(float(depth))
             tracks.append(track_measurements(view, good, cls_name=name, band=None,
                                              params=params).reset_index(drop=True))
-        n_t = len(good)
-        post, own, held = posterior_along_tracks(tables, ic, good, tracks, z, span)
-        w = hypothesis_weights(post, own, z.size)                        # (C, H)
-        best = np.argmax(w, axis=1)[held]
-        rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(n_t)], ignore_index=True)
-        median, sd = post.quantile(0.5), post.sd()
-        rows["depth_m"] = median[held]
-        rows["depth_sd_m"] = sd[held]
+        rows, choice = weigh_tracks(tables, ic, good, tracks, z, span, rule="weight")
         frames.append(rows)
-        last = w[-1]
-        with np.errstate(divide="ignore"):
-            lw = np.log(last)
-        order = np.argsort(last)[::-1]
-        own_depth = np.flatnonzero(np.isclose(z, cls.depth_m))
-        final = post.at_cycle(post.weight[-1])
-        surf, sub = final.surface_probability()
-        choices.append(DepthChoice(
-            cls_name=name, depth_m=float(z[order[0]]), depths_m=tuple(float(v) for v in z),
-            weights=tuple(float(v) for v in last), log_likelihood=tuple(float(v) for v in lw),
-            log_lr_next=float(lw[order[0]] - lw[order[1]]) if z.size > 1 else math.inf,
-            log_lr_class_depth=float(lw[order[0]] - lw[own_depth[0]]) if own_depth.size else None,
-            median_m=float(final.quantile(0.5)),
-            interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
-            surface_probability=float(surf), submerged_probability=float(sub)))
+        choices.append(choice)
     return pd.concat(frames, ignore_index=True), choices
 
 
+#: How a tracker picks, each cycle, the track it reports among its depth hypotheses': the one of
+#: the largest posterior weight, or of the largest weight times the bearings' fit along its
+#: track (`bearing_fit`: the levels' posterior leaves hypotheses it cannot tell apart whose
+#: tracks differ, and the bearings, which it does not read, tell those tracks apart; measured
+#: in docs/depth.md: the particle filters' bank by the bearings, the ML analysis by the weight).
+TRACK_RULES = ("weight", "bearings")
+
+
+def weigh_tracks(tables: Tables, ic: int, m: Measurements, tracks, hypotheses_m, span_m, *,
+                 rule: str) -> tuple[pd.DataFrame, DepthChoice]:
+    """One track from the depth hypotheses' (``tracks``, rows per cycle of ``m``): each cycle the
+    row of the hypothesis picked by ``rule`` (`TRACK_RULES`) when the posterior was last taken
+    (`posterior_along_tracks`), with ``depth_m`` and ``depth_sd_m`` the posterior's median and
+    sd then; and the final posterior as a `DepthChoice`."""
+    if rule not in TRACK_RULES:
+        raise ValueError(f"rule must be one of {', '.join(TRACK_RULES)}, got {rule!r}")
+    z = np.asarray(hypotheses_m, dtype=float)
+    cls = tables.classes[ic]
+    post, own, held, fit = posterior_along_tracks(tables, ic, m, tracks, z, span_m)
+    w = hypothesis_weights(post, own, z.size)                           # (C, H)
+    with np.errstate(divide="ignore"):
+        score = np.log(w) + (fit if rule == "bearings" else 0.0)
+    best = np.argmax(score, axis=1)[held]
+    rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(len(m))], ignore_index=True)
+    rows["depth_m"] = post.quantile(0.5)[held]
+    rows["depth_sd_m"] = post.sd()[held]
+    last = w[-1]
+    with np.errstate(divide="ignore"):
+        lw = np.log(last)
+    order = np.argsort(last)[::-1]
+    own_depth = np.flatnonzero(np.isclose(z, cls.depth_m))
+    final = post.at_cycle(post.weight[-1])
+    surf, sub = final.surface_probability()
+    choice = DepthChoice(
+        cls_name=cls.name, depth_m=float(z[order[0]]), depths_m=tuple(float(v) for v in z),
+        weights=tuple(float(v) for v in last), log_likelihood=tuple(float(v) for v in lw),
+        log_lr_next=float(lw[order[0]] - lw[order[1]]) if z.size > 1 else math.inf,
+        log_lr_class_depth=float(lw[order[0]] - lw[own_depth[0]]) if own_depth.size else None,
+        median_m=float(final.quantile(0.5)),
+        interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
+        surface_probability=float(surf), submerged_probability=float(sub))
+    return rows, choice
+
+
+def bearing_fit(measured_deg, bearing_z) -> np.ndarray:
+    """ln of the measured bearings' (..., T) likelihood along each hypothesis's track (bearings
+    (H, ..., T)) up to each cycle, their sd unknown and common to the hypotheses (concentrated:
+    -n/2 ln of the mean squared residual; a cycle without a bearing counts for none), (..., T, H)."""
+    resid = np.radians(np.mod(np.asarray(bearing_z, dtype=float) - np.asarray(measured_deg, dtype=float)[None]
+                              + 180.0, 360.0) - 180.0)
+    ok = np.isfinite(resid)
+    n = np.cumsum(ok, axis=-1)
+    mean_sq = np.cumsum(np.where(ok, resid * resid, 0.0), axis=-1) / np.maximum(n, 1)
+    return np.moveaxis(-0.5 * n * np.log(np.maximum(mean_sq, 1e-300)), 0, -1)
+
+
 def posterior_along_tracks(tables: Tables, ic: int, m: Measurements, tracks, hypotheses_m,
-                           span_m) -> tuple[DepthPosterior, np.ndarray, np.ndarray]:
+                           span_m) -> tuple[DepthPosterior, np.ndarray, np.ndarray, np.ndarray]:
     """The depth posterior of class ``ic`` from the levels of every band of ``m``, taken at the
     first cycle, every `DEPTH_EVERY` cycles after and at the last, each time along the tracks as
     known then (`_carried_back`), each depth along its hypothesis's track (`depth_posterior`).
@@ -253,6 +288,8 @@ def posterior_along_tracks(tables: Tables, ic: int, m: Measurements, tracks, hyp
         Each depth's hypothesis.
     held : ndarray of int, shape (T,)
         For each cycle, the row of ``post`` last taken at or before it.
+    fit : ndarray, shape (C, H)
+        The bearings' fit along each hypothesis's track as known then (`bearing_fit`).
     """
     n_t = len(m)
     at = np.unique(np.append(np.arange(0, n_t, DEPTH_EVERY), n_t - 1))  # from the first cycle on
@@ -266,7 +303,9 @@ def posterior_along_tracks(tables: Tables, ic: int, m: Measurements, tracks, hyp
                                     m.obs_x_m, m.obs_y_m)
         weights.append(post.weight[:, -1])                              # each its own cycle's
     held = np.searchsorted(at, np.arange(n_t), side="right") - 1
-    return post.at_cycle(np.concatenate(weights)), own, held
+    measured = np.broadcast_to(np.asarray(m.bearing_deg, dtype=float), (at.size, n_t))
+    fit = bearing_fit(measured, b)[np.arange(at.size), at]                # (C, H)
+    return post.at_cycle(np.concatenate(weights)), own, held, fit
 
 
 def _carried_back(tracks, m: Measurements, at) -> tuple[np.ndarray, np.ndarray]:

@@ -34,27 +34,6 @@ def test_the_call_is_judged_on_surface_and_submerged_targets_only():
                     [0.25, 0.5, 0.0])
 
 
-def test_the_bearings_fit_prefers_the_track_they_lie_on():
-    # measured bearings with 0.1 deg noise; one hypothesis's track gives their true values, another
-    # is off by 0.5 deg, a third by 0.5 deg only after cycle 20; a bearing missing counts for none
-    rng = np.random.default_rng(4)
-    true = np.linspace(150.0, 140.0, 40)[None]
-    measured = true + rng.normal(0.0, 0.1, true.shape)
-    measured[0, 5] = np.nan
-    late = true.copy()
-    late[0, 20:] += 0.5
-    fit = depth._bearing_fit(measured, np.stack([true, true + 0.5, late]))      # (E, T, H)
-    assert fit.shape == (1, 40, 3)
-    assert np.all(fit[0, 1:, 0] > fit[0, 1:, 1])
-    assert_allclose(fit[0, :20, 2], fit[0, :20, 0])
-    assert np.all(fit[0, 21:, 2] < fit[0, 21:, 0])
-    # the cycle without a bearing adds nothing: as if it were not there
-    keep = np.r_[0:5, 6:40]
-    without = depth._bearing_fit(measured[:, keep], np.stack([true, true + 0.5, late])[:, :, keep])
-    assert_allclose(fit[0, 5], without[0, 4])
-    assert_allclose(fit[0, 6:], without[0, 5:])
-
-
 def test_the_particles_interval_is_kept_inside_the_span():
     rows = depth._particle_rows(np.array([[[5.0, 10.0]], [[150.0, 1.0]]]))
     assert_allclose(rows["lo_m"], [depth.DEPTH_SPAN_M[0], 150.0 - depth.Z90])

@@ -7,7 +7,7 @@ import pandas as pd
 from numpy.testing import assert_allclose
 
 from tracker.measurements import Measurements
-from tracker.mltma.depths import _carried_back
+from tracker.mltma.depths import _carried_back, bearing_fit
 
 
 def _measurements(n: int) -> Measurements:
@@ -45,3 +45,25 @@ def test_every_tack_is_carried_back_and_every_cycle_has_a_track():
     for s0, e0, vx, vy in ((0, turn - 1, 0.0, 3.0), (turn, i, 4.0, 0.0)):
         assert_allclose(x[s0:e0 + 1], trk["x_m"][e0] - vx * (t[e0] - t[s0:e0 + 1]), atol=1e-6)
         assert_allclose(y[s0:e0 + 1], trk["y_m"][e0] - vy * (t[e0] - t[s0:e0 + 1]), atol=1e-6)
+
+
+def test_the_bearings_fit_prefers_the_track_they_lie_on():
+
+    # measured bearings with 0.1 deg noise; one hypothesis's track gives their true values, another
+    # is off by 0.5 deg, a third by 0.5 deg only after cycle 20; a bearing missing counts for none
+    rng = np.random.default_rng(4)
+    true = np.linspace(150.0, 140.0, 40)[None]
+    measured = true + rng.normal(0.0, 0.1, true.shape)
+    measured[0, 5] = np.nan
+    late = true.copy()
+    late[0, 20:] += 0.5
+    fit = bearing_fit(measured, np.stack([true, true + 0.5, late]))      # (E, T, H)
+    assert fit.shape == (1, 40, 3)
+    assert np.all(fit[0, 1:, 0] > fit[0, 1:, 1])
+    assert_allclose(fit[0, :20, 2], fit[0, :20, 0])
+    assert np.all(fit[0, 21:, 2] < fit[0, 21:, 0])
+    # the cycle without a bearing adds nothing: as if it were not there
+    keep = np.r_[0:5, 6:40]
+    without = bearing_fit(measured[:, keep], np.stack([true, true + 0.5, late])[:, :, keep])
+    assert_allclose(fit[0, 5], without[0, 4])
+    assert_allclose(fit[0, 6:], without[0, 5:])
