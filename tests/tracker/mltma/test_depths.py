@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+import pytest
 from numpy.testing import assert_allclose
 
 from tracker.measurements import Measurements
@@ -67,3 +68,10 @@ def test_the_bearings_fit_prefers_the_track_they_lie_on():
     without = bearing_fit(measured[:, keep], np.stack([true, true + 0.5, late])[:, :, keep])
     assert_allclose(fit[0, 5], without[0, 4])
     assert_allclose(fit[0, 6:], without[0, 5:])
+
+
+def test_an_unknown_track_rule_is_refused():
+    from tracker.mltma.depths import weigh_tracks
+
+    with pytest.raises(ValueError, match="rule must be one of weight, bearings"):
+        weigh_tracks(None, 0, _measurements(3), [], [], (0.0, 1.0), rule="nearest")
