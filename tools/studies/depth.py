@@ -15,7 +15,8 @@ eq. 11's level errors and eq. 2's bearing errors. The same measurements are trac
   the offset common to a run as the source-level offset state) given the class's depth, given
   the true depth (``Tables.at_target_depth``), and with the depth a state over
   `DEPTH_SPAN_M` (``tracker.rpf.depthbatch``), and as a bank of filters, one at each of the
-  ML analysis's depth hypotheses, weighed as the ML analysis weighs its hypotheses;
+  ML analysis's depth hypotheses, weighed as the ML analysis weighs its hypotheses (the method
+  ``tmakit track --method rpf --target-depth unknown`` runs, here with these settings);
 - the ML motion analysis (all bands) given the class's depth, the true depth, and over depth
   hypotheses (``tracker.mltma.depths``).
 
