@@ -163,8 +163,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                                          obs[:, 0], obs[:, 1])) for h in z]
             mm = m.take(np.arange(first, len(m)))
             frame, choice = weigh_tracks(tables, ic, mm.with_bands((band,)) if band_given else mm,
-                                         tracks, z, (min(span[0], float(z.min())), max(span[1], float(z.max()))),
-                                         rule="bearings")
+                                         tracks, z, span, rule="bearings")
             choices.append(choice)
         else:
             frame = run(profiles)
