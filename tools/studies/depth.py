@@ -474,15 +474,11 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                         pos = pos[TRACK_RULE[method]]
                     rows += [_position_rows(sim, p, late, {**base, "method": method, "variant": v})
                              for v, p in others.items()]
-                    err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
-                    rms = np.sqrt(np.nanmean(err[:, late] ** 2, axis=1))
-                    scale = _range_scale(sim, pos, late)
+                    own = _position_rows(sim, pos, late, {**base, "method": method, "variant": variant})
                     if not depth_info:
-                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant, "depth_from": "",
-                                                  "rms_error_m": rms, "range_scale_ln": scale}))
+                        rows.append(own)
                     for source, d in depth_info.items():
-                        rows.append(pd.DataFrame({**base, "method": method, "variant": variant, "depth_from": source,
-                                                  "rms_error_m": rms, "range_scale_ln": scale, **d}))
+                        rows.append(own.assign(depth_from=source, **d))
             rows += _nearest_rows(sim, hypotheses, hyp_z, float(z_true), late, base)
             # the levels' own say with the motion known: the posterior along the true track
             true_pos = np.stack([sim.x_m, sim.y_m], axis=-1)
