@@ -72,6 +72,7 @@ from tracker.mltma.depths import (
     depth_posterior,
     hypothesis_weights,
     owners,
+    picked_hypothesis,
 )
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.depthbatch import DepthConfig
@@ -250,9 +251,8 @@ def _weighed(sim, pos_z, z, like):
     post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db,
                                 sim.obs_x_m, sim.obs_y_m)                                   # weight (E, T, D)
     w = hypothesis_weights(post, own, z.size)                                               # (E, T, H)
-    with np.errstate(divide="ignore"):
-        score = {"weight": np.log(w), "bearings": np.log(w) + bearing_fit(sim.bearing_deg, b)}
-    picked = {rule: np.take_along_axis(pos_z, np.argmax(score[rule], axis=-1)[None, ..., None], axis=0)[0]
+    fit = bearing_fit(sim.bearing_deg, b)                                                   # (E, T, H)
+    picked = {rule: np.take_along_axis(pos_z, picked_hypothesis(w, fit, rule)[None, ..., None], axis=0)[0]
               for rule in TRACK_RULES}
     return picked, post.at_cycle(post.weight[:, -1]), w[:, -1]
 

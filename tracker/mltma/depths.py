@@ -221,15 +221,12 @@ def weigh_tracks(tables: Tables, ic: int, m: Measurements, tracks, hypotheses_m,
     row of the hypothesis picked by ``rule`` (`TRACK_RULES`) when the posterior was last taken
     (`posterior_along_tracks`), with ``depth_m`` and ``depth_sd_m`` the posterior's median and
     sd then; and the final posterior as a `DepthChoice`."""
-    if rule not in TRACK_RULES:
-        raise ValueError(f"rule must be one of {', '.join(TRACK_RULES)}, got {rule!r}")
+    _check_rule(rule)
     z = np.asarray(hypotheses_m, dtype=float)
     cls = tables.classes[ic]
     post, own, held, fit = posterior_along_tracks(tables, ic, m, tracks, z, span_m)
     w = hypothesis_weights(post, own, z.size)                           # (C, H)
-    with np.errstate(divide="ignore"):
-        score = np.log(w) + (fit if rule == "bearings" else 0.0)
-    best = np.argmax(score, axis=1)[held]
+    best = picked_hypothesis(w, fit, rule)[held]
     rows = pd.concat([tracks[best[i]].iloc[[i]] for i in range(len(m))], ignore_index=True)
     rows["depth_m"] = post.quantile(0.5)[held]
     rows["depth_sd_m"] = post.sd()[held]
@@ -249,6 +246,20 @@ def weigh_tracks(tables: Tables, ic: int, m: Measurements, tracks, hypotheses_m,
         interval_m=(float(final.quantile(INTERVAL_TAIL)), float(final.quantile(1.0 - INTERVAL_TAIL))),
         surface_probability=float(surf), submerged_probability=float(sub))
     return rows, choice
+
+
+def _check_rule(rule: str) -> None:
+    if rule not in TRACK_RULES:
+        raise ValueError(f"rule must be one of {', '.join(TRACK_RULES)}, got {rule!r}")
+
+
+def picked_hypothesis(weights, fit, rule: str) -> np.ndarray:
+    """The hypothesis each rule of `TRACK_RULES` picks from the posterior weights (..., H) and the
+    bearings' fit (..., H, `bearing_fit`): the largest weight, or weight times the fit, (...)."""
+    _check_rule(rule)
+    with np.errstate(divide="ignore"):
+        score = np.log(weights) + (fit if rule == "bearings" else 0.0)
+    return np.argmax(score, axis=-1)
 
 
 def bearing_fit(measured_deg, bearing_z) -> np.ndarray:
