@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 from numpy.testing import assert_allclose
 
-from tools.studies import depth
+from tools.studies import depth, depthcheck
 
 
 def _runs(truth, lo, hi, p_surface, p_submerged):
@@ -52,7 +52,7 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     ic = tables.class_index("SUB")
     like = TrackDepthLikelihood(tables, ic, tables.band_names, depth.DEPTH_SPAN_M)
     pattern = np.linspace(-1.0, 1.0, len(tables.band_names))
-    ripple = 1.5 * np.sin(np.asarray(depth.CHECK_RANGES_M) / 1300.0)
+    ripple = 1.5 * np.sin(np.asarray(depthcheck.CHECK_RANGES_M) / 1300.0)
 
     def provider(paths, grow_db_per_km=0.0, shift_db_per_km=0.0):
         # the ripple grows with the observer's distance from the origin as sqrt(1 + (g d / sd)^2);
@@ -64,10 +64,10 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
                       for m in like._mean], axis=-1)
         return (k + 2.0 + shift + pattern + scale * ripple[:, None])[:, None, :]
 
-    check = depth._table_check(tables, provider, ic)
-    assert len(check["geometries"]) == len(depth.CHECK_GEOMETRIES)
+    check = depthcheck.table_check(tables, provider, ic, depth.DEPTH_SPAN_M)
+    assert len(check["geometries"]) == len(depthcheck.CHECK_GEOMETRIES)
     for g in check["geometries"]:
-        assert set(g["by_depth_m"]) == {f"{z:g}" for z in depth.CHECK_DEPTHS_M}
+        assert set(g["by_depth_m"]) == {f"{z:g}" for z in depthcheck.CHECK_DEPTHS_M}
         for v in g["by_depth_m"].values():
             assert_allclose(v["mean_db"], 2.0 + ripple.mean(), atol=0.006)
             assert_allclose(v["band_offsets_db"], pattern - pattern.mean(), atol=0.006)
@@ -79,7 +79,7 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     assert max(check["fit"][f"{k}_growth_db_per_km"] for k in ("fine", "fine_band", "band", "offset")) < 0.05
     # a ripple that grows away from the origin and an offset that moves by depth: the fit gives
     # both back
-    grown = depth._table_check(tables, lambda p: provider(p, 1.5, 1.2), ic)
+    grown = depthcheck.table_check(tables, lambda p: provider(p, 1.5, 1.2), ic, depth.DEPTH_SPAN_M)
     assert_allclose(grown["fit"]["fine_sd_db"], ripple.std(), atol=0.006)
     assert_allclose(grown["fit"]["fine_growth_db_per_km"], 1.5, atol=0.02)
     assert_allclose(grown["fit"]["offset_growth_db_per_km"], 1.2, atol=0.02)
