@@ -111,14 +111,6 @@ class TrackDepthLikelihood:
         sd = measurement_sd.level_sd_from_snr_db(flat, self._q_thr, self._bw, self._t_int)
         return sd.reshape(snr.shape)
 
-    def displacement_m(self, obs_x_m, obs_y_m) -> np.ndarray | None:
-        """The observer's distance at each cycle from where the tables were computed, m (None
-        for tables that hold everywhere: their fine errors do not grow)."""
-        x, y = np.asarray(obs_x_m, dtype=float), np.asarray(obs_y_m, dtype=float)
-        if self.tables.observer_offset(x, y) is None:
-            return None
-        return np.hypot(x, y)
-
     def __call__(self, depth_m, t_s, range_m, bearing_deg, level_db, snr_db, obs_x_m=None,
                  obs_y_m=None) -> np.ndarray:
         """ln L at each depth after each cycle.
@@ -134,7 +126,7 @@ class TrackDepthLikelihood:
             The measured levels (NaN: none) and SNR, dB.
         obs_x_m, obs_y_m : array_like, shape (T,), optional
             The observer's position, m east and north of the tables' origin: the tables' fine
-            errors grow with its distance from there (`displacement_m`; default: at the origin).
+            errors grow with its distance from there (`Tables.distance_from_origin_m`; default: at the origin).
 
         Returns
         -------
@@ -149,7 +141,7 @@ class TrackDepthLikelihood:
         sd = self.level_sd_db(snr_db)[None, None]
         k = np.stack([m.at(z, r, b) for m in self._mean], axis=-1)             # (D, S, ..., T, M)
         resid = level - (self._base_db + k)
-        away = None if obs_x_m is None else self.displacement_m(obs_x_m, obs_y_m)
+        away = None if obs_x_m is None else self.tables.distance_from_origin_m(obs_x_m, obs_y_m)
         ll = log_marginal(resid, sd ** 2, t_s, self.errors, away)             # (D, S, ..., T)
         # a depth the tables have no K for where a level was measured and the track has a position
         # (no water there: below the bottom) is ruled out from that cycle on, not spared the

@@ -181,6 +181,14 @@ class Tables(ABC):
         """How far observer positions (x east, y north of the origin, m) go from the origin the
         tables are computed from (the largest distance); None where the tables hold everywhere."""
 
+    def distance_from_origin_m(self, x_m, y_m) -> np.ndarray | None:
+        """Each observer position's distance from where the tables were computed, m (x east, y
+        north of the origin); None for tables that hold everywhere (a flat area's, an atlas's)."""
+        x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
+        if self.observer_offset(x, y) is None:
+            return None
+        return np.hypot(x, y)
+
     # -- names and the area's terms ------------------------------------------------------------
 
     @property
