@@ -78,6 +78,13 @@ PRIOR_LOG_OFFSET_M = 1.0
 _LN_2PI = math.log(2.0 * math.pi)
 
 
+#: How the error common to the bands of tables read away from where they were computed grows with
+#: that distance, dB per km: the depth study's fit (``tables_vs_bellhop_from_target_db.fit.
+#: offset_growth_db_per_km``, each depth's mean error less the origin's on the same bearing);
+#: the depth likelihood's `LevelErrors.offset_growth_db_per_km` and the ML analysis's eq. 21.
+K_ERROR_GROWTH_DB_PER_KM = 1.33
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LevelErrors:
     """The errors of the band levels that persist (module docstring): sds in dB, correlation
@@ -113,7 +120,7 @@ class LevelErrors:
     band_growth_db_per_km: float = 0.32
     slow_sd_db: float = 1.0
     slow_time_s: float = 600.0
-    offset_growth_db_per_km: float = 1.33
+    offset_growth_db_per_km: float = K_ERROR_GROWTH_DB_PER_KM
 
     def __post_init__(self) -> None:
         for name in ("offset_sd_db", "band_sd_db", "fine_sd_db", "fine_band_sd_db", "slow_sd_db",

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from acoustics.grid.face import Tables
+from tracker.depthpost import K_ERROR_GROWTH_DB_PER_KM
 from tracker.errors import MeasurementFileError
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
 from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
@@ -85,6 +86,9 @@ class MLBatch:
         self.speed_mean_mps = np.array([c.speed_mean_mps for c in classes])
         self.speed_sd_mps = np.array([c.speed_sd_mps for c in classes])
         self.p0_db = np.array([c.noise_mean_db for c in classes])     # dB re 1 uPa
+        # sP0 and sigma_dK of eq. 21
+        self.noise_sd_db = np.array([c.noise_sd_db for c in classes])
+        self.k_error_sd_db = np.array([c.k_error_sd_db for c in classes])
         # eq. 21 quadrature (offsets_db, weights) over P0 and K(r) errors, per grid class
         self.level_offsets = [offset_nodes(c.noise_sd_db, c.k_error_sd_db, self.params.offsets_n)
                               for c in self.tables.classes]
@@ -137,21 +141,32 @@ class MLBatch:
             out[rows] = np.moveaxis(self.tables.k_error_sd_at(int(c), r, b), -1, 1)
         return out
 
-    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd):
+    def _away_km(self, obs_x_m: float, obs_y_m: float) -> float:
+        """The observer's distance from where the tables were computed, km (0 for tables that hold
+        everywhere, `acoustics.grid.face.Tables.distance_from_origin_m`)."""
+        d = self.tables.distance_from_origin_m(obs_x_m, obs_y_m)
+        return 0.0 if d is None else float(d) / 1000.0
+
+    def _offset_nodes(self, k_error_sd_db, away_km: float):
+        """Eq. 21's nodes for each row: its class's sP0 and the K error sd given (B,), widened with
+        the observer's distance from where the tables were computed (`K_ERROR_GROWTH_DB_PER_KM`)."""
+        return offset_nodes_per_row(self.noise_sd_db, np.hypot(k_error_sd_db, K_ERROR_GROWTH_DB_PER_KM * away_km),
+                                    self.params.offsets_n)
+
+    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd, away_km):
         """Eq. 21's sd again, each row's dK nodes from the grid's k_error_sd_db at its bearing and
         level range (mean over the detected bands)."""
         have = np.isfinite(r_level)
         if not have.any():
             return r_level_sd
-        sd_k = np.array([c.k_error_sd_db for c in (self.tables.classes[i] for i in self.class_index)])
+        sd_k = self.k_error_sd_db.copy()
         for c in np.unique(self.class_index[have]):
             rows = np.flatnonzero(have & (self.class_index == c))
             at = self.tables.k_error_sd_at(int(c), r_level[rows], brg[rows])            # (rows, M)
             det = detected[rows]
             sd_k[rows] = np.where(det.any(axis=1), (at * det).sum(axis=1) / np.maximum(det.sum(axis=1), 1),
                                   sd_k[rows])
-        noise_sd = np.array([self.tables.classes[i].noise_sd_db for i in self.class_index])
-        nodes = offset_nodes_per_row(noise_sd, sd_k, self.params.offsets_n)
+        nodes = self._offset_nodes(sd_k, away_km)
         _, r_sd = level_ranges_m(level, detected, sd_w, self.p0_db, self.class_index, k_db, self.range_axis_m,
                                  self.level_offsets, self.sonar.receiver_gain_db, row_offsets=nodes, k_sd_db=k_sd)
         return np.where(have, r_sd, r_level_sd)
@@ -199,14 +214,17 @@ class MLBatch:
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
         k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
+        away_km = self._away_km(obs_x_m, obs_y_m)
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
-            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd)
+            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd,
+            row_offsets=None if away_km == 0.0 else self._offset_nodes(self.k_error_sd_db, away_km))
         if k_sd is not None:
             # eq. 21 with the K error sd measured at this row's bearing and level range (a study's
             # k_error_sd_db in the grid) in place of the class's one number: it weights the range
             # term of eq. 25
-            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd)
+            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd,
+                                                   away_km)
 
         # step 1: maneuver detection; a confirmed one starts a new tack
         new_tack = self._detect_maneuver(n, sd_p, sd_w, k_db, r_level, r_level_sd)

@@ -25,3 +25,43 @@ def test_level_range_uses_k_at_the_rows_observer_depth(tiny_grid):
     # eq. 20 at the right depth recovers the range (grid step 1 node); at 100 m it does not
     assert abs(est[300.0] - r_true) <= raxis[1] - raxis[0]
     assert abs(est[None] - r_true) > abs(est[300.0] - r_true)
+
+
+@pytest.fixture(scope="module")
+def radial_tables():
+    """The tiny Munk area with an origin and three radials: tables computed at one position."""
+    import acoustics
+    import envdata
+    from tests.conftest import DATA
+
+    doc = envdata.load_area(DATA / "tiny-munk.toml").to_dict()
+    doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
+    doc["bearings"] = {"step_deg": 120.0}
+    doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
+    doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
+    return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
+
+
+def _first_cycle(tables, obs_x_m):
+    """The level range and its sd (eq. 21, the first cycle's range sd) of levels that K at the
+    middle of the range axis gives, the observer ``obs_x_m`` east of the tables' origin."""
+    ic = tables.class_index("SHIP")
+    j = tables.range_m.size // 2
+    k = tables.k_db(None, bearing_deg=np.array([0.0]))[ic]
+    k = k[:, 0] if k.ndim == 3 else k                               # (M, R)
+    lev = tables.classes[ic].noise_mean_db + tables.area.sonar.receiver_gain_db + k[:, j]
+    out = MLBatch(tables, [ic], 1).update(0.0, obs_x_m, 0.0, 0.0, 2.0, 0.0, 0.5, lev[None, :],
+                                          np.full((1, lev.size), 30.0))
+    return float(out["r_level_m"][0]), float(out["range_sd_m"][0])
+
+
+@pytest.mark.bellhop
+def test_eq21_widens_with_the_observers_distance_from_where_the_tables_were_computed(radial_tables, tiny_grid):
+    # tables of one position (a radial grid): the same K wherever the observer is, so the same
+    # level range, but less sure of it the farther the observer is from that position
+    near, mid, far = (_first_cycle(radial_tables, x) for x in (0.0, 3000.0, 6000.0))
+    assert near[0] == mid[0] == far[0]
+    assert near[1] < mid[1] < far[1]
+    # a flat area's tables hold everywhere: nothing changes with the observer's position
+    flat = open_tables(tiny_grid)
+    assert _first_cycle(flat, 0.0) == _first_cycle(flat, 6000.0)
