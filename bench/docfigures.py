@@ -245,6 +245,34 @@ def follow_kerror(root: Path) -> str:
             + _source(d, "atlas-tracking/follow.json"))
 
 
+def follow_level_range(root: Path) -> str:
+    d = _load(root, "atlas-tracking/follow.json")
+    lr = d["ml_level_range_bellhop"]
+    bins = list(next(iter(lr.values())))
+    rows = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
+    for key, label in FOLLOW_TABLES:
+        rows.append((label, *(f"{lr[key][b]['ln_error_median']:+.2f} / {lr[key][b]['ln_error_rms']:.2f} / "
+                              f"{lr[key][b]['sd_over_range_median']:.2f}" for b in bins)))
+    return (_table(rows) + "\nThe ML analysis's level range (eq. 20) on BELLHOP's levels, default tests: median and "
+            "RMS of ln(level range / true range), then the median of eq. 21's sd over the true range, over the "
+            "runs and cycles of each time bin.\n\n" + _source(d, "atlas-tracking/follow.json"))
+
+
+def follow_blend_ratio(root: Path) -> str:
+    d = _load(root, "atlas-tracking/blend.json")
+    r = d["after_10min_over_origin"]
+    names = [f"atlas-{sp} {w}" for sp in ("10km", "5km") for w in d["ratios"]]
+    rows = [("tables, weights", "ML over origin (90 % interval)", "PF over origin (90 % interval)"), ("---",) * 3]
+    for name in names:
+        shown = name.replace("atlas-", "atlas ").replace("km", " km").replace("water-", "water, ratio ")
+        rows.append((shown, *(f"{r[f'{m} {name}']['ratio']:.2f} ({r[f'{m} {name}']['p05']:.2f}-"
+                              f"{r[f'{m} {name}']['p95']:.2f})" for m in ("ml", "rpf"))))
+    n = d["runs_per_seed"] * len(d["seeds"])
+    return (_table(rows) + f"\nRMS over 10-40 min of the position RMSE over the {n} runs of both seeds pooled, over "
+            "the origin table's on the same runs; the interval from the runs resampled alike for both tables.\n\n"
+            + _source(d, "atlas-tracking/blend.json"))
+
+
 def follow_blend(root: Path) -> str:
     d = _load(root, "atlas-tracking/blend.json")
     seeds = [str(v) for v in d["seeds"]]
@@ -765,6 +793,8 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "depth-check": depth_check,
                                              "follow-rmse": follow_rmse, "follow-kerror": follow_kerror,
                                              "follow-manoeuvres": follow_manoeuvres, "follow-blend": follow_blend,
+                                             "follow-level-range": follow_level_range,
+                                             "follow-blend-ratio": follow_blend_ratio,
                                              "atlas-trackers-speed": atlas_trackers_speed,
                                              "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse,
                                              "nx2d-times": nx2d_times, "nx2d-bearings": nx2d_bearings,

@@ -47,6 +47,24 @@ REPORT_MIN = (10, 20, 30, 40)
 LATE_MIN = 10.0
 #: The time bins of the tables' K error along the path, min.
 K_ERROR_BINS_MIN = (0, 10, 20, 30, 40)
+#: The time bins of the ML analysis's level ranges against the truth, min.
+LEVEL_RANGE_BINS_MIN = (0, 5, 10, 15, 20, 30, 40)
+
+
+def level_range_by_time(record: dict, range_m, minutes) -> dict:
+    """The ML analysis's level range (eq. 20) and its sd (eq. 21) against the true range, per time
+    bin of `LEVEL_RANGE_BINS_MIN` over runs and cycles: the median and the RMS of ln(r_level / r)
+    and the median of sd / r (a level range whose sd is honest has |ln error| about sd / r)."""
+    ln_err = np.log(record["r_level_m"] / range_m)
+    rel_sd = record["r_level_sd_m"] / range_m
+    out = {}
+    for lo, hi in zip(LEVEL_RANGE_BINS_MIN[:-1], LEVEL_RANGE_BINS_MIN[1:]):
+        sel = (minutes >= lo) & (minutes < hi)
+        e = ln_err[:, sel]
+        out[f"{lo}-{hi}"] = {"ln_error_median": round(float(np.nanmedian(e)), 3),
+                             "ln_error_rms": round(float(np.sqrt(np.nanmean(e ** 2))), 3),
+                             "sd_over_range_median": round(float(np.nanmedian(rel_sd[:, sel])), 3)}
+    return out
 
 
 def k_error_by_time(sim, sc, ic: int, truth, tables: dict) -> dict:
@@ -111,12 +129,15 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     sims["tables"] = simulate_batch(sc, tables["atlas-5km"], np.random.default_rng([seed, 0]), dk_db=np.zeros(runs))
     minutes = (sims["bellhop"].t_s - sims["bellhop"].t_s[0]) / 60.0
     frame = pd.DataFrame({"t_min": minutes})
-    rmse, tacks = {}, {}
+    rmse, tacks, level_ranges = {}, {}, {}
     for truth_name, sim in sims.items():
         for name, tab in tables.items():
             for label, params in (("ml", MLParams()), ("ml-paper", MLParams(maneuver_curved=False,
                                                                               level_vs_k=False))):
-                err, tk = ml_errors(tab, sim, ic, params)
+                record = {} if (label, truth_name) == ("ml", "bellhop") else None
+                err, tk = ml_errors(tab, sim, ic, params, record=record)
+                if record is not None:
+                    level_ranges[name] = level_range_by_time(record, sim.range_m, minutes)
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
                 tacks[f"{label}_{name}_{truth_name}"] = {"mean_manoeuvres": float(np.mean(tk - 1)),
                                                          "runs_with_any": int(np.sum(tk > 1))}
@@ -135,7 +156,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "level_bellhop_minus_atlas5km_db": {"median": float(np.nanmedian(diff)),
                                                    "sd": float(np.nanstd(diff)),
                                                    "p95_abs": float(np.nanpercentile(np.abs(diff), 95))},
-               "bellhop_minus_tables_k_db": k_error,
+               "bellhop_minus_tables_k_db": k_error, "ml_level_range_bellhop": level_ranges,
                "rmse_m": rmse, "mean_rmse_after_10min_m": {
                    col.removesuffix("_rmse_m"): _rms(frame[col].to_numpy()[minutes >= LATE_MIN])
                    for col in frame.columns[1:]},
@@ -161,8 +182,10 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
     ``AtlasStore.water_depth_ratio``). Per tracker, table and seed: the RMS over t >= 10 min of
     the RMSE over runs (as ``follow.json``'s ``mean_rmse_after_10min_m``) and the median over
     runs of each run's mean error after 10 min, and the RMS of the RMSE over the whole run
-    (the first 10 min, when the ML analysis ranges on the levels alone, included); per atlas and
-    ratio, BELLHOP's K along the path less the tables' (`k_error_by_time`). Grids and atlases as
+    (the first 10 min, when the ML analysis ranges on the levels alone, included); per tracker and
+    atlas, the first of these over the seeds' runs pooled, over the origin table's on the same
+    runs, with its interval (`ratio_to_reference`); per atlas and ratio, BELLHOP's K along the path
+    less the tables' (`k_error_by_time`). Grids and atlases as
     `run` builds them in ``out_dir``."""
     from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO
 
@@ -181,7 +204,7 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
             tab = open_tables(paths[name])
             tab.store.water_depth_ratio = ratio
             tables[f"{name} {label[ratio]}"] = tab
-    scores, k_error = {}, {}
+    scores, k_error, pooled = {}, {}, {}
     for seed in seeds:
         sim = simulate_batch(sc, origin, np.random.default_rng([seed, 0]), dk_db=np.zeros(runs), k_provider=truth)
         late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
@@ -189,6 +212,7 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
             errs = {"ml": ml_errors(tab, sim, ic, MLParams())[0],
                     "rpf": rpf_errors(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles)}
             for method, err in errs.items():
+                pooled.setdefault(f"{method} {name}", []).append(err[:, late])
                 rmse = np.sqrt(np.nanmean(err ** 2, axis=0))
                 scores.setdefault(f"{method} {name}", {})[str(seed)] = {
                     "rmse_after_10min_m": round(_rms(rmse[late]), 1),
@@ -196,9 +220,31 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
                     "rmse_whole_run_m": round(_rms(rmse), 1)}
         if seed == seeds[0]:
             k_error = k_error_by_time(sim, sc, ic, truth, tables)
+    pooled = {key: np.concatenate(v) for key, v in pooled.items()}
+    over_origin = {key: ratio_to_reference(err, pooled[f"{key.split()[0]} origin"], np.random.default_rng([0, 9]))
+                   for key, err in pooled.items() if not key.endswith(" origin")}
     return {"scenario": sc.name, "runs_per_seed": runs, "seeds": list(seeds), "n_particles": n_particles,
             "default_ratio": WATER_DEPTH_RATIO, "ratios": [label[r] for r in ratios], "scores": scores,
-            "bellhop_minus_tables_k_db": k_error}
+            "after_10min_over_origin": over_origin, "bellhop_minus_tables_k_db": k_error}
+
+
+#: Resamples of the runs for the interval of `ratio_to_reference`.
+BOOTSTRAP = 2000
+
+
+def ratio_to_reference(err, reference, rng: np.random.Generator) -> dict:
+    """The RMS over time of one tracker's RMSE over runs, over the same runs' with other tables
+    (``err``, ``reference``: (E, T) errors of the same runs and cycles), and its 90 % interval
+    over the runs resampled alike for both (`BOOTSTRAP` times): ``ratio``, ``p05``, ``p95``."""
+    def ratio(rows):
+        def late(e):
+            return _rms(np.sqrt(np.nanmean(e[rows] ** 2, axis=0)))
+        return late(err) / late(reference)
+
+    e = len(err)
+    boot = [ratio(rng.integers(0, e, e)) for _ in range(BOOTSTRAP)]
+    return {"ratio": round(ratio(np.arange(e)), 4), "p05": round(float(np.percentile(boot, 5)), 4),
+            "p95": round(float(np.percentile(boot, 95)), 4)}
 
 
 def _figure(frame: pd.DataFrame, summary: dict):

@@ -15,19 +15,25 @@ from tracker.rpf.track import cycle_profiles
 LEVEL_SD_DB = 1.1
 
 
-def ml_errors(tables: Tables, sim, cls_index: int,
-              params: MLParams | None = None) -> tuple[np.ndarray, np.ndarray]:
+def ml_errors(tables: Tables, sim, cls_index: int, params: MLParams | None = None,
+              record: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Position error of the ML analysis, true class, every run and cycle, m (E, T), and the
-    tacks it declared per run (E,)."""
+    tacks it declared per run (E,). ``record``, if given, receives the level range (eq. 20) and
+    its sd (eq. 21) of every run and cycle, ``r_level_m`` and ``r_level_sd_m`` (E, T), m."""
     e, t = sim.bearing_deg.shape
     batch = MLBatch(tables, np.full(e, cls_index), t, params)
     vx, vy = np.gradient(sim.obs_x_m, sim.t_s), np.gradient(sim.obs_y_m, sim.t_s)
     err = np.full((e, t), np.nan)
+    kept = {"r_level_m": np.full((e, t), np.nan), "r_level_sd_m": np.full((e, t), np.nan)}
     for i in range(t):
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i], sim.bearing_deg[:, i],
                            sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :], sim.snr_db[:, i, :],
                            obs_depth_m=sim.obs_depth_m)
         err[:, i] = np.hypot(out["x_m"] - sim.x_m[:, i], out["y_m"] - sim.y_m[:, i])
+        for key, val in kept.items():
+            val[:, i] = out[key]
+    if record is not None:
+        record.update(kept)
     return err, batch.tack.copy()
 
 

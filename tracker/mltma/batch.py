@@ -185,7 +185,8 @@ class MLBatch:
             Smoothed ``range_m``, ``course_deg``, ``speed_mps``, ``x_m``, ``y_m`` and the
             ``bearing_deg``; this cycle's ``range_sd_m``, ``course_sd_deg``, ``speed_sd_mps``;
             ``tack``; ``used_eq25``; the level range ``r_level_m`` (eq. 20, NaN: no band
-            detected); the raw ``raw_course_deg``, ``raw_speed_mps``, ``raw_range_m``.
+            detected) and its sd ``r_level_sd_m`` (eq. 21); the raw ``raw_course_deg``,
+            ``raw_speed_mps``, ``raw_range_m``.
         """
         p, n, b = self.params, self.n_cycles, self.n_rows
         if n >= self.capacity:
@@ -283,7 +284,7 @@ class MLBatch:
             self.raw[key][:, n] = val
         out = self._smooth(n, obs_x_m, obs_y_m, brg)
         out.update(range_sd_m=range_sd, course_sd_deg=course_sd, speed_sd_mps=speed_sd,
-                   tack=self.tack.copy(), used_eq25=use25, r_level_m=r_level,
+                   tack=self.tack.copy(), used_eq25=use25, r_level_m=r_level, r_level_sd_m=r_level_sd,
                    raw_course_deg=course, raw_speed_mps=speed, raw_range_m=range_est_m)
         self.last_range_m = np.where(np.isfinite(out["range_m"]), out["range_m"],
                                      self.last_range_m)
