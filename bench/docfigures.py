@@ -253,9 +253,17 @@ def follow_level_range(root: Path) -> str:
     for key, label in FOLLOW_TABLES:
         rows.append((label, *(f"{lr[key][b]['ln_error_median']:+.2f} / {lr[key][b]['ln_error_rms']:.2f} / "
                               f"{lr[key][b]['sd_over_range_median']:.2f}" for b in bins)))
+    slope = d["tables_k_slope_db"]
+    rows_k = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
+    for key, label in FOLLOW_TABLES:
+        rows_k.append((label, *(f"{slope[key][b]:.1f}" for b in bins)))
     return (_table(rows) + "\nThe ML analysis's level range (eq. 20) on BELLHOP's levels, default tests: median and "
             "RMS of ln(level range / true range), then the median of eq. 21's sd over the true range, over the "
-            "runs and cycles of each time bin.\n\n" + _source(d, "atlas-tracking/follow.json"))
+            "runs and cycles of each time bin.\n\n" + _table(rows_k)
+            + "\nEach table's K near the true range along the path, (K(0.8 r) - K(1.25 r)) / log10(1.25 / 0.8): "
+            "dB per decade of range, median over the cycles and bands of each time bin (20 for spherical "
+            "spreading, near 0 where K is flat: a level says little about range there).\n\n"
+            + _source(d, "atlas-tracking/follow.json"))
 
 
 def follow_blend_ratio(root: Path) -> str:

@@ -45,46 +45,62 @@ REPORT_MIN = (10, 20, 30, 40)
 #: The position errors are compared from this minute on (before it the ML analysis ranges on
 #: the levels alone), min.
 LATE_MIN = 10.0
-#: The time bins of the tables' K error along the path, min.
-K_ERROR_BINS_MIN = (0, 10, 20, 30, 40)
-#: The time bins of the ML analysis's level ranges against the truth, min.
-LEVEL_RANGE_BINS_MIN = (0, 5, 10, 15, 20, 30, 40)
+#: The time bins of the tables' K along the path (its error, its slope) and of the ML analysis's
+#: level ranges against the truth, min.
+TIME_BINS_MIN = (0, 5, 10, 15, 20, 30, 40)
+#: K's slope near the true range is read between these multiples of it (`k_slope_by_time`).
+K_SLOPE_FACTORS = (0.8, 1.25)
+
+
+def _by_time_bin(values, minutes, summary) -> dict:
+    """``summary`` of the columns (cycles) of ``values`` in each bin of `TIME_BINS_MIN`."""
+    return {f"{lo}-{hi}": summary(values[:, (minutes >= lo) & (minutes < hi)])
+            for lo, hi in zip(TIME_BINS_MIN[:-1], TIME_BINS_MIN[1:])}
 
 
 def level_range_by_time(record: dict, range_m, minutes) -> dict:
     """The ML analysis's level range (eq. 20) and its sd (eq. 21) against the true range, per time
-    bin of `LEVEL_RANGE_BINS_MIN` over runs and cycles: the median and the RMS of ln(r_level / r)
-    and the median of sd / r (a level range whose sd is honest has |ln error| about sd / r)."""
-    ln_err = np.log(record["r_level_m"] / range_m)
-    rel_sd = record["r_level_sd_m"] / range_m
+    bin of `TIME_BINS_MIN` over runs and cycles: the median and the RMS of ln(r_level / r) and the
+    median of sd / r (a level range whose sd is honest has |ln error| about sd / r)."""
+    both = np.concatenate([np.log(record["r_level_m"] / range_m), record["r_level_sd_m"] / range_m])
+    e = len(range_m)
+    return _by_time_bin(both, minutes, lambda v: {
+        "ln_error_median": round(float(np.nanmedian(v[:e])), 3),
+        "ln_error_rms": round(float(np.sqrt(np.nanmean(v[:e] ** 2))), 3),
+        "sd_over_range_median": round(float(np.nanmedian(v[e:])), 3)})
+
+
+def _first_path(sim, sc, ic: int, scale: float = 1.0) -> TruePaths:
+    """The first run's true path (the runs share it), its ranges multiplied by ``scale``."""
+    return TruePaths(ic=ic, obs_x_m=sim.obs_x_m, obs_y_m=sim.obs_y_m, obs_depth_m=sim.obs_depth_m,
+                     x_m=sim.x_m[:1], y_m=sim.y_m[:1], range_m=scale * sim.range_m[:1],
+                     bearing_deg=sim.bearing_true_deg[:1], target_depth_m=sc.target_depth_m)
+
+
+def k_slope_by_time(sim, sc, ic: int, tables: dict) -> dict:
+    """How much each table's K says about range near the true one: (K(0.8 r) - K(1.25 r)) /
+    log10(1.25 / 0.8) along the true path (`K_SLOPE_FACTORS`), the tables where the observer is,
+    at the true bearing, every band; per time bin of `TIME_BINS_MIN`, the median over the cycles
+    and bands, dB per decade of range (20 for spherical spreading; near 0 where K is flat)."""
+    minutes = (sim.t_s - sim.t_s[0]) / 60.0
+    near, far = K_SLOPE_FACTORS
     out = {}
-    for lo, hi in zip(LEVEL_RANGE_BINS_MIN[:-1], LEVEL_RANGE_BINS_MIN[1:]):
-        sel = (minutes >= lo) & (minutes < hi)
-        e = ln_err[:, sel]
-        out[f"{lo}-{hi}"] = {"ln_error_median": round(float(np.nanmedian(e)), 3),
-                             "ln_error_rms": round(float(np.sqrt(np.nanmean(e ** 2))), 3),
-                             "sd_over_range_median": round(float(np.nanmedian(rel_sd[:, sel])), 3)}
+    for name, tab in tables.items():
+        k = tables_k(tab)
+        slope = (k(_first_path(sim, sc, ic, near))[0] - k(_first_path(sim, sc, ic, far))[0]) / np.log10(far / near)
+        out[name] = _by_time_bin(slope.T, minutes, lambda v: round(float(np.nanmedian(v)), 2))
     return out
 
 
 def k_error_by_time(sim, sc, ic: int, truth, tables: dict) -> dict:
     """BELLHOP's K along the true path (the runs share it) less each table's K there, every band:
-    per time bin of `K_ERROR_BINS_MIN`, the mean and the RMS over cycles and bands, dB."""
-    paths = TruePaths(ic=ic, obs_x_m=sim.obs_x_m, obs_y_m=sim.obs_y_m, obs_depth_m=sim.obs_depth_m,
-                      x_m=sim.x_m[:1], y_m=sim.y_m[:1], range_m=sim.range_m[:1],
-                      bearing_deg=sim.bearing_true_deg[:1], target_depth_m=sc.target_depth_m)
+    per time bin of `TIME_BINS_MIN`, the mean and the RMS over cycles and bands, dB."""
+    paths = _first_path(sim, sc, ic)
     k_truth = truth(paths)[0]                                                       # (T, M)
     minutes = (sim.t_s - sim.t_s[0]) / 60.0
-    out = {}
-    for name, tab in tables.items():
-        d = k_truth - tables_k(tab)(paths)[0]
-        bins = {}
-        for lo, hi in zip(K_ERROR_BINS_MIN[:-1], K_ERROR_BINS_MIN[1:]):
-            sel = d[(minutes >= lo) & (minutes < hi)]
-            bins[f"{lo}-{hi}"] = {"mean_db": round(float(np.nanmean(sel)), 2),
-                                  "rms_db": round(float(np.sqrt(np.nanmean(sel ** 2))), 2)}
-        out[name] = bins
-    return out
+    return {name: _by_time_bin((k_truth - tables_k(tab)(paths)[0]).T, minutes, lambda d: {
+        "mean_db": round(float(np.nanmean(d)), 2), "rms_db": round(float(np.sqrt(np.nanmean(d ** 2))), 2)})
+        for name, tab in tables.items()}
 
 
 def _rms(values) -> float:
@@ -147,6 +163,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}
     diff = sims["bellhop"].level_true_db[0, :, band] - sims["tables"].level_true_db[0, :, band]
     k_error = k_error_by_time(sims["bellhop"], sc, ic, truth, tables)
+    k_slope = k_slope_by_time(sims["bellhop"], sc, ic, tables)
     obs_travel = float(np.hypot(np.ptp(sims["bellhop"].obs_x_m), np.ptp(sims["bellhop"].obs_y_m)))
     summary = {"scenario": sc.name, "runs": runs, "seed": seed, "n_particles": n_particles, "class": sc.target_class,
                "band": tables["origin"].band_names[band], "observer_travel_m": obs_travel,
@@ -156,7 +173,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "level_bellhop_minus_atlas5km_db": {"median": float(np.nanmedian(diff)),
                                                    "sd": float(np.nanstd(diff)),
                                                    "p95_abs": float(np.nanpercentile(np.abs(diff), 95))},
-               "bellhop_minus_tables_k_db": k_error, "ml_level_range_bellhop": level_ranges,
+               "bellhop_minus_tables_k_db": k_error, "tables_k_slope_db": k_slope,
+               "ml_level_range_bellhop": level_ranges,
                "rmse_m": rmse, "mean_rmse_after_10min_m": {
                    col.removesuffix("_rmse_m"): _rms(frame[col].to_numpy()[minutes >= LATE_MIN])
                    for col in frame.columns[1:]},

@@ -34,3 +34,20 @@ def test_ratio_to_reference_pairs_the_runs_and_brackets_the_ratio():
     out = follow.ratio_to_reference(err, reference, np.random.default_rng(0))
     assert out["p05"] < out["ratio"] < out["p95"]
     assert out["ratio"] > 1.2 and out["p05"] < 1.05
+
+
+def test_k_slope_reads_spreading_and_absorption_on_a_monotone_k():
+    """K = -20 log10 r less a little absorption (tests/tracker/mltma/conftest.py's synthetic grid):
+    20 dB per decade of range, a little more for the absorption, every time bin."""
+    from acoustics.grid.opentables import open_tables
+    from tests.tracker.mltma.conftest import synthetic_grid
+    from tracker.scenario import load_scenario
+    from tracker.simulate import simulate_batch
+
+    tables = open_tables(synthetic_grid())
+    sc = load_scenario("gm-tv-30km")
+    ic = tables.class_index(sc.target_class)
+    sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(1))
+    slope = follow.k_slope_by_time(sim, sc, ic, {"synthetic": tables})["synthetic"]
+    assert list(slope) == ["0-5", "5-10", "10-15", "15-20", "20-30", "30-40"]
+    assert all(20.0 < v < 23.0 for v in slope.values()), slope
