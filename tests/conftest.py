@@ -1,4 +1,5 @@
-"""Shared fixtures: a seeded generator, the tiny Munk area, and its real BELLHOP grid."""
+"""Shared fixtures: a seeded generator, the tiny Munk area, and its real BELLHOP grids (flat, and
+computed at one position along three radials)."""
 
 from __future__ import annotations
 
@@ -65,3 +66,15 @@ def tiny_depth_grid(tiny_depth_area) -> "xr.Dataset":  # noqa: F821
 @pytest.fixture(scope="session")
 def tiny_depth_grid_file(tiny_depth_grid, tmp_path_factory) -> Path:
     return _written(tiny_depth_grid, tmp_path_factory.mktemp("depth-grid") / "tiny-munk-depth.nc")
+
+
+@pytest.fixture(scope="session")
+def tiny_radial_tables(tiny_area):
+    """The tiny Munk area with an origin and three radials: tables computed at one position (a few
+    seconds of BELLHOP)."""
+    doc = tiny_area.to_dict()
+    doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
+    doc["bearings"] = {"step_deg": 120.0}
+    doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
+    doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
+    return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))

@@ -14,17 +14,6 @@ from tests.conftest import DATA
 pytestmark = pytest.mark.bellhop
 
 
-@pytest.fixture(scope="module")
-def radial_tables():
-    """The tiny Munk area with an origin and three radials (a few seconds of BELLHOP)."""
-    doc = envdata.load_area(DATA / "tiny-munk.toml").to_dict()
-    doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
-    doc["bearings"] = {"step_deg": 120.0}
-    doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
-    doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
-    return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
-
-
 def test_a_flat_grid_holds_tl_from_the_observer_and_reciprocity_holds_below_the_surface(tiny_depth_grid):
     t = acoustics.open_tables(tiny_depth_grid)
     assert tiny_depth_grid["tl_obs_db"].attrs["fixed_end"] == "observer" and t.serves_target_depth
@@ -72,8 +61,8 @@ def test_shifted_flat_tables_serve_the_observer_depth_only(tiny_depth_grid):
         acoustics.open_tables(tiny_depth_grid).at_target_depth(5000.0)
 
 
-def test_a_radial_grid_gives_k_at_any_target_depth_from_its_own_tl(radial_tables):
-    t = radial_tables
+def test_a_radial_grid_gives_k_at_any_target_depth_from_its_own_tl(tiny_radial_tables):
+    t = tiny_radial_tables
     assert t.serves_target_depth
     sub = t.class_index("SUB")
     slab = t.target_depth_k(sub, 0)

@@ -27,21 +27,6 @@ def test_level_range_uses_k_at_the_rows_observer_depth(tiny_grid):
     assert abs(est[None] - r_true) > abs(est[300.0] - r_true)
 
 
-@pytest.fixture(scope="module")
-def radial_tables():
-    """The tiny Munk area with an origin and three radials: tables computed at one position."""
-    import acoustics
-    import envdata
-    from tests.conftest import DATA
-
-    doc = envdata.load_area(DATA / "tiny-munk.toml").to_dict()
-    doc["origin"] = {"lat_deg": 43.0, "lon_deg": 5.0}
-    doc["bearings"] = {"step_deg": 120.0}
-    doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
-    doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
-    return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
-
-
 def _first_cycle(tables, obs_x_m):
     """The level range and its sd (eq. 21, the first cycle's range sd) of levels that K at the
     middle of the range axis gives, the observer ``obs_x_m`` east of the tables' origin."""
@@ -56,10 +41,10 @@ def _first_cycle(tables, obs_x_m):
 
 
 @pytest.mark.bellhop
-def test_eq21_widens_with_the_observers_distance_from_where_the_tables_were_computed(radial_tables, tiny_grid):
+def test_eq21_widens_with_the_observers_distance_from_where_the_tables_were_computed(tiny_radial_tables, tiny_grid):
     # tables of one position (a radial grid): the same K wherever the observer is, so the same
     # level range, but less sure of it the farther the observer is from that position
-    near, mid, far = (_first_cycle(radial_tables, x) for x in (0.0, 3000.0, 6000.0))
+    near, mid, far = (_first_cycle(tiny_radial_tables, x) for x in (0.0, 3000.0, 6000.0))
     assert near[0] == mid[0] == far[0]
     assert near[1] < mid[1] < far[1]
     # a flat area's tables hold everywhere: nothing changes with the observer's position
