@@ -17,8 +17,10 @@ takes the steps of section 3 (paper's numbering):
    paper's sd sK_rho = 4 deg, the reverse bearing 30 deg (conclusion 4's course errors) --
    `tracker.mltma.gates`, `tracker.mltma.course`;
 6. course from the relative course and the class's mean speed (eq. 7);
-7. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21); without a detected band the
-   last range is a weak prior -- `tracker.mltma.range_prior`;
+7. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21; for tables computed at one
+   position, dK's sd widened with the observer's distance from it by
+   `tracker.depthpost.K_ERROR_GROWTH_DB_PER_KM`, docs/gm.md); without a detected band the last
+   range is a weak prior -- `tracker.mltma.range_prior`;
 8. the joint ML estimate of course, speed and range (eq. 25) when the bearing changed by more
    than 3 sigma_P over the last 3 minutes (section 4 step 8, Russian original), else the
    fallbacks listed after eq. 25 (mean speed, eq.-8/reverse-bearing course, eq.-20 range):
