@@ -233,33 +233,31 @@ def follow_rmse(root: Path) -> str:
             + _source(d, "atlas-tracking/follow.json"))
 
 
+def _follow_bins_table(by_table: dict, cell) -> str:
+    """A follow-study table: a row per table of `FOLLOW_TABLES`, a column per time bin of
+    ``by_table`` (table -> bin -> value), each cell ``cell(value)``."""
+    bins = list(next(iter(by_table.values())))
+    rows = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
+    rows += [(label, *(cell(by_table[key][b]) for b in bins)) for key, label in FOLLOW_TABLES]
+    return _table(rows)
+
+
 def follow_kerror(root: Path) -> str:
     d = _load(root, "atlas-tracking/follow.json")
-    k = d["bellhop_minus_tables_k_db"]
-    bins = list(next(iter(k.values())))
-    rows = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
-    for key, label in FOLLOW_TABLES:
-        rows.append((label, *(f"{k[key][b]['rms_db']:.1f} ({k[key][b]['mean_db']:+.1f})" for b in bins)))
-    return (_table(rows) + "\nBELLHOP's K along the true path less the tables' K there, every band: RMS over the "
+    table = _follow_bins_table(d["bellhop_minus_tables_k_db"], lambda v: f"{v['rms_db']:.1f} ({v['mean_db']:+.1f})")
+    return (table + "\nBELLHOP's K along the true path less the tables' K there, every band: RMS over the "
             "cycles and bands of each time bin (in brackets the mean), dB.\n\n"
             + _source(d, "atlas-tracking/follow.json"))
 
 
 def follow_level_range(root: Path) -> str:
     d = _load(root, "atlas-tracking/follow.json")
-    lr = d["ml_level_range_bellhop"]
-    bins = list(next(iter(lr.values())))
-    rows = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
-    for key, label in FOLLOW_TABLES:
-        rows.append((label, *(f"{lr[key][b]['ln_error_median']:+.2f} / {lr[key][b]['ln_error_rms']:.2f} / "
-                              f"{lr[key][b]['sd_over_range_median']:.2f}" for b in bins)))
-    slope = d["tables_k_slope_db"]
-    rows_k = [("tables", *(f"{b} min" for b in bins)), ("---",) * (1 + len(bins))]
-    for key, label in FOLLOW_TABLES:
-        rows_k.append((label, *(f"{slope[key][b]:.1f}" for b in bins)))
-    return (_table(rows) + "\nThe ML analysis's level range (eq. 20) on BELLHOP's levels, default tests: median and "
+    ranges = _follow_bins_table(d["ml_level_range_bellhop"], lambda v: (
+        f"{v['ln_error_median']:+.2f} / {v['ln_error_rms']:.2f} / {v['sd_over_range_median']:.2f}"))
+    slopes = _follow_bins_table(d["tables_k_slope_db"], lambda v: f"{v:.1f}")
+    return (ranges + "\nThe ML analysis's level range (eq. 20) on BELLHOP's levels, default tests: median and "
             "RMS of ln(level range / true range), then the median of eq. 21's sd over the true range, over the "
-            "runs and cycles of each time bin.\n\n" + _table(rows_k)
+            "runs and cycles of each time bin.\n\n" + slopes
             + "\nEach table's K near the true range along the path, (K(0.8 r) - K(1.25 r)) / log10(1.25 / 0.8): "
             "dB per decade of range, median over the cycles and bands of each time bin (20 for spherical "
             "spreading, near 0 where K is flat: a level says little about range there).\n\n"

@@ -52,9 +52,9 @@ TIME_BINS_MIN = (0, 5, 10, 15, 20, 30, 40)
 K_SLOPE_FACTORS = (0.8, 1.25)
 
 
-def _by_time_bin(values, minutes, summary) -> dict:
-    """``summary`` of the columns (cycles) of ``values`` in each bin of `TIME_BINS_MIN`."""
-    return {f"{lo}-{hi}": summary(values[:, (minutes >= lo) & (minutes < hi)])
+def _by_time_bin(minutes, summary) -> dict:
+    """``summary(cycles)`` for each bin of `TIME_BINS_MIN`, ``cycles`` the bin's mask over ``minutes``."""
+    return {f"{lo}-{hi}": summary((minutes >= lo) & (minutes < hi))
             for lo, hi in zip(TIME_BINS_MIN[:-1], TIME_BINS_MIN[1:])}
 
 
@@ -62,12 +62,12 @@ def level_range_by_time(record: dict, range_m, minutes) -> dict:
     """The ML analysis's level range (eq. 20) and its sd (eq. 21) against the true range, per time
     bin of `TIME_BINS_MIN` over runs and cycles: the median and the RMS of ln(r_level / r) and the
     median of sd / r (a level range whose sd is honest has |ln error| about sd / r)."""
-    both = np.concatenate([np.log(record["r_level_m"] / range_m), record["r_level_sd_m"] / range_m])
-    e = len(range_m)
-    return _by_time_bin(both, minutes, lambda v: {
-        "ln_error_median": round(float(np.nanmedian(v[:e])), 3),
-        "ln_error_rms": round(float(np.sqrt(np.nanmean(v[:e] ** 2))), 3),
-        "sd_over_range_median": round(float(np.nanmedian(v[e:])), 3)})
+    ln_err = np.log(record["r_level_m"] / range_m)
+    rel_sd = record["r_level_sd_m"] / range_m
+    return _by_time_bin(minutes, lambda c: {
+        "ln_error_median": round(float(np.nanmedian(ln_err[:, c])), 3),
+        "ln_error_rms": round(float(np.sqrt(np.nanmean(ln_err[:, c] ** 2))), 3),
+        "sd_over_range_median": round(float(np.nanmedian(rel_sd[:, c])), 3)})
 
 
 def _first_path(sim, sc, ic: int, scale: float = 1.0) -> TruePaths:
@@ -88,7 +88,7 @@ def k_slope_by_time(sim, sc, ic: int, tables: dict) -> dict:
     for name, tab in tables.items():
         k = tables_k(tab)
         slope = (k(_first_path(sim, sc, ic, near))[0] - k(_first_path(sim, sc, ic, far))[0]) / np.log10(far / near)
-        out[name] = _by_time_bin(slope.T, minutes, lambda v: round(float(np.nanmedian(v)), 2))
+        out[name] = _by_time_bin(minutes, lambda c, slope=slope: round(float(np.nanmedian(slope[c])), 2))
     return out
 
 
@@ -98,9 +98,12 @@ def k_error_by_time(sim, sc, ic: int, truth, tables: dict) -> dict:
     paths = _first_path(sim, sc, ic)
     k_truth = truth(paths)[0]                                                       # (T, M)
     minutes = (sim.t_s - sim.t_s[0]) / 60.0
-    return {name: _by_time_bin((k_truth - tables_k(tab)(paths)[0]).T, minutes, lambda d: {
-        "mean_db": round(float(np.nanmean(d)), 2), "rms_db": round(float(np.sqrt(np.nanmean(d ** 2))), 2)})
-        for name, tab in tables.items()}
+    out = {}
+    for name, tab in tables.items():
+        d = k_truth - tables_k(tab)(paths)[0]                                       # (T, M)
+        out[name] = _by_time_bin(minutes, lambda c, d=d: {"mean_db": round(float(np.nanmean(d[c])), 2),
+                                                          "rms_db": round(float(np.sqrt(np.nanmean(d[c] ** 2))), 2)})
+    return out
 
 
 def _rms(values) -> float:
