@@ -43,6 +43,7 @@ from tracker.depthpost import K_ERROR_GROWTH_DB_PER_KM
 from tracker.errors import MeasurementFileError
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
 from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
+from tracker.mltma.covariance import marginal_sds
 from tracker.mltma.eq25 import Eq25Estimate, Eq25Terms
 from tracker.mltma.params import MLParams
 from tracker.mltma.polish import polish
@@ -124,7 +125,8 @@ class MLBatch:
         self.rel_course_sd_deg = np.full(b, self.params.rel_course_sd_deg)  # sK_rho of eq. 25
         # raw (unsmoothed) estimates of each row and cycle, the input of the smoothing (step 9)
         self.raw = {k: np.full((b, self.capacity), np.nan)
-                    for k in ("course_deg", "speed_mps", "x_m", "y_m", "vx_mps", "vy_mps")}
+                    for k in ("course_deg", "speed_mps", "x_m", "y_m", "vx_mps", "vy_mps",
+                          "range_sd_m", "course_sd_deg", "speed_sd_mps")}
         # smoothed range, course, speed of each cycle: input of the second pass (smooth_passes 2)
         self.smoothed = ({k: np.full((b, self.capacity), np.nan)
                           for k in ("range_m", "course_deg", "speed_mps")}
@@ -185,10 +187,11 @@ class MLBatch:
         -------
         dict of str to ndarray, shape (B,)
             Smoothed ``range_m``, ``course_deg``, ``speed_mps``, ``x_m``, ``y_m`` and the
-            ``bearing_deg``; this cycle's ``range_sd_m``, ``course_sd_deg``, ``speed_sd_mps``;
-            ``tack``; ``used_eq25``; the level range ``r_level_m`` (eq. 20, NaN: no band
-            detected) and its sd ``r_level_sd_m`` (eq. 21); the raw ``raw_course_deg``,
-            ``raw_speed_mps``, ``raw_range_m``.
+            ``bearing_deg``, with their sds ``range_sd_m``, ``course_sd_deg``, ``speed_sd_mps``
+            (`tracker.mltma.smoothing.window_sd`); ``tack``; ``used_eq25``; the level range
+            ``r_level_m`` (eq. 20, NaN: no band detected) and its sd ``r_level_sd_m`` (eq. 21);
+            the raw ``raw_course_deg``, ``raw_speed_mps``, ``raw_range_m`` and this cycle's
+            ``raw_range_sd_m`` (eq. 25's marginal sd, `tracker.mltma.covariance`).
         """
         p, n, b = self.params, self.n_cycles, self.n_rows
         if n >= self.capacity:
@@ -282,12 +285,13 @@ class MLBatch:
         vx = speed * np.sin(np.radians(course))
         vy = speed * np.cos(np.radians(course))
         for key, val in (("course_deg", course), ("speed_mps", speed), ("x_m", x), ("y_m", y),
-                         ("vx_mps", vx), ("vy_mps", vy)):
+                         ("vx_mps", vx), ("vy_mps", vy), ("range_sd_m", range_sd),
+                         ("course_sd_deg", course_sd), ("speed_sd_mps", speed_sd)):
             self.raw[key][:, n] = val
         out = self._smooth(n, obs_x_m, obs_y_m, brg)
-        out.update(range_sd_m=range_sd, course_sd_deg=course_sd, speed_sd_mps=speed_sd,
-                   tack=self.tack.copy(), used_eq25=use25, r_level_m=r_level, r_level_sd_m=r_level_sd,
-                   raw_course_deg=course, raw_speed_mps=speed, raw_range_m=range_est_m)
+        out.update(tack=self.tack.copy(), used_eq25=use25, r_level_m=r_level, r_level_sd_m=r_level_sd,
+                   raw_course_deg=course, raw_speed_mps=speed, raw_range_m=range_est_m,
+                   raw_range_sd_m=range_sd)
         self.last_range_m = np.where(np.isfinite(out["range_m"]), out["range_m"],
                                      self.last_range_m)
         self.last_estimates = out
@@ -446,8 +450,8 @@ class MLBatch:
         """Step 9: robust smoothing over the last L cycles of each row's tack."""
         p = self.params
         idx, count = smoothing.smoothing_window(self.tack_start, n, p.smooth_cycles)
-        r, k, v = smoothing.smooth_raw(self.raw, self.t_s, n, idx, count, obs_x_m, obs_y_m,
-                                       drop=p.smooth_drop, width=p.smooth_cycles)
+        r, k, v, sds = smoothing.smooth_raw(self.raw, self.t_s, n, idx, count, obs_x_m, obs_y_m,
+                                            drop=p.smooth_drop, width=p.smooth_cycles)
         if p.smooth_passes > 1:
             s = self.smoothed
             s["range_m"][:, n], s["course_deg"][:, n], s["speed_mps"][:, n] = r, k, v
@@ -456,7 +460,7 @@ class MLBatch:
         a = np.radians(brg)
         return {"range_m": r, "course_deg": np.mod(k, 360.0), "speed_mps": v,
                 "x_m": obs_x_m + r * np.sin(a), "y_m": obs_y_m + r * np.cos(a),
-                "bearing_deg": brg.copy()}
+                "bearing_deg": brg.copy(), **sds}
 
     # ------------------------------------------------------------------ eq. 25 on given rows
     def tack_window(self, n, rows=slice(None)) -> TackWindow:
@@ -486,8 +490,9 @@ class MLBatch:
                        np.where(np.isfinite(terms.range_m), terms.range_m, 10000.0))
         est = search(q, terms, rho_m=rho, range_min_m=p.range_min_m, range_max_m=range_max_m,
                      params=p)
+        window = self.tack_window(n, rows)
         if p.polish_iters > 0:
-            est = polish(self.tack_window(n, rows), est, terms, range_min_m=p.range_min_m,
+            est = polish(window, est, terms, range_min_m=p.range_min_m,
                          range_max_m=range_max_m, speed_span_sd=p.speed_span_sd,
                          iterations=p.polish_iters)
-        return est
+        return marginal_sds(window, est, terms, range_max_m)

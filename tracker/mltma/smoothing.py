@@ -4,6 +4,12 @@ Over the last L cycles of each row's tack, every estimate is ranked, the largest
 few dropped and the rest averaged (L = 19, 2 + 2 dropped in section 4). Ranges are first carried
 to the current time with each cycle's own velocity; courses are unwrapped around the current
 one. "The smoothing procedure can be repeated twice": a second pass smooths the smoothed series.
+
+The smoothed estimate is an average of the window's estimates, each with the sd its cycle stated;
+its own sd (`window_sd`) is that of the mixture of them: the root of the mean over the kept
+entries of sd_i^2 + (x_i - mean)^2. Where the window's estimates agree it is their sd; where a
+tack's first estimates wander (a few bearings after a manoeuvre), their spread is in it, since
+the average carries them.
 """
 
 from __future__ import annotations
@@ -11,6 +17,36 @@ from __future__ import annotations
 import numpy as np
 
 from tracker.mltma.course import wrap180
+
+
+def _kept(values, count, drop_per_19: int, length: int):
+    """The entries `trimmed_mean` averages, (B, W) bool (the window's first ``count`` valid
+    entries less the ``drop`` largest and smallest)."""
+    valid = (np.arange(values.shape[1])[None, :] < count[:, None]) & np.isfinite(values)
+    order = np.argsort(np.where(valid, values, np.inf), axis=1, kind="stable")
+    n_valid = valid.sum(1)
+    drop = (drop_per_19 * n_valid) // length
+    rank = np.empty_like(order)
+    np.put_along_axis(rank, order, np.arange(values.shape[1])[None, :].repeat(len(values), 0), axis=1)
+    return valid & (rank >= drop[:, None]) & (rank < (n_valid - drop)[:, None])
+
+
+def window_sd(values, sds, count, drop_per_19: int, length: int):
+    """sd of the trimmed mean of each row's window as the mixture of its kept entries (module
+    docstring): sqrt(mean(sd_i^2 + (x_i - mean)^2)); NaN where no entry is kept or none has an sd.
+
+    Parameters
+    ----------
+    values, sds : ndarray, shape (B, W)
+        The window's estimates and the sds their cycles stated (NaN: none).
+    count, drop_per_19, length
+        As `trimmed_mean`.
+    """
+    keep = _kept(values, count, drop_per_19, length) & np.isfinite(sds)
+    n = keep.sum(1)
+    mean = np.where(keep, values, 0.0).sum(1) / np.maximum(n, 1)
+    second = np.where(keep, np.square(sds) + np.square(values - mean[:, None]), 0.0).sum(1)
+    return np.where(n > 0, np.sqrt(second / np.maximum(n, 1)), np.nan)
 
 
 def trimmed_mean(values, count, drop_per_19: int, length: int):
@@ -72,6 +108,9 @@ def smooth_raw(raw: dict, t_s, n, idx, count, obs_x_m: float, obs_y_m: float, *,
     -------
     range_m, course_deg, speed_mps : ndarray, shape (B,)
         Course unwrapped around the current raw course (not reduced to [0, 360)).
+    sds : dict of str to ndarray, shape (B,)
+        ``range_sd_m``, ``course_sd_deg``, ``speed_sd_mps`` of the smoothed estimates
+        (`window_sd`), where ``raw`` holds the raw sds under those keys (else not returned).
     """
     take = lambda key: np.take_along_axis(raw[key], idx, axis=1)  # noqa: E731
     dt = t_s[n] - t_s[idx]
@@ -80,8 +119,10 @@ def smooth_raw(raw: dict, t_s, n, idx, count, obs_x_m: float, obs_y_m: float, *,
     rng = np.hypot(px - obs_x_m, py - obs_y_m)
     ref = raw["course_deg"][:, n]
     course_u = ref[:, None] + wrap180(take("course_deg") - ref[:, None])
+    values = {"range_sd_m": rng, "course_sd_deg": course_u, "speed_sd_mps": take("speed_mps")}
+    sds = {key: window_sd(v, take(key), count, drop, width) for key, v in values.items() if key in raw}
     return (trimmed_mean(rng, count, drop, width), trimmed_mean(course_u, count, drop, width),
-            trimmed_mean(take("speed_mps"), count, drop, width))
+            trimmed_mean(take("speed_mps"), count, drop, width), sds)
 
 
 def smooth_again(smoothed: dict, idx, count, course_deg, *, drop: int, width: int):
