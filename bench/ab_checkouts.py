@@ -152,12 +152,11 @@ print(best / 1e6)
 import os, time, numpy as np, acoustics
 from envdata.classes import SourceLevelModel
 from tracker.rpf import RpfConfig, run_batch
-from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 open_ = getattr(acoustics, "open_tables", None) or acoustics.open_grid  # before the one way in
-tables = open_(os.environ["TMAKIT_AB_SHELF_GRID"])  # as bench_depth.throughput
+tables = open_(os.environ["TMAKIT_AB_SHELF_GRID"])  # the shelf-nps filter of the depth study
 sc = load_scenario("shelf-nps")
 ic = tables.class_index(sc.target_class)
 sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(20))
@@ -171,15 +170,9 @@ obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
 common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg),
               level_db_meas=sim.level_db[:, :, 0], cfg=cfg, source_level_model=SourceLevelModel.P0,
               p0_db=cls.noise_mean_db)
-if "{kind}" == "fixed_depth":
-    profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
-    def go(seed):
-        run_batch(k_profiles=profiles, rng=np.random.default_rng(seed), **common)
-else:
-    tk = tables.target_depth_k(ic, 0)
-    def go(seed):
-        run_batch_depth(target_k=tk, cycle_bearing_deg=sim.bearing_deg[0], rng=np.random.default_rng(seed),
-                        depth=DepthConfig(depth_min_m=20.0, depth_max_m=300.0), **common)
+profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
+def go(seed):
+    run_batch(k_profiles=profiles, rng=np.random.default_rng(seed), **common)
 go(0)  # compile (or load the cache) outside the timing
 best = 0.0
 for i in range(3):
@@ -187,7 +180,7 @@ for i in range(3):
     go(1 + i)
     best = max(best, 20 * 2000 * sim.t_s.size / (time.process_time() - c))
 print(best / 1e6)
-""".replace("{kind}", kind), "higher") for kind in ("fixed_depth", "depth_state")},
+""", "higher") for kind in ("fixed_depth",)},
     "tmakit_help_s": ("""
 import subprocess, sys, time
 t = time.perf_counter()

@@ -1,4 +1,4 @@
-"""Benchmarks of the unknown target depth: the particle filter's cost, and the reciprocity error
+"""Benchmarks of the unknown target depth: the depth posterior's cost, and the reciprocity error
 of a flat grid's observer-centred TL near the surface.
 
     make bench, or: python -m bench.bench_depth
@@ -6,14 +6,6 @@ of a flat grid's observer-centred TL near the surface.
 Prints one line per figure, ``name: value unit``, all measured in this one run, and writes
 docs/results/depth.json:
 
-- particle-cycles per CPU second of the compiled filter with the depth fixed (K(r) profiles,
-  ``tracker.rpf.run_batch``) and with the depth a state (K from (depth, range) slabs,
-  ``tracker.rpf.depthbatch.run_batch_depth``), side by side on the same measurements (scenario
-  ``shelf-nps`` on the built-in shelf-break grid: 12 radials x 251 depths x 300 ranges; 20 runs
-  x 2000 particles x 181 cycles, bearings and FB1 levels, one thread), 7 repeats interleaved
-  (fixed, depth, depth, fixed, ...), medians, and their ratio (target >= 0.5); timed in the
-  process's CPU time, which other users' load on the shared machine changes least, with the
-  wall-clock ratio beside it;
 - the depth likelihood after the last cycle along one shelf-nps track over the depth study's
   span, with and without the range-scale integral (`tracker.depthlevels.RANGE_SCALE_SD`), 7
   repeats interleaved, medians of CPU time, and their ratio; and the depth posterior as
@@ -34,65 +26,8 @@ from bench.harness import REPO, Session, median
 
 session = Session("depth")
 
-RUNS, PARTICLES, REPEATS = 20, 2000, 7
+REPEATS = 7
 RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
-
-
-def throughput() -> None:
-    import acoustics
-    import envdata
-    from envdata.classes import SourceLevelModel
-    from tools.studies.depth import DEPTH_SPAN_M, _rpf_config
-    from tracker.rpf import run_batch
-    from tracker.rpf.depthbatch import DepthConfig, run_batch_depth
-    from tracker.rpf.track import cycle_profiles
-    from tracker.scenario import load_scenario
-    from tracker.simulate import simulate_batch
-
-    grid = REPO / "docs" / "results" / "depth" / "grids" / "shelf-break-bellhop.nc"
-    if not grid.exists():
-        acoustics.build_grid_file(envdata.load_area("shelf-break"), grid, workers=2)
-    tables = acoustics.open_tables(grid)
-    sc = load_scenario("shelf-nps")
-    ic = tables.class_index(sc.target_class)
-    sim = simulate_batch(sc, tables, np.random.default_rng(0), dk_db=np.zeros(RUNS))
-    cfg = _rpf_config(tables, sim, ic, PARTICLES)
-    obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
-                    np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
-    bearing = np.radians(sim.bearing_deg)
-    level = sim.level_db[:, :, 0]
-    cls = tables.classes[ic]
-    common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=bearing, level_db_meas=level,
-                  cfg=cfg, source_level_model=SourceLevelModel.P0, p0_db=cls.noise_mean_db)
-    # one bearing's profiles for every run (the fixed-depth filter's cost does not depend on it)
-    profiles = cycle_profiles(tables, ic, 0, np.full(sim.t_s.size, sim.obs_depth_m), sim.bearing_deg[0])
-    target_k = tables.target_depth_k(ic, 0)
-    depth = DepthConfig(depth_min_m=DEPTH_SPAN_M[0], depth_max_m=DEPTH_SPAN_M[1])
-
-    def fixed(seed):
-        return run_batch(k_profiles=profiles, rng=np.random.default_rng(seed), **common)
-
-    def unknown(seed):
-        return run_batch_depth(target_k=target_k, cycle_bearing_deg=sim.bearing_deg[0], depth=depth,
-                               rng=np.random.default_rng(seed), **common)
-
-    fixed(0), unknown(0)  # compile (or load the cache) outside the timing
-    work = RUNS * PARTICLES * sim.t_s.size
-    cpu = {"fixed": [], "unknown": []}
-    wall = {"fixed": [], "unknown": []}
-    pair = (("fixed", fixed), ("unknown", unknown))
-    for rep in range(REPEATS):
-        for name, fn in pair if rep % 2 == 0 else pair[::-1]:  # drift in the load falls on both
-            wall0, cpu0 = time.perf_counter(), time.process_time()
-            fn(rep + 1)
-            cpu[name].append(work / (time.process_time() - cpu0))
-            wall[name].append(work / (time.perf_counter() - wall0))
-    session.say("rpf_fixed_depth_particle_cycles_per_s", median(cpu["fixed"]), "1/s", runs=cpu["fixed"])
-    session.say("rpf_depth_state_particle_cycles_per_s", median(cpu["unknown"]), "1/s", runs=cpu["unknown"])
-    ratios = [u / f for u, f in zip(cpu["unknown"], cpu["fixed"])]
-    session.say("rpf_depth_state_throughput_ratio", median(ratios), "", runs=ratios)
-    wall_ratios = [u / f for u, f in zip(wall["unknown"], wall["fixed"])]
-    session.say("rpf_depth_state_throughput_ratio_wall", median(wall_ratios), "", runs=wall_ratios)
 
 
 def posterior_cost() -> None:
@@ -162,7 +97,6 @@ def reciprocity() -> None:
 
 
 if __name__ == "__main__":
-    throughput()
     posterior_cost()
     reciprocity()
     session.write()

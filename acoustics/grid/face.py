@@ -44,6 +44,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+from acoustics.grid.kerror import KErrorModel
 from acoustics.grid.levelprofile import LevelProfile
 from acoustics.grid.targetdepth import TargetDepthK, k_at_target_depth, target_depth_span, target_depth_table
 from acoustics.kcurve import spectral_term_db
@@ -358,6 +359,29 @@ class Tables(ABC):
             return np.full(r.shape + (len(self.bands),), fallback)
         sd = self.k_error_lookup(ic, r, bearing_deg)
         return np.where(np.isfinite(sd), sd, fallback)
+
+    @property
+    def computed_at_one_position(self) -> bool:
+        """Whether the tables were computed with the observer at one position (a bearing-dependent
+        grid), so that they hold less well the farther the observer is from it."""
+        return self.observer_offset(np.zeros(1), np.zeros(1)) is not None
+
+    def k_error_model(self, ic: int) -> KErrorModel:
+        """K's error of class ``ic``, with its structure (`acoustics.grid.kerror`): the class's one
+        ``k_error_sd_db`` as the offset, the tables' own residual beside it, both growing away
+        from where tables of one position were computed. A measured ``k_error_sd_db`` map (older
+        ``tmakit sensitivity --into``: the rms of K's error over a study's members) gives the
+        offset its median over the map's ranges and bearings, band by band."""
+        one = self.computed_at_one_position
+        n = len(self.bands)
+        model = KErrorModel.of_class(self.classes[ic].k_error_sd_db, n, one_position=one)
+        if self.k_error_sd_grid_db is None:
+            return model
+        sd = np.moveaxis(np.asarray(self.k_error_sd_grid_db[ic], dtype=float), 0, -1).reshape(-1, n)
+        med = np.nanmedian(np.where(np.isfinite(sd), sd, np.nan), axis=0)
+        fallback = float(self.classes[ic].k_error_sd_db)
+        return replace(model, offset_sd_db=tuple(float(v) if np.isfinite(v) else fallback for v in med),
+                       source="the median of the grid's k_error_sd_db map")
 
     def k_error_sd_profile_db(self, ic: int, ib: int, bearing_deg=None) -> np.ndarray:
         """`k_error_sd_at` of one class and band along the range axis at one bearing, dB."""

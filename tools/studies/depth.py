@@ -13,10 +13,11 @@ eq. 11's level errors and eq. 2's bearing errors. The same measurements are trac
 - the particle filter (bearings and the levels of every band, the class's P0, 2000 particles,
   the variance-preserving regularization, a range prior around the first range with 25 % sd,
   the offset common to a run as the source-level offset state) given the class's depth, given
-  the true depth (``Tables.at_target_depth``), and with the depth a state over
-  `DEPTH_SPAN_M` (``tracker.rpf.depthbatch``), and as a bank of filters, one at each of the
+  the true depth (``Tables.at_target_depth``), and as a bank of filters, one at each of the
   ML analysis's depth hypotheses, weighed as the ML analysis weighs its hypotheses (the method
-  ``tmakit track --method rpf --target-depth unknown`` runs, here with these settings);
+  ``tmakit track --method rpf --target-depth unknown`` runs, here with these settings); the
+  filter with the depth as a state was retired (its own depth interval covered the truth in 7 %
+  of runs, its position error 1.82x the filter given the true depth: docs/depth.md);
 - the ML motion analysis (all bands) given the class's depth, the true depth, and over depth
   hypotheses (``tracker.mltma.depths``).
 
@@ -31,9 +32,8 @@ tracker has.
 Per run: the RMS position error over 5 min to the end; with the depth unknown, the final
 depth posterior's median, 90 % interval and its surface (<= 15 m) and submerged (>= 40 m)
 masses. For the ML analysis the posterior is `tracker.mltma.depths.depth_posterior` (each
-hypothesis's final estimate carried back over the run); for the particle filter both the
-particles' own depth (mean +- 1.645 sd) and the posterior of `tracker.depthpost` along the
-filter's final estimate carried back (`tracker.depthlevels`), and the bank's posterior. The
+hypothesis's final estimate carried back over the run); for the particle filter the bank's
+posterior. The
 hypotheses' final weights are kept per run (``w_<depth>``). What the levels themselves allow,
 whatever a tracker makes of the motion: the posterior along the true track (``known_motion``),
 and the levels' residual about the tables' K at the true depth along it
@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import time
 import warnings
 from pathlib import Path
@@ -76,7 +75,6 @@ from tracker.mltma.depths import (
     picked_hypothesis,
 )
 from tracker.rpf import RpfConfig, run_batch
-from tracker.rpf.depthbatch import DepthConfig
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
@@ -90,11 +88,10 @@ TRUE_DEPTHS_M = (6.0, 20.0, 40.0, 60.0, 100.0, 200.0)
 DEPTH_SPAN_M = (2.0, 300.0)
 VARIANTS = ("class", "true", "unknown")
 METHODS = ("rpf", "ml")
-#: Each method's ways of meeting the unknown depth besides the class's and the true one: the
-#: particle filter with the depth a state, and a bank of particle filters at the ML analysis's
-#: depth hypotheses weighed by the depth posterior along each one's track; the ML analysis
-#: over its hypotheses.
-UNKNOWN = {"rpf": ("unknown", "bank"), "ml": ("unknown",)}
+#: Each method's ways of meeting the unknown depth besides the class's and the true one: a bank
+#: of particle filters at the ML analysis's depth hypotheses weighed by the depth posterior
+#: along each one's track; the ML analysis over its hypotheses.
+UNKNOWN = {"rpf": ("bank",), "ml": ("unknown",)}
 #: How each method weighing depth hypotheses picks the track it reports each cycle
 #: (`tracker.mltma.depths.TRACK_RULES`, as `tmakit track` does); the other rule's figures are
 #: kept as variant ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the
@@ -112,8 +109,6 @@ LEVEL_SIGMA_DB = 1.5
 #: filter with the depth unknown within this factor of the filter given the true depth.
 TARGET_COVERAGE = 0.85
 TARGET_RATIO = 1.1
-#: The 90 % interval of the particles' own depth: mean +- this many sd.
-Z90 = 1.6449
 
 
 def _rpf_config(tables, sim, ic: int, n_particles: int) -> RpfConfig:
@@ -135,8 +130,7 @@ def _observer(sim) -> np.ndarray:
 
 
 def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particles: int):
-    """Positions and velocities (E, T, 4) and, with the depth unknown, the particles' depth mean
-    and sd (E, T, 2)."""
+    """Positions and velocities (E, T, 4)."""
     e, t = sim.bearing_deg.shape
     obs = _observer(sim)
     cfg = _rpf_config(tables, sim, ic, n_particles)
@@ -144,24 +138,15 @@ def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particl
     view = tables.at_target_depth(true_depth_m) if variant == "true" else tables
     n_bands = len(tables.bands)
     pos = np.empty((e, t, 4))
-    depth = np.full((e, t, 2), np.nan)
     for run in range(e):
-        common = dict(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
-                      level_db_meas=sim.level_db[run][None], cfg=cfg, rng=rng,
-                      source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db)
-        if variant == "unknown":
-            res = run_batch(k_profiles=None, target_k=[tables.target_depth_k(ic, b) for b in range(n_bands)],
-                            cycle_bearing_deg=sim.bearing_deg[run],
-                            depth=DepthConfig(depth_min_m=DEPTH_SPAN_M[0], depth_max_m=DEPTH_SPAN_M[1]),
-                            **common)
-            depth[run, :, 0] = res.mean[0][:, -1]
-            depth[run, :, 1] = np.sqrt(res.cov[0][:, -1, -1])
-        else:
-            profiles = [cycle_profiles(view, ic, b, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
-                        for b in range(n_bands)]
-            res = run_batch(k_profiles=profiles, **common)
+        profiles = [cycle_profiles(view, ic, b, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
+                    for b in range(n_bands)]
+        res = run_batch(k_profiles=profiles, t_s=sim.t_s, obs_state=obs,
+                        bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
+                        level_db_meas=sim.level_db[run][None], cfg=cfg, rng=rng,
+                        source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db)
         pos[run] = res.mean[0][:, :4] + obs
-    return pos, depth
+    return pos
 
 
 def _ml_positions(tables, sim, ic: int) -> np.ndarray:
@@ -221,7 +206,7 @@ def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int, hypotheses):
     variant "true" is, weighed as the ML analysis's hypotheses are (`_weighed`); their positions
     (H, E, T, 4) kept in ``hypotheses["rpf"]``."""
     z = depth_hypotheses_m(DEPTH_SPAN_M, tables.classes[ic].depth_m)
-    pos_z = np.array([_rpf(tables, sim, ic, "true", float(h), np.random.default_rng([*seed, h_i]), n_particles)[0]
+    pos_z = np.array([_rpf(tables, sim, ic, "true", float(h), np.random.default_rng([*seed, h_i]), n_particles)
                       for h_i, h in enumerate(z)])
     hypotheses["rpf"] = pos_z
     return _weighed(sim, pos_z, z, like)
@@ -265,12 +250,6 @@ def _range_scale(sim, pos, late) -> np.ndarray:
     r_true, _ = _polar(sim, np.stack([sim.x_m, sim.y_m], axis=-1))
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.nanmedian(np.log(r_track[:, late] / r_true[:, late]), axis=1)
-
-
-def _rpf_track_posterior(sim, pos, like) -> DepthPosterior:
-    """`tracker.depthpost`'s posterior after the last cycle along each run's filter track (its
-    final estimate carried back)."""
-    return _track_posterior(sim, None, like, _carried_back(sim, pos))
 
 
 def _track_posterior(sim, pos, like, polar=None) -> DepthPosterior:
@@ -322,16 +301,6 @@ def _weight_rows(w: np.ndarray, z) -> dict:
     return {f"w_{h:g}": w[:, j] for j, h in enumerate(z)}
 
 
-def _particle_rows(depth: np.ndarray) -> dict:
-    """Per run, from the particles' final depth mean and sd: mean, mean -+ 1.645 sd (in the span),
-    and the normal masses above 15 m and below 40 m."""
-    mean, sd = depth[:, -1, 0], np.maximum(depth[:, -1, 1], 1e-9)
-    cdf = 0.5 * (1.0 + np.vectorize(math.erf)((np.array([SURFACE_MAX_M, SUBMERGED_MIN_M])[:, None] - mean)
-                                              / (sd * math.sqrt(2.0))))
-    return {"depth_m": mean, "lo_m": np.maximum(mean - Z90 * sd, DEPTH_SPAN_M[0]),
-            "hi_m": np.minimum(mean + Z90 * sd, DEPTH_SPAN_M[1]), "p_surface": cdf[0], "p_submerged": 1.0 - cdf[1]}
-
-
 def _truth_provider(truth: str, out: Path, workers: int):
     if truth == "tables":
         return None
@@ -379,11 +348,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                                                              hypotheses)
                         depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
                     elif method == "rpf":
-                        pos, depth = _rpf(tables, sim, ic, variant, z_true,
-                                          np.random.default_rng([seed, s_i, z_i, v_i]), n_particles)
-                        if variant == "unknown":
-                            depth_info = {"particles": _particle_rows(depth),
-                                          "track": _depth_rows(_rpf_track_posterior(sim, pos, like))}
+                        pos = _rpf(tables, sim, ic, variant, z_true, np.random.default_rng([seed, s_i, z_i, v_i]),
+                                   n_particles)
                     else:
                         pos, final, w = _ml(tables, sim, ic, variant, z_true, like, hypotheses)
                         if final is not None:

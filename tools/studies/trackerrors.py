@@ -88,16 +88,19 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
 
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
               *, level_sigma_db: float | None = None, at_observer: bool = True,
-              config: RpfConfig | None = None) -> Tracked:
+              config: RpfConfig | None = None, level_errors=None) -> Tracked:
     """The particle filter (bearings and the band's SPL) of every run, settings `rpf_config` (or
     ``config``). ``at_observer``: the K profiles where the observer is each cycle (else at the
-    origin, as a grid's tables are the same everywhere)."""
+    origin, as a grid's tables are the same everywhere). ``level_errors``
+    (`tracker.levels.LevelErrors`): integrated out per particle (sigma_l the level's own error),
+    the observer's distance from the tables' origin growing them; None: the white likelihood."""
     e, t = sim.bearing_deg.shape
     obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
                     np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
     target = tables.classes[cls_index]
     cfg = config or rpf_config(tables, sim, cls_index, n_particles, level_sigma_db)
     where = (sim.obs_x_m, sim.obs_y_m) if at_observer else ()
+    away = tables.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m) if at_observer else None
     keys = ("x_m", "y_m", "range_m", "course_deg", "speed_mps", "range_sd_m", "course_sd_deg", "speed_sd_mps")
     est = {k: np.empty((e, t)) for k in keys}
     for run in range(e):  # each run its own measured bearings, so its own K profiles
@@ -105,7 +108,8 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles, cfg=cfg, rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
-                        p0_sd_db=target.noise_sd_db, summaries=True)
+                        p0_sd_db=target.noise_sd_db, summaries=True, level_errors=level_errors,
+                        displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])
         mean, sds = res.mean[0], res.extra["sd"][0]
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]
         est["x_m"][run], est["y_m"][run] = mean[:, 0] + obs[:, 0], mean[:, 1] + obs[:, 1]

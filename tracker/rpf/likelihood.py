@@ -29,7 +29,7 @@ def wrap_rad(angle):
     return np.mod(np.asarray(angle) + math.pi, 2.0 * math.pi) - math.pi
 
 
-def bearing_loglik(state: np.ndarray, bearing_meas_rad, sigma_rad: float,
+def bearing_loglik(state: np.ndarray, bearing_meas_rad, sigma_rad,
                    work: dict | None = None) -> np.ndarray:
     """Log of eq. 32 up to a constant: -(theta - h_theta(x))^2 / (2 sigma^2), angle wrapped.
 
@@ -40,8 +40,8 @@ def bearing_loglik(state: np.ndarray, bearing_meas_rad, sigma_rad: float,
     bearing_meas_rad : array_like
         Measured bearing theta, rad; broadcasts against the particle axes (e.g. shape
         (runs, 1)).
-    sigma_rad : float
-        sigma_theta, rad.
+    sigma_rad : float or array_like
+        sigma_theta, rad; broadcasts against the particle axes like the bearing.
     work : dict, optional
         Scratch arrays (`tracker.rpf.scratch`); the result lives in one of them.
 

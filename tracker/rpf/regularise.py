@@ -76,7 +76,7 @@ def epanechnikov_sample(n_dim: int, size, rng: np.random.Generator, work: dict |
 
 def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator, *,
                bandwidth: float | None = None, shrink: bool = False,
-               work: dict | None = None) -> np.ndarray:
+               work: dict | None = None, indices: bool = False):
     """Resample then jitter with the Epanechnikov kernel, eq. 21: x = x' + h D eps.
 
     Parameters
@@ -94,11 +94,15 @@ def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator,
         weighted mean and a = sqrt(1 - h^2/(n+4)); the kernel's covariance is I/(n+4).
     work : dict, optional
         Scratch arrays (`tracker.rpf.scratch`).
+    indices : bool
+        Also return which particle each new one was drawn from.
 
     Returns
     -------
     new_state : ndarray, shape (D, runs, N)
         Resampled, regularized particles (equal weights 1/N).
+    idx : ndarray of int, shape (runs, N)
+        With ``indices``: the particle of its run each new one was drawn from.
 
     Notes
     -----
@@ -111,8 +115,8 @@ def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator,
     scale = np.maximum(np.einsum("rii->ri", cov), 0.0).max(axis=1)
     cov = cov + (1e-12 * scale + 1e-18)[:, None, None] * np.eye(n_dim)
     d = np.linalg.cholesky(cov)  # (runs, D, D)
-    idx = multinomial_resample(weights, rng)
-    idx += (np.arange(runs) * n)[:, None]  # flat index into the (D, runs * N) particles
+    local = multinomial_resample(weights, rng)
+    idx = local + (np.arange(runs) * n)[:, None]  # flat index into the (D, runs * N) particles
     new = np.take(state.reshape(n_dim, runs * n), idx.ravel(), axis=1).reshape(state.shape)
     if shrink:
         a = math.sqrt(max(0.0, 1.0 - h * h / (n_dim + 4)))
@@ -126,4 +130,4 @@ def regularise(state: np.ndarray, weights: np.ndarray, rng: np.random.Generator,
     for i in range(n_dim):  # new += h D eps, D lower triangular
         for j in range(i + 1):
             new[i] += np.multiply(d[:, i, j, None], eps[j], out=tmp)
-    return new
+    return (new, local) if indices else new

@@ -22,7 +22,8 @@ log = logging.getLogger(__name__)
 
 def track_measurements(tables, measurements, *, method: str, rng: np.random.Generator,
                        cls_name: str | None = None, band: str | None = None,
-                       config: RpfConfig | None = None, depth_unknown: bool = False):
+                       config: RpfConfig | None = None, depth_unknown: bool = False,
+                       integrate_errors: bool = True):
     """Track one target from a measurement CSV with the RPF; one row per cycle per class.
 
     The measurements are checked against the grid by ``tracker.track.track``, the way in.
@@ -44,8 +45,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     band : str, optional
         Band whose level is the SPL; default the first grid band with a level column.
     config : RpfConfig, optional
-        Filter settings (the paper's by default). A ``bearing_sigma_deg`` column, where
-        complete, sets sigma_theta (its median).
+        Filter settings: the paper's, but sigma_l the level's own error (eq. 11 at the
+        detection threshold, `tracker.levels.MEASUREMENT_SD_DB`) where the errors that last are
+        integrated out. A ``bearing_sigma_deg`` column gives each cycle's bearing its own sd
+        (sigma_theta where blank: its median).
     depth_unknown : bool
         The target's depth unknown: a bank of filters, one per depth hypothesis of the class's
         ``depth_range_m`` (else the water the tables hold; `tracker.mltma.depths.depth_hypotheses_m`),
@@ -55,11 +58,15 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         (``band`` given: its levels alone) along the tracks
         (`tracker.mltma.depths.weigh_tracks`, taken every few cycles). Measured in
         docs/depth.md: 1.08x the position error of a filter given the true depth, where the
-        filter with the depth as a state (`tracker.rpf.depthbatch`, whose own depth is
-        confidently wrong) was at 1.82x. ``DataFrame.attrs["depth"]`` holds each class's final
+        filter with the depth as a state (retired: its own depth was confidently wrong) was at
+        1.82x. ``DataFrame.attrs["depth"]`` holds each class's final
         posterior (`tracker.mltma.depths.DepthChoice`). Needs levels (``rpf``, ``rpf-vp``).
         Otherwise the depth columns are blank here (``tracker.track.track`` fills in the depth
         the tables assume).
+    integrate_errors : bool
+        The level likelihood with the source level's and K's errors that last along the track
+        integrated out (`tracker.levels.LevelErrors.of_tables`, each particle its own Kalman
+        filter over them; the default); False: the paper's white likelihood with sigma_l.
 
     Returns
     -------
@@ -79,6 +86,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     from acoustics.errors import GridFileError
     from envdata.classes import SourceLevelModel
     from tracker.errors import MeasurementFileError
+    from tracker.levels import MEASUREMENT_SD_DB, LevelErrors
     from tracker.mltma.depths import depth_hypotheses_m, weigh_tracks
 
     m = measurements
@@ -87,12 +95,12 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     if method is None or not method.is_particle_filter:
         raise MeasurementFileError(f"method {chosen!r} is not an RPF method (rpf, rpf-bot, rpf-vp)")
     spl = method is not Method.RPF_BOT
-    cfg = config or RpfConfig()
+    cfg = config or (RpfConfig(level_sigma_db=MEASUREMENT_SD_DB) if integrate_errors else RpfConfig())
     if method is Method.RPF_VP:
         cfg = replace(cfg, shrink=True)
     sig = np.asarray(m.bearing_sigma_deg, dtype=float)
-    if sig.size and np.all(np.isfinite(sig)):
-        cfg = replace(cfg, bearing_sigma_deg=float(np.median(sig)))
+    if sig.size and np.any(np.isfinite(sig)):  # the prior's bearing spread; each cycle its own sd
+        cfg = replace(cfg, bearing_sigma_deg=float(np.nanmedian(sig)))
     levels = None
     bands = tables.band_names
     band_given = band is not None
@@ -130,10 +138,11 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     hypotheses = [cls_name] if cls_name is not None else list(tables.class_names)
     if method is Method.RPF_BOT:
         hypotheses = hypotheses[:1]  # bearings alone do not depend on the class
+    away = tables.distance_from_origin_m(obs[:, 0], obs[:, 1])
     frames, choices = [], []
     for name in hypotheses:
         profiles = [None] * t.size
-        model, p0, p0_sd = SourceLevelModel.ROSS, math.nan, 0.0
+        model, p0, p0_sd, errors = SourceLevelModel.ROSS, math.nan, 0.0, None
         if spl:
             ic, ib = tables.class_index(name), tables.band_index(band)
             target = tables.classes[ic]
@@ -143,15 +152,18 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                     raise GridFileError(f"{tables.source}: class {name!r} has source level "
                                         f"model {str(model)!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
+            if integrate_errors:
+                errors = LevelErrors.of_tables(tables, ic, [ib], source_sd_db=target.noise_sd_db)
             if not depth_unknown:
                 profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         label = name if spl or cls_name else "any"
 
-        def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label):
+        def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label, errors=errors):
             res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
                             level_db_meas=None if levels is None else levels[rows][None],
                             k_profiles=k_profiles, cfg=cfg, rng=rng, source_level_model=model,
-                            p0_db=p0, p0_sd_db=p0_sd, summaries=True)
+                            p0_db=p0, p0_sd_db=p0_sd, summaries=True, level_errors=errors,
+                            displacement_m=away, bearing_sd_rad=np.radians(sig[rows])[None] if sig.size else None)
             return _frame(res, t, obs, label, method.value)
 
         if depth_unknown:

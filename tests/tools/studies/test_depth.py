@@ -34,13 +34,6 @@ def test_the_call_is_judged_on_surface_and_submerged_targets_only():
                     [0.25, 0.5, 0.0])
 
 
-def test_the_particles_interval_is_kept_inside_the_span():
-    rows = depth._particle_rows(np.array([[[5.0, 10.0]], [[150.0, 1.0]]]))
-    assert_allclose(rows["lo_m"], [depth.DEPTH_SPAN_M[0], 150.0 - depth.Z90])
-    assert_allclose(rows["hi_m"], [5.0 + depth.Z90 * 10.0, 150.0 + depth.Z90])
-    assert rows["p_surface"][0] > 0.8 and rows["p_submerged"][1] > 0.999
-
-
 def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_file):
     # a "BELLHOP from the target" that is the tables' K as the likelihood reads it, plus a known
     # offset, a known offset per band and a known ripple along range common to the bands: the

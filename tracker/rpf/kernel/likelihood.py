@@ -59,6 +59,20 @@ def k_at(r, xp, fp, m):
 
 
 @njit(fastmath=FASTMATH, error_model="numpy")
+def level_prediction_particle(x, y, vx, vy, ovx, ovy, ross, p0_db, xp, fp, m):
+    """h_l of eqs. 12, 16 of one particle: SL (Ross at its target speed, or P0) + K(r)."""
+    r = math.sqrt(x * x + y * y)
+    if ross:
+        tvx = vx + ovx
+        tvy = vy + ovy
+        v = max(math.sqrt(tvx * tvx + tvy * tvy), ROSS_MIN_SPEED_MPS)
+        sl = ROSS_LEVEL_DB + ROSS_SLOPE_DB_PER_DECADE * math.log10(v / ROSS_REFERENCE_SPEED_MPS)
+    else:
+        sl = p0_db
+    return sl + k_at(r, xp, fp, m)
+
+
+@njit(fastmath=FASTMATH, error_model="numpy")
 def level_loglik_particle(x, y, vx, vy, offset_db, level_db, ovx, ovy, ross, p0_db, xp, fp, m,
                           half_inv_var):
     """Log of eq. 33 up to a constant, h_l = SL + K(r) + offset (eqs. 12, 16)."""

@@ -1,34 +1,32 @@
-"""The compiled, fused cycle loop of the regularized particle filter (numba), with the target's
-depth fixed or a state.
+"""The compiled, fused cycle loop of the regularized particle filter (numba).
 
 `tracker.rpf.batch` (numpy) is the reference implementation; this loop runs the same
 algorithm, eq. for eq., one run at a time with every particle of a cycle handled in a few
 passes over data that stay in the core's cache:
 
 1. the process noise (2 normals per particle, drawn in sequence from the run's generator,
-   `tracker.rpf.kernel.random`; with the depth a state, 1 more for its walk);
+   `tracker.rpf.kernel.random`);
 2. prediction (eqs. 4-6, discrete white-noise acceleration), one loop per axis
-   (`tracker.rpf.kernel.motion`);
+   (`tracker.rpf.kernel.motion`); with the levels' errors integrated out, each particle's error
+   components brought to this cycle along the run's estimated relative move
+   (`tracker.rpf.kernel.levelerrors`);
 3. bearing log-likelihood (eq. 32; residual in (-pi, pi] as the atan2 of the particle position
    rotated by -theta) added to the log-weights (`tracker.rpf.kernel.likelihood`);
 4. SPL log-likelihood (eq. 33, h_l = SL(v) + K(r) of eqs. 12-16, or the constant P0) of each
-   band with a level that cycle: with the depth fixed K(r) by the `tables.LevelProfile` rule
-   (`Profiles`); with the depth a state (its last component: prior uniform over the span of
-   `DepthModel`, a slow random walk with reflecting walls) K at the particle's depth and range
-   from the (depth, range) slabs of `DepthTable`, the walk and the first band's likelihood in
-   one pass (`tracker.rpf.kernel.depth.walk_level_pass`);
+   band with a level that cycle, K(r) by the `tables.LevelProfile` rule (`Profiles`): white
+   with sigma_l (the paper's), or, with `Errors` on, the exact marginal likelihood of the level
+   with the persistent and along-track errors of `tracker.levels.LevelErrors` integrated out,
+   each particle's own Kalman update (`tracker.rpf.kernel.levelerrors`);
 5. logsumexp normalisation (eq. 19), N_eff (eq. 20), weighted mean and covariance (eqs. 29-30)
-   (`tracker.rpf.kernel.weights`, `tracker.rpf.kernel.depthmoments`);
+   (`tracker.rpf.kernel.weights`, `tracker.rpf.kernel.estimate`);
 6. when N_eff < N_thr: multinomial resampling (cumulative sum + sorted uniforms), optional
    shrinkage toward the mean, regularization x = x' + h D eps with the Epanechnikov kernel
-   (eqs. 21-28; the depth is regularized with the other components, the particles'
-   covariance carrying the range-depth trade-off, then folded back into its span), then mean
-   and covariance again with equal weights (`tracker.rpf.kernel.resample`,
+   (eqs. 21-28), the resampled particles' error components copied with them, then mean and
+   covariance again with equal weights (`tracker.rpf.kernel.resample`,
    `tracker.rpf.kernel.regularise`).
 
 The loops of 2, 3 and 5 call no library function (`tracker.rpf.kernel.fastmath`), so LLVM
 vectorizes them. Fast-math allows reassociation, so sums differ from numpy's in the last bits.
-The depth state's cost against the fixed depth: docs/depth.md.
 """
 
 from __future__ import annotations
@@ -38,22 +36,26 @@ import math
 import numpy as np
 from numba import njit
 
-from tracker.rpf.kernel.depth import reflect_pass, walk_level_pass, walk_pass
-from tracker.rpf.kernel.depthmoments import moments_depth_run
-from tracker.rpf.kernel.estimate import particle_sds_run
+from tracker.rpf.kernel.estimate import moments_run, particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
-from tracker.rpf.kernel.likelihood import bearing_pass, level_loglik_particle, level_loglik_particle_sd
+from tracker.rpf.kernel.levelerrors import errors_copy, errors_init, errors_predict, errors_update_particle
+from tracker.rpf.kernel.likelihood import (
+    bearing_pass,
+    level_loglik_particle,
+    level_loglik_particle_sd,
+    level_prediction_particle,
+)
 from tracker.rpf.kernel.motion import predict_pass
 from tracker.rpf.kernel.params import Measured, Outputs
 from tracker.rpf.kernel.prior import init_particle
-from tracker.rpf.kernel.random import fill_normal_pairs, fill_normals, normal_pair, uniform
+from tracker.rpf.kernel.random import fill_normal_pairs, normal_pair
 from tracker.rpf.kernel.regularise import cholesky_loaded, fill_epanechnikov, regularise_run
 from tracker.rpf.kernel.resample import resample_indices
 from tracker.rpf.kernel.weights import normalise_run
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def run_one(s, observer, measured, profiles, table, depth, prior, model, settings, out):
+def run_one(s, observer, measured, profiles, errors, prior, model, settings, out):
     """The filter over every cycle for one run.
 
     Parameters
@@ -63,16 +65,15 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
     observer : Observer
         Cycle times and observer track.
     measured : Measured
-        The run's bearings (K,) and band levels (K, B).
+        The run's bearings and their sds (K,) and band levels (K, B).
     profiles : Profiles
-        K(r) of each cycle and band, with the depth fixed (``depth.on`` False).
-    table : DepthTable
-        K against depth and range of each band, with the depth a state (``depth.on``).
-    depth : DepthModel
+        K(r) of each cycle and band.
+    errors : Errors
+        The levels' error components integrated out per particle (``errors.on``), else none.
     prior : Prior
     model : Model
     settings : Settings
-        ``d`` counts the depth (last) and the source-level offset (component 4) when present.
+        ``d`` counts the source-level offset (component 4) when present.
     out : Outputs
         The run's rows: ``means`` (K, D), ``covs`` (K, D, D), ``resampled`` (K,) uint8,
         ``sds`` (K, 3) or (1, 3); written.
@@ -81,10 +82,7 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
     bearing, level = measured.bearing_rad, measured.level_db
     sigma_a, use_level, ross, p0_db = model.sigma_a_mps2, model.use_level, model.ross, model.p0_db
     n, d, n_thr, h = settings.n, settings.d, settings.n_thr, settings.bandwidth
-    on = depth.on
-    iz = d - 1 if on else -1  # the depth's component, if a state
-    io = 4 if d > (5 if on else 4) else -1  # the source-level offset's, if any
-    lo, hi = depth.lo_m, depth.hi_m
+    io = 4 if d > 4 else -1  # the source-level offset's component, if any
     n_bands = level.shape[1]
     n_cycles = t_s.size
     state = np.empty((d, n))
@@ -100,11 +98,17 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
     chol = np.empty((d, d))
     gx = np.zeros(n)
     gy = np.zeros(n)
-    gz = np.zeros(n if on else 1)
-    half_b = 0.5 / (model.sigma_theta_rad * model.sigma_theta_rad)
     var_l = model.sigma_l_db * model.sigma_l_db
     half_l = 0.5 / var_l
     log_n = -math.log(n)
+    # the levels' error components of each particle (S, N) and (S, S, N); S = 0 without
+    n_err = errors.h.shape[1] if errors.on else 0
+    e_mean = np.zeros((n_err, n))
+    e_cov = np.zeros((n_err, n_err, n))
+    e_mean_new = np.zeros((n_err, n))
+    e_cov_new = np.zeros((n_err, n_err, n))
+    rho = np.ones(n_err)
+    ph = np.empty(n_err)
 
     z0 = bearing[0]
     ovx0, ovy0 = obs[0, 2], obs[0, 3]
@@ -115,9 +119,9 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
             g0, g1, g2, g3, z0, ovx0, ovy0, prior)
         if io >= 0:
             state[io, i] = prior.offset_sd_db * normal_pair(s)[0]
-        if on:
-            state[iz, i] = lo + (hi - lo) * uniform(s)
         log_w[i] = log_n
+    if errors.on:
+        errors_init(e_mean, e_cov, errors.var[0])
 
     for k in range(n_cycles):
         has_b = k > 0 and not math.isnan(bearing[k])
@@ -133,6 +137,8 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
             dt = dv_scale = cpx = cpy = cvx = cvy = 0.0
         cz = math.cos(bearing[k]) if has_b else 1.0
         sz = math.sin(bearing[k]) if has_b else 0.0
+        sd_b = measured.bearing_sd_rad[k]
+        half_b = 0.5 / (sd_b * sd_b) if has_b else 0.0
         ovx, ovy = obs[k, 2], obs[k, 3]
 
         # pass 1: process noise (sequential generator), then prediction and bearing
@@ -142,60 +148,57 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
         if moving:
             predict_pass(state[0], state[2], gx, dt, dv_scale, cpx, cvx)
             predict_pass(state[1], state[3], gy, dt, dv_scale, cpy, cvy)
-        step_sd = depth.walk_m_per_sqrt_s * math.sqrt(dt) if on and moving and dt > 0.0 else 0.0
-        if step_sd > 0.0:
-            fill_normals(s, gz)
+            if errors.on:  # the run's estimated relative move since the last cycle
+                step = dt * math.sqrt(mean[2] * mean[2] + mean[3] * mean[3])
+                errors_predict(e_mean, e_cov, dt, step, errors.inv_time_s, errors.inv_length_m,
+                               errors.var[k - 1], errors.var[k], rho)
         if has_b:
             bearing_pass(state[0], state[1], log_w, cz, sz, half_b)
-        if on:  # the walk and the first band's level likelihood at the new depth in one pass
-            j0, j1, w1 = table.j0[k], table.j1[k], table.w1[k]
-            walked = False
-            for b in range(n_bands):
-                if use_level and not math.isnan(level[k, b]):
-                    walk_level_pass(state, iz, io, log_w, gz, 0.0 if walked else step_sd, lo, hi,
-                                    level[k, b], ovx, ovy, ross, p0_db, table, b, j0, j1, w1,
-                                    half_l, var_l)
-                    walked = True
-            if not walked and step_sd > 0.0:
-                walk_pass(state[iz], gz, step_sd, lo, hi)
-        else:
-            for b in range(n_bands):
-                if not use_level or math.isnan(level[k, b]):
-                    continue
-                lv = level[k, b]
-                p = profiles.index[b, k]
-                m = profiles.length[p]
-                xp = profiles.range_m[p]
-                fp = profiles.k_db[p]
-                if profiles.has_sd:  # the grid's K error sd at each particle's range
-                    sp = profiles.k_sd_db[p]
-                    for i in range(n):
-                        off = state[io, i] if io >= 0 else 0.0
-                        log_w[i] += level_loglik_particle_sd(state[0, i], state[1, i], state[2, i],
-                                                             state[3, i], off, lv, ovx, ovy, ross, p0_db,
-                                                             xp, fp, sp, m, var_l)
-                else:
-                    for i in range(n):
-                        off = state[io, i] if io >= 0 else 0.0
-                        log_w[i] += level_loglik_particle(state[0, i], state[1, i], state[2, i],
-                                                          state[3, i], off, lv, ovx, ovy, ross, p0_db,
-                                                          xp, fp, m, half_l)
+        for b in range(n_bands):
+            if not use_level or math.isnan(level[k, b]):
+                continue
+            lv = level[k, b]
+            p = profiles.index[b, k]
+            m = profiles.length[p]
+            xp = profiles.range_m[p]
+            fp = profiles.k_db[p]
+            if errors.on:  # the exact marginal likelihood, each particle's components updated
+                hb = errors.h[b]
+                for i in range(n):
+                    pred = level_prediction_particle(state[0, i], state[1, i], state[2, i], state[3, i],
+                                                     ovx, ovy, ross, p0_db, xp, fp, m)
+                    log_w[i] += errors_update_particle(e_mean, e_cov, i, hb, lv - pred, var_l, ph)
+            elif profiles.has_sd:  # the grid's K error sd at each particle's range
+                sp = profiles.k_sd_db[p]
+                for i in range(n):
+                    off = state[io, i] if io >= 0 else 0.0
+                    log_w[i] += level_loglik_particle_sd(state[0, i], state[1, i], state[2, i],
+                                                         state[3, i], off, lv, ovx, ovy, ross, p0_db,
+                                                         xp, fp, sp, m, var_l)
+            else:
+                for i in range(n):
+                    off = state[io, i] if io >= 0 else 0.0
+                    log_w[i] += level_loglik_particle(state[0, i], state[1, i], state[2, i],
+                                                      state[3, i], off, lv, ovx, ovy, ross, p0_db,
+                                                      xp, fp, m, half_l)
 
         # pass 2-3: weights, N_eff, mean and covariance (the covariance also feeds eq. 21)
         neff = normalise_run(log_w, w)
-        moments_depth_run(state, w, mean, cov)
+        moments_run(state, w, mean, cov)
         if neff < n_thr:
             cholesky_loaded(cov, chol)
             resample_indices(w, s, cdf, idx, spac)
             fill_epanechnikov(s, eps, gx, gy)  # the process noise arrays as scratch
             regularise_run(state, idx, mean, chol, eps, h, settings.shrink, new)
             state, new = new, state
-            if on:
-                reflect_pass(state[iz], lo, hi)
+            if errors.on:
+                errors_copy(e_mean, e_cov, idx, e_mean_new, e_cov_new)
+                e_mean, e_mean_new = e_mean_new, e_mean
+                e_cov, e_cov_new = e_cov_new, e_cov
             for i in range(n):
                 log_w[i] = log_n
                 w[i] = 1.0 / n
-            moments_depth_run(state, w, mean, cov)
+            moments_run(state, w, mean, cov)
             out.resampled[k] = 1
         for a in range(d):
             out.means[k, a] = mean[a]
@@ -206,7 +209,7 @@ def run_one(s, observer, measured, profiles, table, depth, prior, model, setting
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def run_runs(states, observer, measured, profiles, table, depth, prior, model, settings, out):
+def run_runs(states, observer, measured, profiles, errors, prior, model, settings, out):
     """`run_one` for each run of a block in turn.
 
     ``states`` (runs, 4) uint64 holds one generator state per run; ``measured`` and ``out``
@@ -216,5 +219,5 @@ def run_runs(states, observer, measured, profiles, table, depth, prior, model, s
     """
     for r in range(states.shape[0]):
         run_one(states[r], observer,
-                Measured(measured.bearing_rad[r], measured.level_db[r]), profiles, table, depth,
-                prior, model, settings, Outputs(out.means[r], out.covs[r], out.resampled[r], out.sds[r]))
+                Measured(measured.bearing_rad[r], measured.bearing_sd_rad[r], measured.level_db[r]), profiles,
+                errors, prior, model, settings, Outputs(out.means[r], out.covs[r], out.resampled[r], out.sds[r]))

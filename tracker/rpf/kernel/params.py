@@ -37,12 +37,15 @@ class Measured(NamedTuple):
     ----------
     bearing_rad : ndarray, shape ([runs,] K)
         Measured bearings, rad; NaN: none that cycle.
+    bearing_sd_rad : ndarray, shape ([runs,] K)
+        Their sds, rad (eq. 2's at each cycle's SNR, or the filter's sigma_theta).
     level_db : ndarray, shape ([runs,] K, B)
         Measured SPL of each band, dB re 1 uPa; NaN: none that cycle. Unused (zeros, one
         cycle and band) when `Model.use_level` is False.
     """
 
     bearing_rad: np.ndarray
+    bearing_sd_rad: np.ndarray
     level_db: np.ndarray
 
 
@@ -70,6 +73,44 @@ class Profiles(NamedTuple):
     length: np.ndarray
     k_sd_db: np.ndarray
     has_sd: bool
+
+
+class Errors(NamedTuple):
+    """The levels' error components each particle integrates out (`tracker.levels.LevelErrors`,
+    `tracker.rpf.kernel.levelerrors`), or none (``on`` False: the level likelihood is white
+    with sigma_l, the paper's).
+
+    Attributes
+    ----------
+    on : bool
+    h : ndarray, shape (B, S)
+        Loadings of the components on each band.
+    var : ndarray, shape (K, S)
+        Each component's prior variance at each cycle, dB^2 (its sd grown with the observer's
+        distance from where the tables were computed).
+    inv_time_s, inv_length_m : ndarray, shape (S,)
+        1 / correlation time, 1/s, and 1 / correlation length along the path, 1/m (0: none).
+    """
+
+    on: bool
+    h: np.ndarray
+    var: np.ndarray
+    inv_time_s: np.ndarray
+    inv_length_m: np.ndarray
+
+
+def errors_of(level_errors, n_bands: int, n_cycles: int, displacement_m=None) -> Errors:
+    """The `Errors` group of a `tracker.levels.LevelErrors` (None: off) for ``n_bands`` bands and
+    ``n_cycles`` cycles, the observer ``displacement_m`` (K,) from the tables' origin (default 0)."""
+    if level_errors is None:
+        return Errors(False, np.zeros((n_bands, 1)), np.zeros((n_cycles, 1)), np.zeros(1), np.zeros(1))
+    a = level_errors.arrays(n_bands)
+    d_km = np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
+        np.asarray(displacement_m, dtype=float) / 1000.0, (n_cycles,))
+    var = a["sd_db"][None, :] ** 2 + (a["growth_db_per_km"][None, :] * d_km[:, None]) ** 2
+    c = np.ascontiguousarray
+    return Errors(True, c(a["h"], dtype=float), c(var, dtype=float), c(a["inv_time_s"], dtype=float),
+                  c(a["inv_length_m"], dtype=float))
 
 
 class Prior(NamedTuple):

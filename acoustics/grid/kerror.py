@@ -1,0 +1,113 @@
+"""K's error as tables know it, with its structure: what of it persists along a track, what
+changes along it and over what range, and how it grows where tables computed at one position are
+read from another (DESIGN.md "K's error and stated uncertainty").
+
+The level a target gives is W = P0 + K(r) + dK + e (Grinenkov & Mashoshin eqs. 12, 31). dK, K's
+error, is not new at every cycle: the tables' sea is wrong the same way from one cycle to the
+next. Its parts, per class and band:
+
+- the offset, persistent along a track (G&M's dK, drawn once per run), sd ``offset_sd_db``;
+  between bands it is correlated by ``offset_band_correlation`` (the water or the bottom a
+  little off moves every band's K alike);
+- the residual, the part that changes along the track, sd ``residual_sd_db``, correlated over
+  ``residual_length_m`` of the target's path relative to the observer: the sea's error field
+  over range and bearing, and the tables' own fine error (their interference pattern a little
+  off where the sea puts it);
+- for tables computed at one position (a bearing-dependent grid) read by an observer who moved
+  d km from it, both grow: sd hypot(sd, growth x d).
+
+An area file's one ``k_error_sd_db`` per class is the offset (what G&M's dK means); a
+sensitivity study (``tmakit sensitivity --into``) measures every part from its members. The
+tables' own fine error and the growth away from their origin are measured against BELLHOP run
+from the target (`TABLE_RESIDUAL_SD_DB` and the growths below; docs/depth.md), and hold for
+every set of tables until a check of their own replaces them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+#: The tables' own residual against BELLHOP run from the target, where nothing else differs
+#: (observer at the tables' origin), common to the bands, dB: the depth study's check
+#: (docs/results/depth/depth.json ``tables_vs_bellhop_from_target_db.fit.fine_sd_db``, shelf-break,
+#: targets at 3-60 m and 3-20 km).
+TABLE_RESIDUAL_SD_DB = 1.94
+#: Its correlation length along the target's path relative to the observer, m: the shelf-tv
+#: transport's path, the origin's tables against BELLHOP along it (relative move 45 m per
+#: cycle; correlation 0.62 after 360 m, 0.44 after 540 m, 0.12 after 900 m).
+TABLE_RESIDUAL_LENGTH_M = 600.0
+#: How the tables' residual grows with the observer's distance from where they were computed,
+#: dB/km: the same check with the observer 2.5 and 5 km away (``fit.fine_growth_db_per_km``).
+TABLE_RESIDUAL_GROWTH_DB_PER_KM = 1.37
+#: How the offset grows with that distance, dB/km (``fit.offset_growth_db_per_km``: each depth's
+#: mean error less the origin's on the same bearing).
+TABLE_OFFSET_GROWTH_DB_PER_KM = 1.33
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class KErrorModel:
+    """K's error of one class (module docstring): sds per band, dB.
+
+    Attributes
+    ----------
+    offset_sd_db : tuple of float
+        sd of the persistent offset, per band.
+    offset_band_correlation : float
+        Correlation of the offset between bands, in [0, 1].
+    residual_sd_db : tuple of float
+        sd of the residual along the track, per band.
+    residual_length_m : float
+        Its correlation length along the target's path relative to the observer, m.
+    offset_growth_db_per_km, residual_growth_db_per_km : float
+        Growth of the sds with the observer's distance from where the tables were computed
+        (0 for tables that hold everywhere: a flat area's, an atlas's).
+    source : str
+        Where the numbers come from, for reports.
+    """
+
+    offset_sd_db: tuple[float, ...]
+    offset_band_correlation: float = 1.0
+    residual_sd_db: tuple[float, ...]
+    residual_length_m: float = TABLE_RESIDUAL_LENGTH_M
+    offset_growth_db_per_km: float = 0.0
+    residual_growth_db_per_km: float = 0.0
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if len(self.offset_sd_db) != len(self.residual_sd_db):
+            raise ValueError("K error model: one offset sd and one residual sd per band")
+        for name in ("offset_sd_db", "residual_sd_db"):
+            for v in getattr(self, name):
+                if not (math.isfinite(v) and v >= 0.0):
+                    raise ValueError(f"K error model: {name} must be >= 0 dB, got {v}")
+        if not 0.0 <= self.offset_band_correlation <= 1.0:
+            raise ValueError(f"K error model: offset_band_correlation must be in [0, 1], got "
+                             f"{self.offset_band_correlation}")
+        if not (math.isfinite(self.residual_length_m) and self.residual_length_m > 0.0):
+            raise ValueError(f"K error model: residual_length_m must be > 0, got {self.residual_length_m}")
+        for name in ("offset_growth_db_per_km", "residual_growth_db_per_km"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0.0):
+                raise ValueError(f"K error model: {name} must be >= 0 dB/km, got {v}")
+
+    @classmethod
+    def of_class(cls, k_error_sd_db: float, n_bands: int, *, one_position: bool,
+                 source: str = "the class's k_error_sd_db") -> KErrorModel:
+        """An area file's one number as the offset (common to the bands), the tables' own
+        residual beside it, growing away from the origin of tables computed at one position."""
+        return cls(offset_sd_db=(float(k_error_sd_db),) * n_bands, offset_band_correlation=1.0,
+                   residual_sd_db=(TABLE_RESIDUAL_SD_DB,) * n_bands, residual_length_m=TABLE_RESIDUAL_LENGTH_M,
+                   offset_growth_db_per_km=TABLE_OFFSET_GROWTH_DB_PER_KM if one_position else 0.0,
+                   residual_growth_db_per_km=TABLE_RESIDUAL_GROWTH_DB_PER_KM if one_position else 0.0,
+                   source=source)
+
+    def total_sd_db(self, displacement_m: float = 0.0) -> tuple[float, ...]:
+        """sd of the whole K error of each band at one cycle (offset and residual), dB."""
+        d = displacement_m / 1000.0
+        return tuple(math.hypot(o, r, self.offset_growth_db_per_km * d, self.residual_growth_db_per_km * d)
+                     for o, r in zip(self.offset_sd_db, self.residual_sd_db))
+
+
+__all__ = ["KErrorModel", "TABLE_OFFSET_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_GROWTH_DB_PER_KM",
+           "TABLE_RESIDUAL_LENGTH_M", "TABLE_RESIDUAL_SD_DB"]

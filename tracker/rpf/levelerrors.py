@@ -1,0 +1,72 @@
+"""The levels' persistent errors integrated out per particle, numpy reference of
+`tracker.rpf.kernel.levelerrors`: each particle's Gaussian posterior over the error components
+of `tracker.levels.LevelErrors`, brought along its own path and updated by each band's level;
+its level likelihood is the innovation's density (the exact marginal likelihood, as
+`tracker.levels.log_marginal` computes it along one path)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class ParticleErrors:
+    """The components' means (S, runs, N) and covariances (S, S, runs, N) of a block's particles.
+
+    Parameters
+    ----------
+    level_errors : tracker.levels.LevelErrors
+    n_bands, n_cycles : int
+    shape : (runs, N)
+    displacement_m : array_like, shape (K,), optional
+        The observer's distance from where the tables were computed, m (default 0).
+    """
+
+    def __init__(self, level_errors, n_bands: int, n_cycles: int, shape, displacement_m=None):
+        a = level_errors.arrays(n_bands)
+        self.h = a["h"]                                                   # (B, S)
+        d_km = np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
+            np.asarray(displacement_m, dtype=float) / 1000.0, (n_cycles,))
+        self.var = a["sd_db"][None, :] ** 2 + (a["growth_db_per_km"][None, :] * d_km[:, None]) ** 2
+        self.inv_time, self.inv_length = a["inv_time_s"], a["inv_length_m"]
+        s = self.h.shape[1]
+        self.mean = np.zeros((s,) + tuple(shape))
+        self.cov = np.zeros((s, s) + tuple(shape))
+        for j in range(s):
+            self.cov[j, j] = self.var[0, j]
+
+    def predict(self, k: int, dt: float, step_m: np.ndarray) -> None:
+        """From cycle k - 1 to k: residuals forget by exp(-dt / time - step / length), ``step_m``
+        (runs,) the target's move relative to the observer as each run's estimate has it (the
+        same for its particles, `tracker.rpf.kernel.levelerrors.errors_predict` says why);
+        variances raised to cycle k's prior."""
+        step = np.asarray(step_m, dtype=float)[None, :, None]
+        rho = np.exp(-dt * self.inv_time[:, None, None] - step * self.inv_length[:, None, None])
+        self.mean *= rho
+        self.cov *= rho[:, None] * rho[None, :]
+        for j in range(self.h.shape[1]):
+            self.cov[j, j] += np.maximum(self.var[k, j] - rho[j] ** 2 * self.var[k - 1, j], 0.0)
+
+    def update(self, band: int, resid_db: np.ndarray, have: np.ndarray, var_n: float) -> np.ndarray:
+        """One band's level: ``resid_db`` (runs, N) the level less each particle's prediction,
+        ``have`` (runs, 1) the runs with a level; returns the log-likelihood increments (runs, N)
+        (0 where no level; the constant -ln(2 pi) / 2 left out) and updates the components."""
+        h = self.h[band]
+        resid = np.where(have, resid_db, 0.0)
+        innov = resid - np.einsum("s,s...->...", h, self.mean)
+        ph = np.einsum("st...,t->s...", self.cov, h)
+        var = var_n + np.einsum("s,s...->...", h, ph)
+        gain = np.where(have, ph / var, 0.0)
+        self.mean += gain * innov
+        self.cov -= gain[:, None] * ph[None, :]
+        return np.where(have, -0.5 * (innov * innov / var + np.log(var)), 0.0)
+
+    def resample(self, rows: np.ndarray, idx: np.ndarray) -> None:
+        """The resampled runs ``rows`` (runs,) bool: particle i takes particle ``idx[:, i]``'s
+        components (``idx`` (rows, N), indices within each run)."""
+        sel = np.flatnonzero(rows)
+        take = lambda a: np.take_along_axis(a[..., sel, :], np.broadcast_to(idx, a[..., sel, :].shape), axis=-1)  # noqa: E731
+        self.mean[:, sel] = take(self.mean)
+        self.cov[:, :, sel] = take(self.cov)
+
+
+__all__ = ["ParticleErrors"]
