@@ -141,6 +141,17 @@ class LevelErrors:
                             offset_growth_db_per_km=model.offset_growth_db_per_km,
                             residual_growth_db_per_km=model.residual_growth_db_per_km, n_bands=len(idx))
 
+    def cycle_sd_db(self, n_bands: int, displacement_m=0.0) -> tuple[np.ndarray, np.ndarray]:
+        """One cycle's level errors (every component at its prior variance; the measurement's own
+        left out): the sd of the part common to the bands and of each band's own (the root of the
+        mean of the bands' variances), dB, each shaped like ``displacement_m``."""
+        a = self.arrays(n_bands)
+        d_km = np.asarray(displacement_m, dtype=float)[..., None] / 1000.0
+        var = a["sd_db"] ** 2 + (a["growth_db_per_km"] * d_km) ** 2                    # (..., S)
+        common = a["h"].all(axis=0)
+        own = (a["h"][:, ~common] ** 2).sum(axis=0) / n_bands                           # each band's share
+        return np.sqrt((var * common).sum(axis=-1)), np.sqrt((var[..., ~common] * own).sum(axis=-1))
+
     def arrays(self, n_bands: int) -> dict[str, np.ndarray]:
         """The components as arrays, in order: ``h`` (M, S) loadings, ``sd_db``, ``growth_db_per_km``
         (S,), ``inv_time_s``, ``inv_length_m`` (S,) (0: no forgetting on that scale), ``persistent``

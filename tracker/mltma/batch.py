@@ -17,10 +17,12 @@ takes the steps of section 3 (paper's numbering):
    paper's sd sK_rho = 4 deg, the reverse bearing 30 deg (conclusion 4's course errors) --
    `tracker.mltma.gates`, `tracker.mltma.course`;
 6. course from the relative course and the class's mean speed (eq. 7);
-7. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21; for tables computed at one
-   position, dK's sd widened with the observer's distance from it by
-   `tracker.depthpost.K_ERROR_GROWTH_DB_PER_KM`, docs/gm.md); without a detected band the last
-   range is a weak prior -- `tracker.mltma.range_prior`;
+7. level-based ML range (eq. 20) and its a-posteriori sd (eq. 21) over the cycle's level error
+   as the one level model has it (`tracker.levels.LevelErrors.of_tables`: K's offset and its
+   residual along the track, both widened with the observer's distance from where tables of one
+   position were computed; the part common to the bands in eq. 21's nodes with P0's sd, each
+   band's own in eq. 20's weights; docs/gm.md); without a detected band the last range is a
+   weak prior -- `tracker.mltma.range_prior`;
 8. the joint ML estimate of course, speed and range (eq. 25) when the bearing changed by more
    than 3 sigma_P over the last 3 minutes (section 4 step 8, Russian original), else the
    fallbacks listed after eq. 25 (mean speed, eq.-8/reverse-bearing course, eq.-20 range):
@@ -39,8 +41,8 @@ import math
 import numpy as np
 
 from acoustics.grid.face import Tables
-from tracker.depthpost import K_ERROR_GROWTH_DB_PER_KM
 from tracker.errors import MeasurementFileError
+from tracker.levels import LevelErrors
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
 from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
 from tracker.mltma.covariance import marginal_sds
@@ -89,12 +91,16 @@ class MLBatch:
         self.speed_mean_mps = np.array([c.speed_mean_mps for c in classes])
         self.speed_sd_mps = np.array([c.speed_sd_mps for c in classes])
         self.p0_db = np.array([c.noise_mean_db for c in classes])     # dB re 1 uPa
-        # sP0 and sigma_dK of eq. 21
+        # sP0 of eq. 21; K's error at one cycle of every grid class (tracker.levels), its part common
+        # to the bands (eq. 21's sigma_dK) and each band's own (eq. 20's weights)
         self.noise_sd_db = np.array([c.noise_sd_db for c in classes])
-        self.k_error_sd_db = np.array([c.k_error_sd_db for c in classes])
+        self.k_errors = [LevelErrors.of_tables(self.tables, ic) for ic in range(len(self.tables.classes))]
+        k0 = [e.cycle_sd_db(self.n_bands) for e in self.k_errors]
+        self.k_common_sd_db = np.array([float(k0[c][0]) for c in self.class_index])   # (B,) at the origin
+        self.k_band_sd_db = np.array([float(k0[c][1]) for c in self.class_index])     # (B,)
         # eq. 21 quadrature (offsets_db, weights) over P0 and K(r) errors, per grid class
-        self.level_offsets = [offset_nodes(c.noise_sd_db, c.k_error_sd_db, self.params.offsets_n)
-                              for c in self.tables.classes]
+        self.level_offsets = [offset_nodes(c.noise_sd_db, float(k[0]), self.params.offsets_n)
+                              for c, k in zip(self.tables.classes, k0)]
         self.n_cycles = 0                                      # cycles fed so far
         # per cycle: time and observer position (shared by the rows)
         self.t_s = np.zeros(self.capacity)
@@ -134,46 +140,26 @@ class MLBatch:
         self.last_range_m = np.full(b, np.nan)                 # last smoothed range (NaN: none)
         self.last_estimates = None                             # the last cycle's output
 
-    def _k_sd_along_range(self, brg) -> np.ndarray:
-        """The grid's K error sd of each row's class along the range axis at its bearing, (B, M, R), dB."""
-        n_r = self.range_axis_m.size
-        out = np.empty((self.n_rows, self.n_bands, n_r))
-        for c in np.unique(self.class_index):
-            rows = np.flatnonzero(self.class_index == c)
-            r = np.broadcast_to(self.range_axis_m, (rows.size, n_r))
-            b = np.broadcast_to(brg[rows, None], (rows.size, n_r))
-            out[rows] = np.moveaxis(self.tables.k_error_sd_at(int(c), r, b), -1, 1)
-        return out
-
-    def _away_km(self, obs_x_m: float, obs_y_m: float) -> float:
-        """The observer's distance from where the tables were computed, km (0 for tables that hold
+    def _away_m(self, obs_x_m: float, obs_y_m: float) -> float:
+        """The observer's distance from where the tables were computed, m (0 for tables that hold
         everywhere, `acoustics.grid.face.Tables.distance_from_origin_m`)."""
         d = self.tables.distance_from_origin_m(obs_x_m, obs_y_m)
-        return 0.0 if d is None else float(d) / 1000.0
+        return 0.0 if d is None else float(d)
 
-    def _offset_nodes(self, k_error_sd_db, away_km: float):
-        """Eq. 21's nodes for each row: its class's sP0 and the K error sd given (B,), widened with
-        the observer's distance from where the tables were computed (`K_ERROR_GROWTH_DB_PER_KM`)."""
-        return offset_nodes_per_row(self.noise_sd_db, np.hypot(k_error_sd_db, K_ERROR_GROWTH_DB_PER_KM * away_km),
-                                    self.params.offsets_n)
-
-    def _level_range_sd_here(self, level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd, away_km):
-        """Eq. 21's sd again, each row's dK nodes from the grid's k_error_sd_db at its bearing and
-        level range (mean over the detected bands)."""
-        have = np.isfinite(r_level)
-        if not have.any():
-            return r_level_sd
-        sd_k = self.k_error_sd_db.copy()
-        for c in np.unique(self.class_index[have]):
-            rows = np.flatnonzero(have & (self.class_index == c))
-            at = self.tables.k_error_sd_at(int(c), r_level[rows], brg[rows])            # (rows, M)
-            det = detected[rows]
-            sd_k[rows] = np.where(det.any(axis=1), (at * det).sum(axis=1) / np.maximum(det.sum(axis=1), 1),
-                                  sd_k[rows])
-        nodes = self._offset_nodes(sd_k, away_km)
-        _, r_sd = level_ranges_m(level, detected, sd_w, self.p0_db, self.class_index, k_db, self.range_axis_m,
-                                 self.level_offsets, self.sonar.receiver_gain_db, row_offsets=nodes, k_sd_db=k_sd)
-        return np.where(have, r_sd, r_level_sd)
+    def _k_error_sds(self, away_m: float):
+        """Each row's K error at this cycle: eq. 21's nodes over P0 and the part common to the bands
+        (None where it is the class's at the origin), and each band's own sd along the range axis
+        for eq. 20's weights (None where no row has one), (B, M, R), dB."""
+        if away_m > 0.0:
+            parts = [e.cycle_sd_db(self.n_bands, away_m) for e in self.k_errors]
+            common = np.array([float(parts[c][0]) for c in self.class_index])
+            band = np.array([float(parts[c][1]) for c in self.class_index])
+            nodes = offset_nodes_per_row(self.noise_sd_db, common, self.params.offsets_n)
+        else:
+            band, nodes = self.k_band_sd_db, None
+        k_sd = None if not band.any() else np.broadcast_to(
+            band[:, None, None], (self.n_rows, self.n_bands, self.range_axis_m.size))
+        return nodes, k_sd
 
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
                obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
@@ -219,18 +205,11 @@ class MLBatch:
             self.k_top_db[n % len(self.k_top_db)] = self._k_rows(k_db, np.maximum(top, 0))
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
-        k_sd = self._k_sd_along_range(brg) if self.tables.has_k_error_map else None
-        away_km = self._away_km(obs_x_m, obs_y_m)
+        nodes, k_sd = self._k_error_sds(self._away_m(obs_x_m, obs_y_m))
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd,
-            row_offsets=None if away_km == 0.0 else self._offset_nodes(self.k_error_sd_db, away_km))
-        if k_sd is not None:
-            # eq. 21 with the K error sd measured at this row's bearing and level range (a study's
-            # k_error_sd_db in the grid) in place of the class's one number: it weights the range
-            # term of eq. 25
-            r_level_sd = self._level_range_sd_here(level, detected, sd_w, k_db, brg, r_level, r_level_sd, k_sd,
-                                                   away_km)
+            row_offsets=nodes)
 
         # step 1: maneuver detection; a confirmed one starts a new tack
         new_tack = self._detect_maneuver(n, sd_p, sd_w, k_db, r_level, r_level_sd)

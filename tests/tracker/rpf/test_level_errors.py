@@ -11,44 +11,12 @@ import math
 import numpy as np
 import pytest
 
-from acoustics.grid.opentables import open_tables
-from tests.tracker.mltma.conftest import synthetic_grid
+from tests.tracker.calibrationruns import model_runs
 from tools.studies.trackerrors import rpf_config, rpf_track
-from tracker.levels import LevelErrors
-from tracker.scenario import load_scenario
-from tracker.simulate import simulate_batch
-
-
-def _runs(seed: int, runs: int = 20):
-    """The G&M transport's first tack on a synthetic K(r), each run's speed, P0 and dK drawn from
-    the class, and a residual along the path (Gauss-Markov over 600 m of the relative path, sd
-    1.94 dB: the model's own) added to the levels."""
-    sc = load_scenario("gm-tv-30km")
-    sc = dataclasses.replace(sc, target_tacks=sc.target_tacks[:1])
-    tables = open_tables(synthetic_grid(truth_p0=133.02, speed=7.5))
-    ic = tables.class_index("TV")
-    cls = tables.classes[ic]
-    rng = np.random.default_rng(seed)
-    first = sc.target_tacks[0]
-    sim = simulate_batch(sc, tables, rng,
-                         dv_mps=cls.speed_mean_mps - first.speed_mps + rng.normal(0.0, cls.speed_sd_mps, runs),
-                         dp0_db=cls.noise_mean_db - first.noise_db + rng.normal(0.0, cls.noise_sd_db, runs),
-                         dk_db=rng.normal(0.0, cls.k_error_sd_db, runs))
-    errors = LevelErrors.of_tables(tables, ic, [0], source_sd_db=cls.noise_sd_db)
-    length, sd = errors.components[1].length_m, errors.components[1].sd_db
-    rx, ry = sim.x_m - sim.obs_x_m, sim.y_m - sim.obs_y_m
-    step = np.zeros_like(rx)
-    step[:, 1:] = np.hypot(np.diff(rx, axis=1), np.diff(ry, axis=1))
-    res = np.zeros_like(rx)
-    res[:, 0] = rng.normal(0.0, sd, runs)
-    for k in range(1, rx.shape[1]):
-        rho = np.exp(-step[:, k] / length)
-        res[:, k] = rho * res[:, k - 1] + np.sqrt(1.0 - rho * rho) * rng.normal(0.0, sd, runs)
-    return tables, ic, dataclasses.replace(sim, level_db=sim.level_db + res[:, :, None]), errors
 
 
 def test_the_range_interval_covers_the_truth_with_the_errors_integrated_out():
-    tables, ic, sim, errors = _runs(1)
+    tables, ic, sim, errors = model_runs(1)
     after = (sim.t_s - sim.t_s[0]) / 60.0 >= 10.0
     cfg = rpf_config(tables, sim, ic, 2000, 1.1)
     cal = rpf_track(tables, sim, ic, 0, np.random.default_rng(3), 2000, config=cfg,
@@ -69,7 +37,7 @@ def test_the_compiled_loop_agrees_with_the_numpy_reference():
     # the same runs filtered by both engines (other random numbers): the RMS position error after
     # 10 min and the mean stated range sd agree within what 20 runs' scatter allows (4 standard
     # errors of the runs' RMS errors, 25 % for the sd: a difference in the Kalman step moves both)
-    tables, ic, sim, errors = _runs(2)
+    tables, ic, sim, errors = model_runs(2)
     after = (sim.t_s - sim.t_s[0]) / 60.0 >= 10.0
     out = {}
     for engine in ("kernel", "numpy"):
