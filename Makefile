@@ -59,7 +59,7 @@ $(KRAKEN): tests/crosscheck/requirements-kraken.txt
 	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
 	@touch $@
 
-# the optional Stone Soup glue (tools/stonesoup/) is tested with the real Stone Soup, installed
+# the optional Stone Soup plugin (tracker/stonesoup/) is tested with the real Stone Soup, installed
 # as tmakit's extra into .venv for the tests only: `make demo` does not need it
 $(SSEXTRA): $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,stonesoup]'

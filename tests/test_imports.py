@@ -23,9 +23,10 @@ ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plot
                    "sensitivity": 5}
 #: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
 #: the tracker by the layers) below the command line and its command modules at the root.
-TOOLS_RANKS = {"studies": 0, "stonesoup": 0, "": 1}
-#: The optional Stone Soup glue (the ``stonesoup`` extra): the only package that imports Stone Soup.
-STONESOUP_GLUE = "tools.stonesoup"
+TOOLS_RANKS = {"studies": 0, "": 1}
+#: The optional Stone Soup plugin (the ``stonesoup`` extra, in the tracker's layer): the only
+#: package that imports Stone Soup.
+STONESOUP_GLUE = "tracker.stonesoup"
 #: Inside ``acoustics.grid``: what a grid is, its face and their kernels (rank 0, every module not
 #: named), the atlas's store over them, and the one way in (``open_tables``) over both.
 GRID_RANKS = {"atlas": 1, "opentables": 2}
@@ -282,14 +283,14 @@ def test_only_the_glue_imports_stone_soup():
     # the core runs without the optional extra; `make demo` does not install it
     mods = _modules()
     assert stonesoup_importers(mods) == []
-    assert "stonesoup" in external_imports(mods["tools.stonesoup.model"])  # the scan sees the glue's
+    assert "stonesoup" in external_imports(mods["tracker.stonesoup.model"])  # the scan sees the glue's
 
 
 def test_the_stone_soup_check_finds_an_importer(tmp_path):
     planted = tmp_path / "face.py"
     planted.write_text("def f():\n    from stonesoup.types.state import State\n")
-    assert stonesoup_importers({"acoustics.grid.face": planted, "tools.stonesoup.x": planted}) == \
-        ["acoustics.grid.face"]
+    assert stonesoup_importers({"acoustics.grid.face": planted, "tracker.stonesoup.x": planted,
+                                "tracker.stonesoupish": planted}) == ["acoustics.grid.face", "tracker.stonesoupish"]
 
 
 def test_the_import_graph_has_no_circle():

@@ -1,7 +1,7 @@
 """Stone Soup's particle filter on a tmakit scenario with tmakit's tables, beside ``tmakit track
 --method rpf`` on the same measurements (docs/stonesoup.md).
 
-``python -m tools.stonesoup.example [--particles N] [--stonesoup-particles N ...] [--runs R] [--seed S]
+``python -m bench.bench_stonesoup [--particles N] [--stonesoup-particles N ...] [--runs R] [--seed S]
 [--name NAME]`` writes
 ``docs/results/NAME.json`` (default ``stonesoup``) with the harness's provenance and
 ``docs/results/NAME.png``: Iglesis & de Montella's manoeuvring-observer scenario on the
@@ -12,9 +12,9 @@ simulated bearings and levels, each tracked by
   N_eff < N/3, bearings and SPL, sigma_l = 10 dB), and
 - Stone Soup's SIR particle filter (its ``ParticlePredictor`` with a constant-velocity model of
   the same acceleration sd, its ``ParticleUpdater`` with ``ESSResampler`` at N/3 and its
-  ``MCMCRegulariser``) given tmakit's measurement model (``tools.stonesoup.model``, the same
+  ``MCMCRegulariser``) given tmakit's measurement model (``tracker.stonesoup.model``, the same
   sigma_l in total) through the detections of the same measurement file
-  (``tools.stonesoup.convert``), from the same prior particles.
+  (``tracker.stonesoup.convert``), from the same prior particles.
 
 Reported: the final position error of each (median over runs), the ratio, the time of each;
 Stone Soup at several particle counts, as it needs more than tmakit's filter for the same error
@@ -65,7 +65,7 @@ def stonesoup_track(m, tables, prior_xy_v, *, sigma_a_mps2: float, bearing_sd_de
     from stonesoup.types.state import ParticleState
     from stonesoup.updater.particle import ParticleUpdater
 
-    from tools.stonesoup.convert import detections_from_measurements
+    from tracker.stonesoup.convert import detections_from_measurements
 
     cls = tables.classes[tables.class_index(CLASS)]
     # the same sigma_l in total as tmakit's filter: the model adds the class's sds
@@ -100,10 +100,10 @@ def run(*, particles: int, stonesoup_particles: tuple[int, ...], runs: int, seed
     and Stone Soup's at each of ``stonesoup_particles``, all on the same measurements and each
     from the same prior (Stone Soup's its own draw of the same law at its particle count)."""
     import acoustics
-    from tools.stonesoup.convert import track_frame
     from tools.studies.idm_scenarios import get_scenario
     from tracker import rpf
     from tracker.rpf.prior import initial_particles
+    from tracker.stonesoup.convert import track_frame
     from tracker.track import track
 
     if grid_path is None:  # the paper's grid, built once (about 3 s)

@@ -11,8 +11,17 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-# the real Stone Soup, of the stonesoup extra (make test installs it)
+# the real Stone Soup, of the stonesoup extra (make test installs it), and tmakit as its plugin
 from stonesoup.models.measurement.nonlinear import NonLinearGaussianMeasurement
+from stonesoup.plugins.tmakit import (
+    DetectionProbability,
+    TablesBernoulliParticleUpdater,
+    TablesMeasurementModel,
+    detections_from_measurements,
+    observer_lookup,
+    track_frame,
+    track_from_frame,
+)
 from stonesoup.types.detection import Detection
 from stonesoup.types.state import ParticleState, State, StateVector, StateVectors
 
@@ -20,9 +29,6 @@ import acoustics
 import envdata
 from acoustics.grid.detectionmap import class_terms, detection_map
 from tests.tools.simulated import simulate_on_tiny_grid
-from tools.stonesoup.convert import detections_from_measurements, observer_lookup, track_frame, track_from_frame
-from tools.stonesoup.detection import DetectionProbability, TablesBernoulliParticleUpdater
-from tools.stonesoup.model import TablesMeasurementModel
 from tracker.measurements import read_measurements
 from tracker.trackfile import read_track, write_track
 
@@ -197,7 +203,7 @@ def test_stone_soups_particle_filter_with_tmakits_model_tracks_like_tmakits_rpf(
     # for it: its regulariser moves resampled particles by Metropolis-Hastings under the
     # posterior, tmakit's Epanechnikov kernel widens them (docs/stonesoup.md, 24 runs of two
     # seeds: 4x as many particles 2.1-2.3x, 8x 1.1-1.2x): given 8x, within 2x
-    from tools.stonesoup import example
+    from bench import bench_stonesoup as example
 
     grid = tmp_path / "munk-1000.nc"
     acoustics.write_grid(acoustics.build_grid(envdata.load_area(example.AREA), workers=2), grid)
