@@ -59,17 +59,11 @@ $(KRAKEN): tests/crosscheck/requirements-kraken.txt
 	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
 	@touch $@
 
-# the optional Stone Soup plugin (tracker/stonesoup/) is tested with the real Stone Soup, installed
-# as tmakit's extra into .venv for the tests only: `make demo` does not need it
+# the optional Stone Soup plugin (tracker/stonesoup/) is tested and benchmarked with the real Stone
+# Soup, installed as tmakit's extra into .venv for the tests and benchmarks only: `make demo` does
+# not need it
 $(SSEXTRA): $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,stonesoup]'
-	@touch $@
-
-# Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
-STONESOUP := .venv-stonesoup/.installed
-$(STONESOUP):
-	$(PYTHON) -m venv .venv-stonesoup
-	.venv-stonesoup/bin/python -m pip install -q stonesoup
 	@touch $@
 
 # icechunk, which bench/ab_icechunk.py measures against plain Zarr (not a tmakit dependency)
@@ -79,8 +73,9 @@ $(ICECHUNK):
 	.venv-icechunk/bin/python -m pip install -q "icechunk==1.1.21" "zarr>=3.1,<3.2" numpy
 	@touch $@
 
-bench: setup $(STONESOUP)
-	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m bench.run
+# the Stone Soup comparison (bench/bench_stonesoup.py) runs the stonesoup extra, as the tests do
+bench: setup $(SSEXTRA)
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m bench.run
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out
+	rm -rf $(VENV) .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out

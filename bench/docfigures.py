@@ -148,16 +148,77 @@ def manoeuvres(root: Path) -> str:
 
 def stonesoup(root: Path) -> str:
     d = _load(root, "stonesoup.json")
-    summ = d["summary"]
-    rpf = summ["rpf"]
-    rows = [("filter", "particles", f"final position error, median of {len(d['runs'])} runs", "over tmakit's",
-             "time per run (median)"), ("---",) * 5,
-            ("tmakit track --method rpf", f"{rpf['particles']}", f"{rpf['final_error_median_m']:.0f} m", "1",
-             f"{rpf['seconds_median']:.3f} s")]
-    for s in summ["stonesoup"]:
-        rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']}",
-                     f"{s['final_error_median_m']:.0f} m", f"{s['over_rpf']:.2f}x", f"{s['seconds_median']:.2f} s"))
+    entries = d["accuracy"]["by_particles"]
+    first = entries[0]
+    seeds = [str(s) for s in first["seeds"]]
+    rows = [("filter", "particles", f"final position error, median of {first['pooled']['runs']} runs ({len(seeds)} "
+             f"seeds x {first['runs_per_seed']})", "over tmakit's: all runs (seed " + ", ".join(seeds) + ")",
+             "time per run (median)"), ("---",) * 5]
+    for a in entries:
+        rpf = a["pooled"]["rpf"]
+        rows.append(("**tmakit track --method rpf**", f"{rpf['particles']}",
+                     f"{rpf['final_error_median_m']:.0f} m", "1", f"{rpf['seconds_median']:.3f} s"))
+        for s in a["pooled"]["stonesoup"]:
+            per = ", ".join(f"{x['over_rpf']:.2f}x" for sd in seeds for x in a["by_seed"][sd]["stonesoup"]
+                            if x["particles"] == s["particles"])
+            rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']} "
+                         f"({s['multiple']:g}x)", f"{s['final_error_median_m']:.0f} m",
+                         f"{s['over_rpf']:.2f}x ({per})", f"{s['seconds_median']:.2f} s"))
     return _table(rows) + "\n" + _source(d, "stonesoup.json")
+
+
+def stonesoup_speed(root: Path) -> str:
+    d = _load(root, "stonesoup.json")
+
+    def f(key: str) -> float:
+        return _fig(d, key)
+
+    rows = [("figure", "measured", "target"), ("---",) * 3,
+            ("Stone Soup's particle filter, the first 30 cycles", f"{f('stonesoup_particle_filter_n5000'):.2f} M "
+             "particle-steps/s", ""),
+            ("tmakit's filter, one run: 151 cycles / the first 31",
+             f"{f('rpf_one_filter_n5000'):.1f} / {f('rpf_one_filter_n5000_first_31_cycles'):.1f} M particle-steps/s",
+             ""),
+            ("tmakit's filter, batched 40 runs: 1 thread / 2 threads",
+             f"{f('rpf_batched_40_runs_n5000'):.1f} / {f('rpf_batched_40_runs_n5000_2_threads'):.1f} M "
+             "particle-steps/s", ""),
+            ("one filter against Stone Soup", f"**{f('speedup_one_filter_vs_stonesoup'):.0f}x** "
+             f"({f('speedup_one_filter_same_cycles_vs_stonesoup'):.0f}x on the same first cycles)", ">= 10x"),
+            ("batched against Stone Soup, 1 thread / 2 threads", f"**{f('speedup_batched_vs_stonesoup'):.0f}x / "
+             f"{f('speedup_batched_2_threads_vs_stonesoup'):.0f}x**", ">= 50x"),
+            ("share of the timed cycles that resampled, Stone Soup / tmakit",
+             f"{f('stonesoup_resampled_fraction_first_30_cycles'):.2f} / "
+             f"{f('rpf_resampled_fraction_first_31_cycles'):.2f}", "")]
+    return _table(rows) + "\n" + _source(d, "stonesoup.json")
+
+
+def rpf_speed(root: Path) -> str:
+    d = _load(root, "rpf.json")
+
+    def f(key: str) -> float:
+        return _fig(d, key)
+
+    rows = [("figure", "measured", "target"), ("---",) * 3,
+            ("one filter, 151 cycles / the first 31 cycles",
+             f"{f('rpf_one_filter_n5000'):.1f} / {f('rpf_one_filter_n5000_first_31_cycles'):.1f} M particle-steps/s",
+             ""),
+            ("batched, 40 runs, 1 thread / 2 threads",
+             f"{f('rpf_batched_40_runs_n5000'):.1f} / {f('rpf_batched_40_runs_n5000_2_threads'):.1f} M "
+             f"particle-steps/s ({f('speedup_2_threads_vs_1_batched'):.2f}x)", ""),
+            ("numpy reference, one filter / batched",
+             f"{f('rpf_numpy_reference_one_filter_n5000'):.1f} / {f('rpf_numpy_reference_batched_40_runs_n5000'):.1f}"
+             f" M particle-steps/s (the kernel {f('speedup_kernel_vs_numpy_one_filter'):.1f}x / "
+             f"{f('speedup_kernel_vs_numpy_batched'):.1f}x)", ""),
+            ("the `idm-static` study, 1000 runs x 151 cycles x 5000, bearings only and bearings + SPL, 2 worker "
+             "processes", f"{f('idm_static_1000runs_151cycles_n5000_bot_and_spl_wall'):.0f} s wall "
+             f"({f('idm_static_1000runs_rate'):.1f} M particle-steps/s), "
+             f"{f('idm_static_1000runs_peak_memory_largest_process'):.2f} GiB peak per process", "3 min, 4 GiB"),
+            ("the kernel's first call in a process (numba's cache loaded)",
+             f"{f('rpf_kernel_first_call_incl_compile_or_cache_load'):.1f} s", "")]
+    return (_table(rows) + "\nThe share of cycles that resampled over the 151: the compiled kernel "
+            f"{f('rpf_kernel_resampled_fraction_151_cycles'):.3f}, the numpy reference "
+            f"{f('rpf_numpy_resampled_fraction_151_cycles'):.3f}; the kernel's over the first 31 cycles "
+            f"{f('rpf_kernel_resampled_fraction_31_cycles'):.2f}.\n\n" + _source(d, "rpf.json"))
 
 
 #: The G&M experiments of docs/gm.md: (result folder, what the paper gives for the true class).
@@ -792,6 +853,7 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity,
                                              "models-bench": models_bench, "manoeuvres": manoeuvres,
                                              "radials": radials, "stonesoup": stonesoup,
+                                             "stonesoup-speed": stonesoup_speed, "rpf-speed": rpf_speed,
                                              "gm-experiments": gm_experiments,
                                              "shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk,
                                              "depth-errors": depth_errors, "depth-estimates": depth_estimates,
@@ -831,6 +893,16 @@ QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (
     ("README.md", "icechunk.json", ("median_seconds_per_table", "icechunk"), "cost {:.3f} s"),
     ("README.md", "icechunk.json", ("median_seconds_per_table", "zarr"), "against {:.3f} s for the atlas's"),
     ("README.md", "icechunk.json", ("icechunk_over_zarr",), "({:.2f}x)"),
+    ("README.md", "rpf.json", ("figures", "idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", "value"),
+     "bearings + SPL) {:.0f} s at"),
+    ("README.md", "rpf.json", ("figures", "idm_static_1000runs_peak_memory_largest_process", "value"),
+     "{:.2f} GiB peak"),
+    ("README.md", "stonesoup.json", ("figures", "speedup_one_filter_vs_stonesoup", "value"),
+     "side by side in one run: {:.0f}x for one filter"),
+    ("README.md", "stonesoup.json", ("figures", "speedup_batched_vs_stonesoup", "value"),
+     "{:.0f}x batched on one thread"),
+    ("README.md", "stonesoup.json", ("figures", "speedup_batched_2_threads_vs_stonesoup", "value"),
+     "and {:.0f}x on two"),
 )
 
 
