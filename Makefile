@@ -34,29 +34,29 @@ test: setup $(ARLPY) $(RAMREF) $(KRAKEN) $(SSEXTRA)
 	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" \
 	KRAKEN_PYTHON="$(CURDIR)/.venv-kraken/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
-# arlpy, which the BELLHOP cross-check test runs (tests/crosscheck/), lives in its own venv:
+# arlpy, which the BELLHOP cross-check test runs (bench/crosscheck/), lives in its own venv:
 # its pins (numpy<2, scipy<1.14) are not tmakit's
 arlpy: $(ARLPY)
-$(ARLPY): tests/crosscheck/requirements-arlpy.txt
+$(ARLPY): bench/crosscheck/requirements-arlpy.txt
 	@test -x .venv-arlpy/bin/python || $(PYTHON) -m venv .venv-arlpy
-	.venv-arlpy/bin/python -m pip install -q -r tests/crosscheck/requirements-arlpy.txt
+	.venv-arlpy/bin/python -m pip install -q -r bench/crosscheck/requirements-arlpy.txt
 	@touch $@
 
 # pyram 1.3.0 ships the Fortran RAM 1.5 test case's TL line, which the RAM test compares
 # against (tests/acoustics/ram/); it lives in its own venv, installed without its dependencies:
 # only that data file is read, found through this venv's interpreter (RAM_REF_PYTHON)
 ramref: $(RAMREF)
-$(RAMREF): tests/crosscheck/requirements-ref.txt
+$(RAMREF): bench/crosscheck/requirements-ref.txt
 	@test -x .venv-ref/bin/python || $(PYTHON) -m venv .venv-ref
-	.venv-ref/bin/python -m pip install -q --no-deps -r tests/crosscheck/requirements-ref.txt
+	.venv-ref/bin/python -m pip install -q --no-deps -r bench/crosscheck/requirements-ref.txt
 	@touch $@
 
-# pelagic (GPL-3.0), whose KRAKEN the normal-mode cross-check test runs (tests/crosscheck/
+# pelagic (GPL-3.0), whose KRAKEN the normal-mode cross-check test runs (bench/crosscheck/
 # kraken_tl.py, as its own process: tmakit, MIT, never imports it), lives in its own venv
 kraken: $(KRAKEN)
-$(KRAKEN): tests/crosscheck/requirements-kraken.txt
+$(KRAKEN): bench/crosscheck/requirements-kraken.txt
 	@test -x .venv-kraken/bin/python || $(PYTHON) -m venv .venv-kraken
-	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
+	.venv-kraken/bin/python -m pip install -q -r bench/crosscheck/requirements-kraken.txt
 	@touch $@
 
 # the optional Stone Soup plugin (tracker/stonesoup/) is tested and benchmarked with the real Stone
