@@ -35,7 +35,7 @@ BLOCK = re.compile(r"(<!-- docfigures (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- 
 #: The package's modules that are not a page's.
 NOT_PAGES = ("common", "engine", "__main__")
 
-Quote = tuple[str, str, tuple[str, ...], str]
+Quote = tuple[str, str, tuple[str | int, ...], str]
 
 
 class RegistryError(ValueError):
@@ -77,7 +77,7 @@ def stale_quotes(root: Path, quotes: Iterable[Quote]) -> list[str]:
             value = value[key]
         printed = fmt.format(value)
         if " ".join(printed.split()) not in " ".join(text.split()):  # line breaks in prose are free
-            out.append(f"{page}: {file} {'.'.join(keys)} ({printed!r})")
+            out.append(f"{page}: {file} {'.'.join(map(str, keys))} ({printed!r})")
     return out
 
 

@@ -133,8 +133,12 @@ QUOTES = (
     ("rpf.json", ("figures", "idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", "value"),
      "bearings + SPL) {:.0f} s at"),
     ("rpf.json", ("figures", "idm_static_1000runs_peak_memory_largest_process", "value"), "{:.2f} GiB peak"),
+    ("rpf.json", ("provenance", "load_average", "before", 0), "measured at load average {:.1f}-"),
+    ("rpf.json", ("provenance", "load_average", "after", 0), "-{:.1f});"),
     ("stonesoup.json", ("figures", "speedup_one_filter_vs_stonesoup", "value"),
      "side by side in one run: {:.0f}x for one filter"),
     ("stonesoup.json", ("figures", "speedup_batched_vs_stonesoup", "value"), "{:.0f}x batched on one thread"),
     ("stonesoup.json", ("figures", "speedup_batched_2_threads_vs_stonesoup", "value"), "and {:.0f}x on two"),
+    ("stonesoup.json", ("provenance", "load_average", "before", 0), "at load average {:.1f}-"),
+    ("stonesoup.json", ("provenance", "load_average", "after", 0), "-{:.1f} the second thread"),
 )
