@@ -34,42 +34,36 @@ test: setup $(ARLPY) $(RAMREF) $(KRAKEN) $(SSEXTRA)
 	ARLPY_PYTHON="$(CURDIR)/.venv-arlpy/bin/python" RAM_REF_PYTHON="$(CURDIR)/.venv-ref/bin/python" \
 	KRAKEN_PYTHON="$(CURDIR)/.venv-kraken/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m pytest -q
 
-# arlpy, which the BELLHOP cross-check test runs (tests/crosscheck/), lives in its own venv:
+# arlpy, which the BELLHOP cross-check test runs (bench/crosscheck/), lives in its own venv:
 # its pins (numpy<2, scipy<1.14) are not tmakit's
 arlpy: $(ARLPY)
-$(ARLPY): tests/crosscheck/requirements-arlpy.txt
+$(ARLPY): bench/crosscheck/requirements-arlpy.txt
 	@test -x .venv-arlpy/bin/python || $(PYTHON) -m venv .venv-arlpy
-	.venv-arlpy/bin/python -m pip install -q -r tests/crosscheck/requirements-arlpy.txt
+	.venv-arlpy/bin/python -m pip install -q -r bench/crosscheck/requirements-arlpy.txt
 	@touch $@
 
 # pyram 1.3.0 ships the Fortran RAM 1.5 test case's TL line, which the RAM test compares
 # against (tests/acoustics/ram/); it lives in its own venv, installed without its dependencies:
 # only that data file is read, found through this venv's interpreter (RAM_REF_PYTHON)
 ramref: $(RAMREF)
-$(RAMREF): tests/crosscheck/requirements-ref.txt
+$(RAMREF): bench/crosscheck/requirements-ref.txt
 	@test -x .venv-ref/bin/python || $(PYTHON) -m venv .venv-ref
-	.venv-ref/bin/python -m pip install -q --no-deps -r tests/crosscheck/requirements-ref.txt
+	.venv-ref/bin/python -m pip install -q --no-deps -r bench/crosscheck/requirements-ref.txt
 	@touch $@
 
-# pelagic (GPL-3.0), whose KRAKEN the normal-mode cross-check test runs (tests/crosscheck/
+# pelagic (GPL-3.0), whose KRAKEN the normal-mode cross-check test runs (bench/crosscheck/
 # kraken_tl.py, as its own process: tmakit, MIT, never imports it), lives in its own venv
 kraken: $(KRAKEN)
-$(KRAKEN): tests/crosscheck/requirements-kraken.txt
+$(KRAKEN): bench/crosscheck/requirements-kraken.txt
 	@test -x .venv-kraken/bin/python || $(PYTHON) -m venv .venv-kraken
-	.venv-kraken/bin/python -m pip install -q -r tests/crosscheck/requirements-kraken.txt
+	.venv-kraken/bin/python -m pip install -q -r bench/crosscheck/requirements-kraken.txt
 	@touch $@
 
-# the optional Stone Soup glue (tools/stonesoup/) is tested with the real Stone Soup, installed
-# as tmakit's extra into .venv for the tests only: `make demo` does not need it
+# the optional Stone Soup plugin (tracker/stonesoup/) is tested and benchmarked with the real Stone
+# Soup, installed as tmakit's extra into .venv for the tests and benchmarks only: `make demo` does
+# not need it
 $(SSEXTRA): $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,stonesoup]'
-	@touch $@
-
-# Stone Soup, the particle filter the RPF benchmark compares against, lives in its own venv
-STONESOUP := .venv-stonesoup/.installed
-$(STONESOUP):
-	$(PYTHON) -m venv .venv-stonesoup
-	.venv-stonesoup/bin/python -m pip install -q stonesoup
 	@touch $@
 
 # icechunk, which bench/ab_icechunk.py measures against plain Zarr (not a tmakit dependency)
@@ -79,8 +73,9 @@ $(ICECHUNK):
 	.venv-icechunk/bin/python -m pip install -q "icechunk==1.1.21" "zarr>=3.1,<3.2" numpy
 	@touch $@
 
-bench: setup $(STONESOUP)
-	STONESOUP_PYTHON="$(CURDIR)/.venv-stonesoup/bin/python" PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m bench.run
+# the Stone Soup comparison (bench/bench_stonesoup.py) runs the stonesoup extra, as the tests do
+bench: setup $(SSEXTRA)
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/python -m bench.run
 
 clean:
-	rm -rf $(VENV) .venv-stonesoup .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out
+	rm -rf $(VENV) .venv-arlpy .venv-ref .venv-icechunk .venv-kraken out

@@ -2,19 +2,19 @@
 
     make bench, or: python -m bench.bench_rpf [--quick]
 
-Prints one line per figure, ``name: value unit``, all measured in this one run:
+Prints one line per figure, ``name: value unit``, all measured in this one run, and writes
+docs/results/rpf.json:
 
 - particle-steps per second of one tmakit filter (N = 5000, bearings only, the static-observer
-  scenario, 151 cycles) and of the batched Monte Carlo (40 runs per call, in blocks of runs, on
-  one thread and on 2 threads), with the compiled fused cycle loop (``RpfConfig(engine=
-  "kernel"``, the default; `tracker.rpf.kernel`) and, for reference, the numpy implementation;
-- the same for Stone Soup's particle filter on the same bearings (ParticlePredictor,
-  ParticleUpdater with a MultinomialResampler applied when N_eff < N/3, and the
-  MCMCRegulariser), run by the Python of a separate environment holding ``stonesoup``
-  (``$STONESOUP_PYTHON``, default .venv-stonesoup/bin/python, made by ``make bench``; Stone Soup
-  is not a tmakit dependency), and the speed ratios;
+  scenario, 151 cycles, and its first 31) and of the batched Monte Carlo (40 runs per call, in
+  blocks of runs, on one thread and on 2 threads), with the compiled fused cycle loop
+  (``RpfConfig(engine="kernel")``, the default; `tracker.rpf.kernel`) and, for reference, the
+  numpy implementation, with the filters' resampling fractions;
 - wall time and peak memory of 1000 runs x 151 cycles x 5000 particles of ``idm-static``
   (bearings only and bearings + SPL) on 2 worker processes (skipped with --quick).
+
+Stone Soup's particle filter on the same bearings, side by side with this filter, is
+bench/bench_stonesoup.py's (docs/results/stonesoup.json), which takes `bench_tmakit` from here.
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import resource
 import subprocess
 import sys
@@ -33,61 +32,6 @@ from pathlib import Path
 import numpy as np
 
 from bench.harness import REPO, Session
-
-session = Session("rpf")
-
-STONESOUP_STEPS = 30
-
-_STONESOUP_CODE = r'''
-import json, math, sys, time
-import numpy as np
-from datetime import datetime, timedelta
-from stonesoup.models.transition.linear import (CombinedLinearGaussianTransitionModel,
-                                                ConstantVelocity)
-from stonesoup.models.measurement.nonlinear import Cartesian2DToBearing
-from stonesoup.predictor.particle import ParticlePredictor
-from stonesoup.updater.particle import ParticleUpdater
-from stonesoup.resampler.particle import MultinomialResampler, ESSResampler
-from stonesoup.regulariser.particle import MCMCRegulariser
-from stonesoup.types.state import ParticleState
-from stonesoup.types.detection import Detection
-from stonesoup.types.hypothesis import SingleHypothesis
-from stonesoup.types.array import StateVectors
-
-args = json.loads(sys.stdin.read())
-n, steps = args["n"], args["steps"]
-bearings, init = np.array(args["bearings"]), np.array(args["init"])
-sigma_a, dt = args["sigma_a"], args["dt"]
-q = sigma_a ** 2  # ConstantVelocity's noise_diff_coeff: the same DWNA covariance for a white
-# acceleration of spectral density q is q [[dt^3/3, dt^2/2], [dt^2/2, dt]]; close to ours
-trans = CombinedLinearGaussianTransitionModel([ConstantVelocity(q), ConstantVelocity(q)])
-# Stone Soup's bearing is atan2(y, x) (counter-clockwise from east): give it (y, x) via the mapping
-meas = Cartesian2DToBearing(ndim_state=4, mapping=(2, 0),
-                            noise_covar=np.array([[math.radians(args["sigma_deg"]) ** 2]]))
-resampler = ESSResampler(threshold=n / 3, resampler=MultinomialResampler())
-updater = ParticleUpdater(meas, resampler=resampler,
-                          regulariser=MCMCRegulariser(transition_model=trans))
-predictor = ParticlePredictor(trans)
-t0 = datetime(2024, 1, 1)
-# state order (x, vx, y, vy) for Stone Soup's combined model
-sv = StateVectors(np.stack([init[0], init[2], init[1], init[3]]))
-prior = ParticleState(sv, weight=np.full(n, 1.0 / n), timestamp=t0)
-resampled = 0
-elapsed = 0.0
-for k in range(1, steps + 1):
-    ts = t0 + timedelta(seconds=dt * k)
-    start = time.perf_counter()
-    pred = predictor.predict(prior, timestamp=ts)
-    det = Detection(np.array([[bearings[k]]]), timestamp=ts, measurement_model=meas)
-    prior = updater.update(SingleHypothesis(pred, det))
-    elapsed += time.perf_counter() - start
-    # after a resampling the weights are equal again (checked outside the timing)
-    w = np.array([float(v) for v in prior.weight])
-    resampled += bool(np.allclose(w, 1.0 / n, rtol=1e-6, atol=0))
-print(json.dumps({"elapsed_s": elapsed, "steps": steps, "n": n, "resampled": resampled}))
-'''
-
-
 
 
 def _scenario():
@@ -104,8 +48,9 @@ def _scenario():
 
 
 def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None = None,
-                 repeat: int = 1, engine: str = "kernel") -> float:
-    """Particle-steps per second of the tmakit RPF, bearings only, ``runs`` runs per call.
+                 repeat: int = 1, engine: str = "kernel") -> tuple[float, float]:
+    """Particle-steps per second of the tmakit RPF, bearings only, ``runs`` runs per call, and the
+    share of its cycles (after the first) that resampled.
 
     Over the first ``cycles`` cycles (all by default); the best of ``repeat`` calls.
     """
@@ -122,32 +67,7 @@ def bench_tmakit(runs: int, n: int = 5000, threads: int = 1, cycles: int | None 
                             level_db_meas=None, k_profiles=None, cfg=cfg, rng=rng,
                             threads=threads)
         best = max(best, runs * t.size * n / (time.perf_counter() - start))
-    if runs == 1 and repeat > 1:
-        session.say(f"rpf_{engine}_resampled_fraction_{t.size}_cycles",
-            float(res.resampled[:, 1:].mean()))
-    return best
-
-
-def bench_stonesoup(python: str, n: int = 5000) -> float | None:
-    """Particle-steps per second of Stone Soup's particle filter, or None if not installed."""
-    from tracker import rpf
-
-    if not Path(python).exists():
-        return None
-    _, t, obs, b = _scenario()
-    cfg = rpf.RpfConfig(n_particles=n)
-    init = rpf.initial_particles(b[0], obs[0, 2:], cfg, 1, np.random.default_rng(3))[:, 0]
-    # Stone Soup measures atan2(y, x) on the (y, x) mapping = our atan2(x, y) bearing
-    args = {"n": n, "steps": STONESOUP_STEPS, "bearings": b[: STONESOUP_STEPS + 1].tolist(),
-            "init": init.tolist(), "sigma_a": cfg.sigma_a_mps2, "dt": 60.0, "sigma_deg": 1.5}
-    proc = subprocess.run([python, "-c", _STONESOUP_CODE], input=json.dumps(args),
-                          capture_output=True, text=True)
-    if proc.returncode != 0:
-        print(proc.stderr[-2000:], file=sys.stderr)
-        return None
-    out = json.loads(proc.stdout.strip().splitlines()[-1])
-    session.say("stonesoup_resampled_fraction_first_30_cycles", out["resampled"] / out["steps"])
-    return out["steps"] * out["n"] / out["elapsed_s"]
+    return best, float(res.resampled[:, 1:].mean())
 
 
 def bench_full(runs: int = 1000, workers: int = 2) -> tuple[float, float, float]:
@@ -177,46 +97,39 @@ def bench_full(runs: int = 1000, workers: int = 2) -> tuple[float, float, float]
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="skip the 1000-run study")
-    parser.add_argument("--stonesoup-python",
-                        default=os.environ.get("STONESOUP_PYTHON",
-                                               str(REPO / ".venv-stonesoup" / "bin" / "python")))
     args = parser.parse_args(argv)
+    session = Session("rpf")
 
     start = time.perf_counter()
     bench_tmakit(1, cycles=5)  # warm-up (imports, numba's compile or cache load), not timed
     session.say("rpf_kernel_first_call_incl_compile_or_cache_load", time.perf_counter() - start, "s")
     bench_tmakit(1, cycles=5, engine="numpy")
-    one = bench_tmakit(1, repeat=3)
-    # the same cycles as Stone Soup is timed on (the first ones, where it resamples more)
-    one_30 = bench_tmakit(1, cycles=STONESOUP_STEPS + 1, repeat=3)
-    batched = bench_tmakit(40, repeat=2)
-    threaded = bench_tmakit(40, threads=2, repeat=2)
-    one_np = bench_tmakit(1, repeat=2, engine="numpy")
-    batched_np = bench_tmakit(40, engine="numpy")
+    one, resampled = bench_tmakit(1, repeat=3)
+    session.say("rpf_kernel_resampled_fraction_151_cycles", resampled)
+    # the first cycles, where it resamples more (the window Stone Soup is timed on)
+    one_31, resampled = bench_tmakit(1, cycles=31, repeat=3)
+    session.say("rpf_kernel_resampled_fraction_31_cycles", resampled)
+    batched, _ = bench_tmakit(40, repeat=2)
+    threaded, _ = bench_tmakit(40, threads=2, repeat=2)
+    one_np, resampled = bench_tmakit(1, repeat=2, engine="numpy")
+    session.say("rpf_numpy_resampled_fraction_151_cycles", resampled)
+    batched_np, _ = bench_tmakit(40, engine="numpy")
     session.say("rpf_one_filter_n5000", one / 1e6, "M particle-steps/s")
-    session.say("rpf_one_filter_n5000_first_31_cycles", one_30 / 1e6, "M particle-steps/s")
+    session.say("rpf_one_filter_n5000_first_31_cycles", one_31 / 1e6, "M particle-steps/s")
     session.say("rpf_batched_40_runs_n5000", batched / 1e6, "M particle-steps/s")
     session.say("rpf_batched_40_runs_n5000_2_threads", threaded / 1e6, "M particle-steps/s")
     session.say("rpf_numpy_reference_one_filter_n5000", one_np / 1e6, "M particle-steps/s")
     session.say("rpf_numpy_reference_batched_40_runs_n5000", batched_np / 1e6, "M particle-steps/s")
     session.say("speedup_kernel_vs_numpy_one_filter", one / one_np, "x")
     session.say("speedup_kernel_vs_numpy_batched", batched / batched_np, "x")
-    ss = bench_stonesoup(args.stonesoup_python)
-    if ss is None:
-        session.say("stonesoup", "not available", f"(no {args.stonesoup_python})")
-    else:
-        session.say("stonesoup_particle_filter_n5000", ss / 1e6, "M particle-steps/s")
-        session.say("speedup_one_filter_vs_stonesoup", one / ss, "x")
-        session.say("speedup_one_filter_same_cycles_vs_stonesoup", one_30 / ss, "x")
-        session.say("speedup_batched_vs_stonesoup", batched / ss, "x")
-        session.say("speedup_batched_2_threads_vs_stonesoup", threaded / ss, "x")
+    session.say("speedup_2_threads_vs_1_batched", threaded / batched, "x")
     if not args.quick:
         wall, peak_gib, rate = bench_full()
         session.say("idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", wall, "s")
         session.say("idm_static_1000runs_peak_memory_largest_process", peak_gib, "GiB")
         session.say("idm_static_1000runs_rate", rate / 1e6, "M particle-steps/s")
+    session.write()
 
 
 if __name__ == "__main__":
     main()
-    session.write()

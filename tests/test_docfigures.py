@@ -94,3 +94,34 @@ def test_every_result_file_says_how_it_was_made(path):
     else:  # made by the harness: all of it
         assert prov["commit"] and prov["date"] and prov["versions"] and prov["machine"]["cores"]
         assert prov["load_average"]["before"] and prov["load_average"]["after"]
+
+
+def test_every_page_module_registers_and_a_table_defined_twice_is_refused():
+    # the pages' modules of bench/docfigures/ register their blocks; two defining one name are
+    # refused (the registry does not guess which a page means), and the command says so in one line
+    from types import SimpleNamespace
+
+    from bench.docfigures import RegistryError, page_modules, registry
+
+    modules = page_modules()
+    tables, quotes = registry(modules)
+    assert {"grids", "stonesoup", "stonesoup-speed", "rpf-speed", "depth-check"} <= set(tables)
+    assert {page for page, *_ in quotes} >= {"README.md", "docs/depth.md"}
+    twice = SimpleNamespace(__name__="bench.docfigures.planted", PAGE="docs/x.md", TABLES={"grids": lambda root: ""})
+    with pytest.raises(RegistryError, match=r"table 'grids' is defined twice, in bench\.docfigures\.readme and "
+                                            r"bench\.docfigures\.planted"):
+        registry([*modules, twice])
+    with pytest.raises(RegistryError, match="planted defines no PAGE or no TABLES"):
+        registry([SimpleNamespace(__name__="bench.docfigures.planted", TABLES={})])
+
+
+def test_the_command_refuses_a_table_defined_twice(tmp_path):
+    # the command itself, on a copy of the package with one page module that repeats a block name
+    shutil.copytree(REPO / "bench", tmp_path / "bench", ignore=shutil.ignore_patterns("__pycache__"))
+    (tmp_path / "bench" / "docfigures" / "zz_planted.py").write_text(
+        'PAGE = "docs/x.md"\nTABLES = {"stonesoup": lambda root: ""}\n')
+    done = subprocess.run([sys.executable, "-m", "bench.docfigures", "--check", "--root", str(REPO)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert done.stderr.strip() == ("error: docfigures: table 'stonesoup' is defined twice, in "
+                                   "bench.docfigures.stonesoup and bench.docfigures.zz_planted")

@@ -1,4 +1,5 @@
-"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools, no circle;
+"""The package layers and the import graph: envdata -> acoustics -> tracker -> tools -> bench, no
+circle (nothing below imports the benchmarks, which import no tests);
 inside ``acoustics`` its sub-packages by role, inside ``acoustics.grid`` what a grid is and its
 face below the atlas store below the one way in, inside ``tools`` the studies (which build
 tables and run the trackers) below the commands that run them, the tracker never building
@@ -14,7 +15,7 @@ import ast
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-LAYERS = ("envdata", "acoustics", "tracker", "tools")
+LAYERS = ("envdata", "acoustics", "tracker", "tools", "bench")
 #: Inside ``acoustics``, by role, lowest first: the formulas at the root, the models (BELLHOP's
 #: formats and running, RAM's), the grid (what a grid is and how it is read), the builders, the figures and the
 #: BELLHOP3D Nx2D route (kept out of the build), the sensitivity studies on top. A module may
@@ -23,9 +24,13 @@ ACOUSTICS_RANKS = {"": 0, "bellhop": 1, "ram": 1, "grid": 2, "builder": 3, "plot
                    "sensitivity": 5}
 #: Inside ``tools``: the studies (``tmakit experiment``'s experiments; above both acoustics and
 #: the tracker by the layers) below the command line and its command modules at the root.
-TOOLS_RANKS = {"studies": 0, "stonesoup": 0, "": 1}
-#: The optional Stone Soup glue (the ``stonesoup`` extra): the only package that imports Stone Soup.
-STONESOUP_GLUE = "tools.stonesoup"
+TOOLS_RANKS = {"studies": 0, "": 1}
+#: The optional Stone Soup plugin (the ``stonesoup`` extra, in the tracker's layer): the only
+#: package of tmakit that imports Stone Soup.
+STONESOUP_GLUE = "tracker.stonesoup"
+#: The benchmark that runs Stone Soup's own filters beside tmakit's (not shipped; ``make bench``
+#: installs the extra): the one other module that may import it.
+STONESOUP_COMPARISON = "bench.bench_stonesoup"
 #: Inside ``acoustics.grid``: what a grid is, its face and their kernels (rank 0, every module not
 #: named), the atlas's store over them, and the one way in (``open_tables``) over both.
 GRID_RANKS = {"atlas": 1, "opentables": 2}
@@ -132,12 +137,26 @@ def test_no_layer_imports_a_higher_one():
 
 
 def test_the_layer_check_finds_an_upward_arrow():
-    # planted: the tracker importing a study (the studies rank above it, in tools/) and the
-    # formulas importing the tracker; the studies' own downward arrows stay unflagged
+    # planted: the tracker importing a study (the studies rank above it, in tools/), the formulas
+    # importing the tracker, and a module of tools importing the benchmarks' harness (the circle
+    # tools/stonesoup/example.py once drew); the studies' and the benchmarks' downward arrows stay
+    # unflagged
     graph = {"tracker.track": {"tools.studies.gm", "acoustics.grid.face"},
              "acoustics.kcurve": {"tracker.ranging"},
-             "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"}}
-    assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"), ("tracker.track", "tools.studies.gm")]
+             "tools.studies.gm": {"tracker.mltma.batch", "acoustics.grid.io", "envdata.area"},
+             "tools.stonesoup.example": {"bench.harness", "tools.studies.idm"},
+             "bench.bench_gm": {"tools.studies.gm", "bench.harness", "tracker.track"}}
+    assert upward_layers(graph) == [("acoustics.kcurve", "tracker.ranging"),
+                                    ("tools.stonesoup.example", "bench.harness"),
+                                    ("tracker.track", "tools.studies.gm")]
+
+
+def test_the_benchmarks_are_a_layer():
+    # bench/ is scanned like the others (the check above then covers every arrow into it)
+    mods = _modules()
+    assert {"bench.harness", "bench.bench_rpf", "bench.bench_stonesoup"} <= set(mods)
+    assert not [(a, b) for a, targets in _graph(mods).items() for b in targets
+                if b.startswith("bench") and not a.startswith("bench")]
 
 
 def acoustics_rank(module: str) -> int:
@@ -272,9 +291,10 @@ def external_imports(path: Path) -> set[str]:
 
 
 def stonesoup_importers(mods: dict[str, Path]) -> list[str]:
-    """Modules outside the Stone Soup glue that import Stone Soup."""
+    """Modules outside the Stone Soup plugin (and the benchmark comparing with it) that import Stone
+    Soup."""
     return sorted(name for name, path in mods.items()
-                  if not (name == STONESOUP_GLUE or name.startswith(STONESOUP_GLUE + "."))
+                  if not (name in (STONESOUP_GLUE, STONESOUP_COMPARISON) or name.startswith(STONESOUP_GLUE + "."))
                   and "stonesoup" in external_imports(path))
 
 
@@ -282,14 +302,16 @@ def test_only_the_glue_imports_stone_soup():
     # the core runs without the optional extra; `make demo` does not install it
     mods = _modules()
     assert stonesoup_importers(mods) == []
-    assert "stonesoup" in external_imports(mods["tools.stonesoup.model"])  # the scan sees the glue's
+    assert "stonesoup" in external_imports(mods["tracker.stonesoup.model"])  # the scan sees the glue's
 
 
 def test_the_stone_soup_check_finds_an_importer(tmp_path):
     planted = tmp_path / "face.py"
     planted.write_text("def f():\n    from stonesoup.types.state import State\n")
-    assert stonesoup_importers({"acoustics.grid.face": planted, "tools.stonesoup.x": planted}) == \
-        ["acoustics.grid.face"]
+    assert stonesoup_importers({"acoustics.grid.face": planted, "tracker.stonesoup.x": planted,
+                                "tracker.stonesoupish": planted, "bench.bench_stonesoup": planted,
+                                "bench.bench_rpf": planted}) == ["acoustics.grid.face", "bench.bench_rpf",
+                                                                 "tracker.stonesoupish"]
 
 
 def test_the_import_graph_has_no_circle():
@@ -320,7 +342,7 @@ def bench_problems(sources: dict[str, str]) -> list[str]:
 
 
 def test_the_benchmarks_import_no_tests_and_edit_no_path():
-    sources = {p.name: p.read_text() for p in (REPO / "bench").glob("*.py")}
+    sources = {str(p.relative_to(REPO)): p.read_text() for p in (REPO / "bench").rglob("*.py")}
     assert bench_problems(sources) == []
     planted = {"a.py": "import sys\nsys.path.insert(0, 'bench')\n", "b.py": "from tests.x import y\n",
                "c.py": "CHILD = '''\nsys.path[:0] = ['x']\n'''\n"}

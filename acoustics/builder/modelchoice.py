@@ -34,7 +34,7 @@ from envdata.classes import TargetClass
 from envdata.datafiles import input_file_digests
 
 #: Coherent RAM runs per band (log-spaced across it). Measured (``python -m
-#: tests.crosscheck.ram_band``, docs/results/ram-band.json): a 100-300 Hz band averaged from n
+#: bench.crosscheck.ram_band``, docs/results/ram-band.json): a 100-300 Hz band averaged from n
 #: runs against 41 runs, point-wise over 1-10 km, is 1.14 dB median (2.87 dB 90th percentile) off
 #: with 7 runs (BELLHOP's count), 0.76 dB with 11 and 0.40 dB (1.01 dB) with 21 on the Pekeris
 #: waveguide; 0.72 / 0.42 / 0.20 dB on munk-1000 50-150 Hz. 21 is the least count tested that
@@ -44,7 +44,7 @@ from envdata.datafiles import input_file_digests
 RAM_FREQS_PER_BAND = 21
 
 #: ``--model auto``: RAM below this frequency, BELLHOP at and above it, Hz: the FB1/FB2 edge.
-#: Measured (``python -m tests.crosscheck.models_study --only crossover``,
+#: Measured (``python -m bench.crosscheck.models_study --only crossover``,
 #: docs/results/ram-crossover.json, docs/models.md): on the shelf-break's upslope radial to 10 km,
 #: BELLHOP's band TL is 1.34, 1.03 and 0.82 dB (median) from RAM's in half-octave bands at 100,
 #: 200 and 400 Hz, while a RAM band costs four times more per octave (the 400 Hz band ~900 s of

@@ -1,7 +1,7 @@
 """RAM's numerical settings: range and depth steps, Pade terms, stability terms, grid depth.
 
 The default rule (`RamSettings.for_frequency`, `RamSettings.for_environment`) comes from the
-convergence study ``python -m tests.crosscheck.ram_convergence``
+convergence study ``python -m bench.crosscheck.ram_convergence``
 (docs/results/ram-convergence.json, docs/models.md); `for_frequency` states the rule and
 what was measured.
 """
@@ -119,7 +119,7 @@ class RamSettings:
 
         Notes
         -----
-        Measured (``python -m tests.crosscheck.ram_convergence``, docs/results/
+        Measured (``python -m bench.crosscheck.ram_convergence``, docs/results/
         ram-convergence.json): against dz = lambda/80, dr = lambda/8 on the Pekeris waveguide
         (50-400 Hz, to 10 km), the ASA wedge (25-100 Hz, to 4 km) and the munk-1000 area
         (50-200 Hz, to 20 km), receivers from 500 m on. The depth step is what matters: after a

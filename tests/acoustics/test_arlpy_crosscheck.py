@@ -1,6 +1,6 @@
 """Cross-check: our .env writer and .shd reader against arlpy.uwapm driving the same BELLHOP.
 
-arlpy runs in its own environment (.venv-arlpy, made by ``make test``; see tests/crosscheck/).
+arlpy runs in its own environment (.venv-arlpy, made by ``make test``; see bench/crosscheck/).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import envdata
 from acoustics.bellhop.envfile import RunSpec, env_text
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
-from tests.crosscheck.run_arlpy import arlpy_tl_db
+from bench.crosscheck.run_arlpy import arlpy_tl_db
 
 pytestmark = pytest.mark.bellhop
 

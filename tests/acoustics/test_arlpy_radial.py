@@ -10,7 +10,7 @@ arlpy is given the whole radial, the samples behind the origin included: with th
 the columns from the source on only, a ray sent back by the slope leaves the 'Q' field and
 BELLHOP stops ("ray is outside the box where the soundspeed is defined"), the range-dependent
 SSP pitfall arlpy users meet. Measured figures: docs/results/arlpy-radial.json (written by
-``python -m tests.crosscheck.radial``). What is left is the inputs, not the model: tmakit sets the
+``python -m bench.crosscheck.radial``). What is left is the inputs, not the model: tmakit sets the
 ray step (25 m) where arlpy leaves BELLHOP's automatic one (a tenth of the deepest depth, some
 250 m here), and arlpy sizes the ray box and the end of its sound-speed field itself.
 """
@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.crosscheck.radial import BEARINGS_DEG, compare_radial
+from bench.crosscheck.radial import BEARINGS_DEG, compare_radial
 
 pytestmark = pytest.mark.bellhop
 

@@ -3,9 +3,9 @@ its own environment, .venv-kraken): a flat shallow bottom and the Munk deep-wate
 
 KRAKEN keeps the trapped modes (phase speeds below the bottom's 1600 m/s); the comparison starts
 at 2 km, where the steeper paths BELLHOP also traces have lost tens of dB in the bottom.
-Measured: docs/results/kraken.json (``python -m tests.crosscheck.kraken_study``).
+Measured: docs/results/kraken.json (``python -m bench.crosscheck.kraken_study``).
 
-- Flat shallow bottom (tests/crosscheck/kraken.py), 200 Hz, point-wise. Published tolerance
+- Flat shallow bottom (bench/crosscheck/kraken.py), 200 Hz, point-wise. Published tolerance
   median <= 1 dB, p90 <= 2 dB: the median holds (0.65 dB), the p90 is 2.03 dB, from the
   caustic spikes of BELLHOP's hat beams near the source depth; bound here at 2.5 dB.
 - Munk deep water (ocean-deep's profile, 5000 m), 100 Hz. The published "median <= 2.5 dB
@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.crosscheck.kraken import FLAT_CASE, MUNK_CASE, both_tl_db, windowed_tl_db
+from bench.crosscheck.kraken import FLAT_CASE, MUNK_CASE, both_tl_db, windowed_tl_db
 
 pytestmark = [pytest.mark.bellhop, pytest.mark.slow]
 

@@ -1,6 +1,6 @@
 """The sea surface at a near-surface target's end, in every geometry: the default (semicoherent)
 tables against the image-source solution, KRAKEN's coherent field and the target-centred runs
-(``tests/crosscheck/surface.py``; the figures in docs/results/surface.json, docs/models.md
+(``bench/crosscheck/surface.py``; the figures in docs/results/surface.json, docs/models.md
 "The sea surface"). Each bound has its measured value and its reason beside it."""
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ import pytest
 import acoustics
 import envdata
 from acoustics.surface import band_lloyd_factor, incoherent_error_db, surface_reach_m
+from bench.crosscheck import surface
 from tests.conftest import DATA
-from tests.crosscheck import surface
 
 pytestmark = pytest.mark.bellhop
 

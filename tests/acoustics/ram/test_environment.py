@@ -10,8 +10,8 @@ from numpy.testing import assert_allclose
 
 import envdata
 from acoustics.ram import RamEnvironment, RamInputError
+from bench.crosscheck.ram_cases import wedge_area, wedge_radial
 from envdata.bottom import Bottom
-from tests.crosscheck.ram_cases import wedge_area, wedge_radial
 
 
 def test_from_area_takes_the_flat_areas_depth_profile_bottom_and_absorption():

@@ -23,8 +23,8 @@ import numpy as np
 import pytest
 
 from acoustics.ram import RamSettings, ram_tl_db
+from bench.crosscheck.ram_cases import PEKERIS, PEKERIS_SOURCE_DEPTH_M, pekeris_environment, range_average_tl_db
 from tests.acoustics.ram.pekeris import pekeris_tl_db, pekeris_wavenumbers
-from tests.crosscheck.ram_cases import PEKERIS, PEKERIS_SOURCE_DEPTH_M, pekeris_environment, range_average_tl_db
 
 DEPTHS_M = np.arange(5.0, 100.0, 5.0)
 RANGES_M = np.arange(1000.0, 10_001.0, 10.0)

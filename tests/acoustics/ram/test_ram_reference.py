@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 from acoustics.ram import RamEnvironment, RamSettings, ram_tl_db
+from bench.crosscheck.sidevenv import side_python
 from envdata.bottom import Bottom
-from tests.crosscheck.sidevenv import side_python
 
 
 def reference_line_path() -> Path:

@@ -1,7 +1,7 @@
 """The ASA wedge benchmark: RAM (default settings) against BELLHOP at the 30 m receiver.
 
 The setting, the BELLHOP run (coherent, the grids' geometric hat beams) and the 210 m range
-average are described in tests/crosscheck/ram_wedge.py, which also writes the measured figures
+average are described in bench/crosscheck/ram_wedge.py, which also writes the measured figures
 (docs/results/ram-wedge.json). Tolerance: median |dTL| <= 1.5 dB and 90th percentile <= 3 dB
 after the range average, from 100 m to 3.4 km; measured median 0.84 dB, 90th percentile
 1.97 dB (point-wise, without the average, 0.95 / 3.05 dB). What is left is mostly BELLHOP's:
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.crosscheck.ram_wedge import compare_wedge
+from bench.crosscheck.ram_wedge import compare_wedge
 
 pytestmark = pytest.mark.bellhop
 

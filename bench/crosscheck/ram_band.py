@@ -1,6 +1,6 @@
 """How many frequencies a band needs when its TL is the intensity average of coherent RAM runs.
 
-``python -m tests.crosscheck.ram_band [--out docs/results/ram-band.json]``
+``python -m bench.crosscheck.ram_band [--out docs/results/ram-band.json]``
 
 The grids' band TL is the spectrum-weighted intensity average over log-spaced frequencies
 across the band (``acoustics.kcurve.band_frequencies_hz``, ``band_weights``,
@@ -25,8 +25,8 @@ import numpy as np
 import envdata
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
 from acoustics.ram import RamSettings, ram_tl_db
+from bench.crosscheck.ram_cases import munk_environment, pekeris_environment, write_study_file
 from envdata.bands import Band
-from tests.crosscheck.ram_cases import munk_environment, pekeris_environment, write_study_file
 
 OUT = Path("docs/results/ram-band.json")
 COUNTS = (1, 3, 5, 7, 11, 15, 21)
@@ -73,7 +73,7 @@ def main(argv=None) -> int:
                         "seconds": round(time.perf_counter() - t0, 1), "against": REFERENCE_COUNT,
                         "counts": rows})
     doc = {"what": "band TL from n coherent RAM runs against 41, |dTL| point-wise over the receivers",
-           "script": "python -m tests.crosscheck.ram_band", "class_spectrum": "f^-2",
+           "script": "python -m bench.crosscheck.ram_band", "class_spectrum": "f^-2",
            "ranges_m": [1000.0, 10000.0, 50.0], "results": results}
     write_study_file(args.out, doc)
     print(f"wrote {args.out}")

@@ -28,7 +28,7 @@ from stonesoup.base import Property
 from stonesoup.updater.particle import BernoulliParticleUpdater
 
 from acoustics.detection import band_snr_db, detection_terms
-from tools.stonesoup.model import geometry, source_level_db
+from tracker.stonesoup.model import geometry, source_level_db
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """BELLHOP against KRAKEN's incoherent mode sum: the figures the KRAKEN cross-check test bounds.
 
-``KRAKEN_PYTHON=.venv-kraken/bin/python python -m tests.crosscheck.kraken_study
+``KRAKEN_PYTHON=.venv-kraken/bin/python python -m bench.crosscheck.kraken_study
 [--out docs/results/kraken.json]`` (``make test`` makes .venv-kraken).
 """
 
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tests.crosscheck.kraken import FLAT_CASE, MUNK_CASE, both_tl_db, windowed_tl_db
+from bench.crosscheck.kraken import FLAT_CASE, MUNK_CASE, both_tl_db, windowed_tl_db
 
 
 def figures(case, name: str, far_m: float) -> dict:
@@ -44,7 +44,7 @@ def main(argv=None) -> int:
     doc = {"what": "BELLHOP (incoherent, tmakit's settings) against KRAKEN's incoherent mode sum "
                    "(pelagic, trapped modes), point-wise outside BELLHOP's shadows and over windows "
                    "of 10 ranges, depth-averaged",
-           "script": "python -m tests.crosscheck.kraken_study",
+           "script": "python -m bench.crosscheck.kraken_study",
            "results": [figures(FLAT_CASE, "flat 200 m", 2000.0), figures(MUNK_CASE, "munk 5000 m", 10000.0)]}
     args.out.write_text(json.dumps(doc, indent=1) + "\n")
     print(json.dumps(doc, indent=1))

@@ -3,7 +3,7 @@
 `compare_radial` runs both on the same bellhop.exe (arlpy in .venv-arlpy, see `run_arlpy`) and
 returns the two TL fields and |dTL| over the receivers where both see sound;
 ``tests/acoustics/test_arlpy_radial.py`` asserts the agreement, and
-``python -m tests.crosscheck.radial --out docs/results/arlpy-radial.json`` writes the figures the
+``python -m bench.crosscheck.radial --out docs/results/arlpy-radial.json`` writes the figures the
 docs quote (with ``ARLPY_PYTHON`` set, or .venv-arlpy in the repository).
 """
 
@@ -22,8 +22,8 @@ from acoustics.bellhop.envfile import RunSpec
 from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
+from bench.crosscheck.run_arlpy import arlpy_tl_db
 from envdata.radials import area_radials
-from tests.crosscheck.run_arlpy import arlpy_tl_db
 
 REPO = Path(__file__).resolve().parents[2]
 BEARINGS_DEG = (180.0, 0.0)  # down the slope to the basin; up to the coast

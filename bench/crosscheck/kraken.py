@@ -15,15 +15,14 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import envdata
 from acoustics.bellhop.envfile import env_text, fmt_list, fmt_number
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.builder.plan import run_spec
+from bench.crosscheck.sidevenv import CrosscheckError, side_python
 from envdata.area import Area
-from tests.crosscheck.sidevenv import side_python
 
 SCRIPT = Path(__file__).with_name("kraken_tl.py")
 
@@ -58,13 +57,13 @@ def kraken_case(area: Area, freq_hz: float, source_depth_m: float, depth_m, rang
 
 def kraken_tl_db(case: dict, tmp_path: Path, *, timeout_s: float = 300.0) -> dict:
     """Run `kraken_tl.py` on ``case`` in .venv-kraken; its output with ``tl_db`` (depth x range)
-    and the receiver axes as arrays. A failure of the script fails the test with its message."""
+    and the receiver axes as arrays. A failure of the script raises `CrosscheckError` with its message."""
     case_path, out_path = tmp_path / "kraken-case.json", tmp_path / "kraken-tl.json"
     case_path.write_text(json.dumps(case))
     command = [kraken_python(), str(SCRIPT), str(case_path), str(out_path)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=timeout_s)
     if proc.returncode != 0:
-        pytest.fail(f"{' '.join(command)} exited with {proc.returncode}:\n{proc.stderr[-4000:]}", pytrace=False)
+        raise CrosscheckError(f"{' '.join(command)} exited with {proc.returncode}:\n{proc.stderr[-4000:]}")
     out = json.loads(out_path.read_text())
     for key in ("tl_db", "receiver_depth_m", "receiver_range_m"):
         out[key] = np.asarray(out[key], dtype=float)
@@ -107,7 +106,7 @@ def both_tl_db(case, tmp_path: Path) -> tuple[np.ndarray, np.ndarray, dict]:
     kraken = kraken_tl_db(kraken_case(area, freq_hz, source_m, depth_m, range_m), tmp_path)
     if not (np.allclose(kraken["receiver_range_m"], range_m, atol=1e-3)
             and np.allclose(kraken["receiver_depth_m"], depth_m, atol=1e-3)):
-        pytest.fail("KRAKEN's receivers are not the ones asked for", pytrace=False)
+        raise CrosscheckError("KRAKEN's receivers are not the ones asked for")
     return bellhop, kraken["tl_db"], kraken
 
 

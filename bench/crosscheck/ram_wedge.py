@@ -1,9 +1,9 @@
 """The ASA wedge benchmark: BELLHOP against RAM at the 30 m receiver.
 
-``python -m tests.crosscheck.ram_wedge [--out docs/results/ram-wedge.json]``
+``python -m bench.crosscheck.ram_wedge [--out docs/results/ram-wedge.json]``
 
 Jensen & Ferla (1990): 25 Hz, source at 100 m, the bottom from 200 m at the source to the
-shore at 4 km, 1500 m/s water over 1700 m/s, 1.5 g/cm3, 0.5 dB/wavelength (tests/crosscheck/
+shore at 4 km, 1500 m/s water over 1700 m/s, 1.5 g/cm3, 0.5 dB/wavelength (bench/crosscheck/
 ram_cases.py). Both models take it the way the bearing-dependent grid does: BELLHOP through
 ``acoustics.bellhop.radialfiles.radial_files`` (range-dependent .bty, 'Q' .ssp) and
 ``acoustics.bellhop.runner.run_env``, RAM through ``RamEnvironment.from_radial`` with its
@@ -27,8 +27,7 @@ from acoustics.bellhop.radialfiles import radial_files
 from acoustics.bellhop.runner import run_env
 from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.ram import RamSettings, ram_tl_db
-from envdata.area import Absorption, TlMode
-from tests.crosscheck.ram_cases import (
+from bench.crosscheck.ram_cases import (
     WEDGE_FREQ_HZ,
     WEDGE_RECEIVER_DEPTH_M,
     WEDGE_SHORE_M,
@@ -39,6 +38,7 @@ from tests.crosscheck.ram_cases import (
     wedge_radial,
     write_study_file,
 )
+from envdata.area import Absorption, TlMode
 
 OUT = Path("docs/results/ram-wedge.json")
 RANGES_M = np.arange(100.0, 3401.0, 10.0)
@@ -78,7 +78,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     r = compare_wedge()
     doc = {"what": "ASA wedge, 25 Hz, receiver 30 m: |TL_RAM - TL_BELLHOP| after a 210 m running intensity mean",
-           "script": "python -m tests.crosscheck.ram_wedge",
+           "script": "python -m bench.crosscheck.ram_wedge",
            "bellhop": f"coherent, geometric hat beams, {N_BEAMS} beams over -89..89 deg, ray step {STEP_M:g} m",
            "ram": "RamSettings.for_environment defaults",
            "ranges_m": [float(RANGES_M[0]), float(RANGES_M[-1]), 10.0], "window_receivers": WINDOW,

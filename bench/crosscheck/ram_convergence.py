@@ -1,8 +1,8 @@
 """RAM convergence study: how fine dz, dr, the Pade terms and the absorbing layer must be.
 
-``python -m tests.crosscheck.ram_convergence [--out docs/results/ram-convergence.json]``
+``python -m bench.crosscheck.ram_convergence [--out docs/results/ram-convergence.json]``
 
-For each case (tests/crosscheck/ram_cases.py: the Pekeris waveguide, the ASA wedge, the deep
+For each case (bench/crosscheck/ram_cases.py: the Pekeris waveguide, the ASA wedge, the deep
 munk-1000 area) and frequency, a reference run (dz = lambda/80, dr = lambda/8, 8 Pade terms, a
 40-lambda absorbing layer; lambda = 1500 m/s / f) and one run per candidate, each changing one
 setting from the candidate rule. Receivers: the case's depths, ranges every 4 lambda (so
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from acoustics.ram import RamSettings, ram_tl_db
-from tests.crosscheck.ram_cases import (
+from bench.crosscheck.ram_cases import (
     munk_environment,
     pekeris_environment,
     range_average_tl_db,
@@ -103,7 +103,7 @@ def main(argv=None) -> int:
                   f"{rule['point_p90_db']} dB; averaged median {rule['averaged_median_db']} dB "
                   f"(reference {res['reference_seconds']} s)", flush=True)
     doc = {"what": "RAM (easypyram) convergence: |TL - TL_ref| over receivers in the water",
-           "script": "python -m tests.crosscheck.ram_convergence",
+           "script": "python -m bench.crosscheck.ram_convergence",
            "reference": REFERENCE, "rule": RULE, "window_receivers": WINDOW,
            "wavelength": "1500 m/s / f", "receivers": "ranges every 4 wavelengths from 500 m",
            "results": results}

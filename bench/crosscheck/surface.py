@@ -5,7 +5,7 @@ that do not share the beams' approximation.
   pressure-release surface, p = exp(i k R1) / R1 - exp(i k R2) / R2 (R1, R2 the distances from
   the source and from its image at -z_s), a band averaging |p|^2 over its frequencies with the
   class's spectrum (docs/formats.md and DESIGN.md, "Near-surface sources");
-- KRAKEN's coherent field (pelagic, in .venv-kraken: ``tests.crosscheck.kraken``) averaged over
+- KRAKEN's coherent field (pelagic, in .venv-kraken: ``bench.crosscheck.kraken``) averaged over
   1 km of range (and over a band's frequencies), trapped modes only, so the beams' fan is
   limited to the trapped angles;
 - the target-centred runs (the source at the target, its Lloyd pattern) for K from the observer.
@@ -26,7 +26,7 @@ import numpy as np
 import acoustics
 import envdata
 from acoustics.kcurve import band_weights
-from tests.crosscheck.kraken import flat_area, kraken_case, kraken_tl_db, munk_area
+from bench.crosscheck.kraken import flat_area, kraken_case, kraken_tl_db, munk_area
 
 #: Sound speed of the image-source case, m/s.
 ISO_SPEED_MPS = 1500.0

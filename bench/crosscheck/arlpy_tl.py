@@ -1,6 +1,6 @@
 """BELLHOP transmission loss through arlpy (``arlpy.uwapm``), for the cross-check tests.
 
-    .venv-arlpy/bin/python tests/crosscheck/arlpy_tl.py CASE.json OUT.json --bellhop EXE
+    .venv-arlpy/bin/python bench/crosscheck/arlpy_tl.py CASE.json OUT.json --bellhop EXE
 
 Runs in the cross-check environment (arlpy 1.9.3 and its own numpy/scipy pins, no tmakit).
 CASE.json describes one 2-D problem; every key but the optional ones is required:

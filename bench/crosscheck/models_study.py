@@ -1,6 +1,6 @@
 """BELLHOP against RAM on the built-in areas and on narrow bands across frequency: agreement and cost.
 
-``python -m tests.crosscheck.models_study [--out docs/results/models-areas.json]
+``python -m bench.crosscheck.models_study [--out docs/results/models-areas.json]
 [--crossover-out docs/results/ram-crossover.json] [--workers 2]``
 
 Every grid is built by the real builder (``acoustics.build_grid``, ``--model bellhop`` and
@@ -14,7 +14,8 @@ The built-in areas are cut to what RAM can do here in minutes (its cost grows as
 range, and the machine is shared): the shelf-break FB1 on its radials at 0, 90, 180 and 270 deg
 to 10 km (of 30), its FB2 on the 0 deg radial (upper slope toward the coast, 595 m) to 5 km, and
 ocean-deep FB1 to 20 km (of 120: short of the first convergence zone near 60 km). Finished RAM
-runs are kept in ``--cache`` (default .models-study-cache/), so an interrupted study resumes. The crossover study takes the shelf-break radial at 0 deg to 10 km with half-octave bands
+runs are kept in ``--cache`` (default .models-study-cache/), so an interrupted study resumes.
+The crossover study takes the shelf-break radial at 0 deg to 10 km with half-octave bands
 centred at 100, 200 and 400 Hz.
 """
 
@@ -115,13 +116,14 @@ def main(argv=None) -> int:
     p.add_argument("--cache", type=Path, default=Path(".models-study-cache"),
                    help="finished runs, kept so that an interrupted study resumes")
     args = p.parse_args(argv)
-    common = {"script": "python -m tests.crosscheck.models_study", "workers": args.workers,
+    common = {"script": "python -m bench.crosscheck.models_study", "workers": args.workers,
               "ram_freqs_per_band": RAM_FREQS_PER_BAND,
               "comparison": "acoustics.grid.compare: B = RAM, A = BELLHOP; dTL over cells both fill "
                             "below the shadow cap, dK over ranges both have"}
     if args.only in (None, "crossover"):
-        doc = {"what": "BELLHOP (the area's mode, bellhop_mode) against RAM (21 coherent runs per band) in half-octave bands "
-                       "on the shelf-break radial at 0 deg to 10 km: agreement and cost per frequency",
+        doc = {"what": "BELLHOP (the area's mode, bellhop_mode) against RAM (21 coherent runs per band) in "
+                       "half-octave bands on the shelf-break radial at 0 deg to 10 km: agreement and cost per "
+                       "frequency",
                "crossover_hz_in_use": AUTO_CROSSOVER_HZ, **common, "cases": []}
         for area in crossover_cases():
             doc["cases"].append(measure(area, args.workers))

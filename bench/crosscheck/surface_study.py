@@ -1,7 +1,7 @@
-"""The sea-surface figures of docs/models.md: every case of ``tests.crosscheck.surface`` with the
+"""The sea-surface figures of docs/models.md: every case of ``bench.crosscheck.surface`` with the
 default (semicoherent) tables and with incoherent beams, side by side.
 
-``KRAKEN_PYTHON=.venv-kraken/bin/python python -m tests.crosscheck.surface_study
+``KRAKEN_PYTHON=.venv-kraken/bin/python python -m bench.crosscheck.surface_study
 [--out docs/results/surface.json]`` (``make test`` makes .venv-kraken).
 """
 
@@ -12,8 +12,8 @@ import contextlib
 import time
 
 import acoustics.surface
+from bench.crosscheck import surface
 from bench.harness import Session
-from tests.crosscheck import surface
 
 THIRD_OCTAVE_100_HZ = (89.1, 112.2)
 
@@ -60,7 +60,7 @@ def main(argv=None) -> int:
             session.say(name, s["median_db"], "dB median |d|")
     session.write(what="tmakit's tables for near-surface targets against the image-source solution, "
                        "KRAKEN's coherent field (1 km averages, trapped modes, the fan trapped) and the "
-                       "target-centred runs (tests/crosscheck/surface.py)",
+                       "target-centred runs (bench/crosscheck/surface.py)",
                   seconds=round(time.perf_counter() - start, 1), cases=cases)
     return 0
 

@@ -22,8 +22,8 @@ from stonesoup.types.detection import Detection
 from stonesoup.types.state import GaussianState, StateVector
 from stonesoup.types.track import Track
 
-from tools.stonesoup.model import VX, VY, TablesMeasurementModel, X, Y
 from tracker.measurements import Measurements
+from tracker.stonesoup.model import VX, VY, TablesMeasurementModel, X, Y
 from tracker.trackfile import check_track
 
 #: The epoch of the detections' timestamps: cycle t_s seconds after it.

@@ -12,10 +12,9 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from acoustics.bellhop.exe import find_bellhop
-from tests.crosscheck.sidevenv import side_python
+from bench.crosscheck.sidevenv import CrosscheckError, side_python
 
 SCRIPT = Path(__file__).with_name("arlpy_tl.py")
 
@@ -29,7 +28,7 @@ def arlpy_tl_db(case: dict, tmp_path: Path, *, timeout_s: float = 600.0) -> dict
     """TL of ``case`` (see `arlpy_tl.py`) from arlpy driving tmakit's BELLHOP executable.
 
     Returns the script's output with ``tl_db`` (receiver depth x range, dB) and the receiver
-    axes as arrays. A failure of the script fails the test with its message.
+    axes as arrays. A failure of the script raises `CrosscheckError` with its message.
     """
     case_path, out_path = tmp_path / "arlpy-case.json", tmp_path / "arlpy-tl.json"
     case_path.write_text(json.dumps(case))
@@ -37,8 +36,8 @@ def arlpy_tl_db(case: dict, tmp_path: Path, *, timeout_s: float = 600.0) -> dict
                "--bellhop", str(find_bellhop().path)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=timeout_s)
     if proc.returncode != 0:
-        pytest.fail(f"{' '.join(command)} exited with {proc.returncode}:\n{proc.stderr[-4000:]}"
-                    f"\narlpy printed:\n{proc.stdout[-2000:]}", pytrace=False)
+        raise CrosscheckError(f"{' '.join(command)} exited with {proc.returncode}:\n{proc.stderr[-4000:]}"
+                              f"\narlpy printed:\n{proc.stdout[-2000:]}")
     out = json.loads(out_path.read_text())
     for key in ("tl_db", "receiver_depth_m", "receiver_range_m"):
         out[key] = np.asarray(out[key], dtype=float)

@@ -1,0 +1,53 @@
+"""What every page's tables share: reading a result file and one of its figures, the caption naming
+the file and how it was made, and the Markdown table."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+
+def load_result(root: Path, name: str) -> dict:
+    return json.loads((root / "docs" / "results" / name).read_text())
+
+
+def figure(data: dict, name: str) -> float:
+    figures = data.get("figures") or data.get("results")
+    return figures[name]["value"]
+
+
+def caption(data: dict, file: str) -> str:
+    prov = data["provenance"]
+    when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"
+    load = prov.get("load_average") or {}
+    before = load.get("before")
+    before = before[0] if isinstance(before, list) else before
+    pending = "; to be made again after the sea-surface change" if prov.get("rerun_pending") else ""
+    shown = f", load average {before:g} at the start" if isinstance(before, (int, float)) else ""
+    return f"*From `docs/results/{file}` (`{prov['command']}`; {when}{shown}{pending}).*\n"
+
+
+def made_at(data: dict, file: str) -> str:
+    """A result file named with the commit, date and load average it was made at."""
+    prov = data["provenance"]
+    load = (prov.get("load_average") or {}).get("before")
+    load = load[0] if isinstance(load, list) else load
+    shown = f", load average {load:g}" if isinstance(load, (int, float)) else ""
+    pending = ", to be made again after the sea-surface change" if prov.get("rerun_pending") else ""
+    when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"
+    return f"`docs/results/{file}` ({when}{shown}{pending})"
+
+
+def markdown_table(rows) -> str:
+    return "".join("| " + " | ".join(row) + " |\n" for row in rows)
+
+
+def rmse_rows(d: dict, names, heads: tuple[str, str], fmt: str, scale: float) -> list[tuple]:
+    """A tracker study's position RMSE at 5, 10, 20 and 30 min and its mean after 5 min, a row per
+    (key, label) of ``names``, each value divided by ``scale`` and printed with ``fmt``."""
+    rows = [(heads[0], "5 min", "10 min", "20 min", "30 min", heads[1]), ("---",) * 6]
+    for key, label in names:
+        r = d["rmse_m"][key]
+        rows.append((label, *(fmt.format(r[t] / scale) for t in ("5", "10", "20", "30")),
+                     fmt.format(d["mean_rmse_after_5min_m"][key] / scale)))
+    return rows

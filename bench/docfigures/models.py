@@ -1,0 +1,145 @@
+"""docs/models.md: the sea surface's checks and cost, the grid check, BELLHOP against RAM (the areas and
+the crossover), the models' build speed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from bench.docfigures.common import caption, figure, load_result, markdown_table
+
+PAGE = "docs/models.md"
+
+
+def _pm(s: dict, key: str = "p90_db") -> str:
+    return f"{s['median_db']:.2f} / {s[key]:.2f} / {s['mean_db']:+.2f}"
+
+
+def surface(root: Path) -> str:
+    d = load_result(root, "surface.json")
+    c = d["cases"]
+    rows = [("case", "semicoherent (the default): median / p90 / mean, dB", "incoherent beams",
+             "bound (median / mean)"), ("---", "---", "---", "---")]
+    pairs = [
+        ("image-source solution, flat grid, 6 m source, 100-300 Hz", "image flat 100-300 Hz", "0.1 median"),
+        ("Munk channel, flat grid TL beyond 5 km, 6 m, 100 Hz tone", "munk flat TL beyond 5 km, 100 Hz tone",
+         "1.5 / 1"),
+        ("the same, 89-112 Hz", "munk flat TL beyond 5 km, 89-112 Hz", ""),
+        ("Munk, table from the 100 m observer, 6 m target, beyond 30 km, 89-112 Hz",
+         "munk from the observer, 6 m to 100 m beyond 30 km, 89-112 Hz", "3.5 / 1.5"),
+        ("the same, 100 Hz tone", "munk from the observer, 6 m to 100 m beyond 30 km, 100 Hz tone", ""),
+        ("200 m shelf, flat grid, 5 m source, 250 Hz, 2-20 km", "shelf 5 m 250 Hz, 2-20 km", "1 / (p90 2.5)"),
+    ]
+    for label, key, bound in pairs:
+        rows.append((label, _pm(c[f"{key}, semicoherent"]), _pm(c[f"{key}, incoherent"]), bound))
+    k = c["image from the observer 100-300 Hz, semicoherent"]["k"]
+    rows.append(("image-source solution, table from the 100 m observer, K of the 6 m target", _pm(k), "", "0.1 median"))
+    for mode in ("semicoherent", "incoherent"):
+        rec = c[f"reciprocity ocean-deep K to 40 km, {mode}"]
+        worst = max(rec.values(), key=lambda x: x["median_db"])
+        c[f"_rec_{mode}"] = worst
+    rows.append(("ocean-deep, K of SW and TV from the observer against the targets' own runs (worst class and band)",
+                 _pm(c["_rec_semicoherent"]), _pm(c["_rec_incoherent"]), "0.5 median"))
+    return markdown_table(rows) + "\n" + caption(d, "surface.json")
+
+
+def surface_cost(root: Path) -> str:
+    d = load_result(root, "surface-cost.json")
+    rows = [("build (2 workers)", "incoherent", "semicoherent (the default)", "wall ratio", "BELLHOP ratio"),
+            ("---", "---", "---", "---", "---")]
+    for name, b in d["builds"].items():
+        rows.append((name, f"{b['wall_incoherent_s']:.1f} s ({b['runs_incoherent']} runs)",
+                     f"{b['wall_semicoherent_s']:.1f} s ({b['runs_semicoherent']} runs)",
+                     f"{b['wall_ratio']:.2f}x", f"{b['bellhop_ratio']:.2f}x"))
+    return markdown_table(rows) + "\n" + caption(d, "surface-cost.json")
+
+
+def grids_check(root: Path) -> str:
+    d = load_result(root, "grids-check.json")
+    rows = [("area", "doubled", "K moves: median (worst class and band), dB", "converged"),
+            ("---", "---", "---", "---")]
+    for area, result in d["areas"].items():
+        for v in result["variants"]:
+            rows.append((area, v["change"], f"{v['median_db']:.2f} ({v['worst_db']:.2f} {v['worst']})",
+                         "yes" if v["converged"] else "no"))
+    return markdown_table(rows) + "\n" + caption(d, "grids-check.json")
+
+
+def _whole(case: dict) -> dict:
+    """(class, band) -> the comparison's row over all bearings of a models-study case."""
+    return {(r["class"], r["band"]): r for r in case["rows"] if r["bearing_deg"] is None}
+
+
+def _per_class(values: list[str], classes: list[str]) -> str:
+    """One value when every class has it, else each with its class."""
+    if len(set(values)) == 1:
+        return values[0]
+    return ", ".join(f"{v} ({c})" for v, c in zip(values, classes))
+
+
+def _cut(case: dict) -> str:
+    bearings = sorted({r["bearing_deg"] for r in case["rows"] if r["bearing_deg"] is not None})
+    base = case["area"].split("-fb")[0].removesuffix("-crossover")
+    bands = "/".join(b[0] for b in case["bands"])
+    where = (f", radial{'s' if len(bearings) > 1 else ''} {'/'.join(f'{b:g}' for b in bearings)} deg"
+             if bearings else "")
+    return f"{base} {bands}{where} to {case['range_max_m'] / 1000:g} km"
+
+
+def models_areas(root: Path) -> str:
+    d = load_result(root, "models-areas.json")
+    rows = [("area, band, cut", "\\|dTL\\| median / p90", "\\|dK\\| median / p90, NPS (200 m)", "SW (6 m)",
+             "TV (8 m)", "rms dK, NPS / SW / TV", "RAM runs, run time", "BELLHOP runs, run time"),
+            ("---",) * 8]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        band = case["bands"][0][0]
+        tl = [f"{whole[(c, band)]['tl_median_db']:.2f} / {whole[(c, band)]['tl_p90_db']:.2f} dB" for c in classes]
+        k = [f"{whole[(c, band)]['k_median_db']:.2f} / {whole[(c, band)]['k_p90_db']:.2f} dB" for c in classes]
+        rms = " / ".join(f"{whole[(c, band)]['k_rms_db']:.2f}" for c in classes) + " dB"
+        ram, bh = case["ram"], case["bellhop"]
+        rows.append((_cut(case), _per_class(tl, classes), *k, rms,
+                     f"{ram['runs']}, {ram['run_seconds']:.0f} s ({ram['wall_s']:.0f} s wall)",
+                     f"{bh['runs']}, {_secs(bh['run_seconds'])} s ({case.get('bellhop_mode', 'incoherent')}, "
+                     f"{case.get('bellhop_beams', '?')} beams)"))
+    return markdown_table(rows) + "\n" + caption(d, "models-areas.json")
+
+
+def _secs(x: float) -> str:
+    return f"{x:.2g}" if x < 10.0 else f"{x:.0f}"
+
+
+def ram_crossover(root: Path) -> str:
+    d = load_result(root, "ram-crossover.json")
+    rows = [("band", "\\|dTL\\| median / p90", "\\|dK\\| median, NPS / SW / TV", "rms dK, NPS / SW / TV"),
+            ("---",) * 4]
+    for case in d["cases"]:
+        whole = _whole(case)
+        classes = list(dict.fromkeys(c for c, _ in whole))
+        for name, low, high in case["bands"]:
+            tl = [f"{whole[(c, name)]['tl_median_db']:.2f} / {whole[(c, name)]['tl_p90_db']:.2f} dB" for c in classes]
+            rows.append((f"{low:.0f}-{high:.0f} Hz", _per_class(tl, classes),
+                         " / ".join(f"{whole[(c, name)]['k_median_db']:.2f}" for c in classes) + " dB",
+                         " / ".join(f"{whole[(c, name)]['k_rms_db']:.2f}" for c in classes) + " dB"))
+    return markdown_table(rows) + "\n" + caption(d, "ram-crossover.json")
+
+
+def models_bench(root: Path) -> str:
+    d = load_result(root, "models.json")
+    runs = figure(d, "ram_runs")
+    rows = [("figure", "value"), ("---", "---"),
+            (f"RAM runs ({runs // 21} radials x 21 frequencies)", f"{runs}"),
+            ("BELLHOP build, 2 workers",
+             f"{figure(d, 'bellhop_w2_wall'):.2f} s, peak {figure(d, 'bellhop_w2_peak_rss'):.0f} MiB"),
+            ("RAM build, 1 worker",
+             f"{figure(d, 'ram_w1_wall'):.1f} s ({figure(d, 'ram_run_seconds_sum_w1'):.1f} s of runs), "
+             f"peak {figure(d, 'ram_w1_peak_rss'):.0f} MiB"),
+            ("RAM build, 2 workers", f"{figure(d, 'ram_w2_wall'):.1f} s, peak {figure(d, 'ram_w2_peak_rss'):.0f} MiB"),
+            ("RAM on 2 workers over BELLHOP on 2 workers", f"{figure(d, 'ram_w2_over_bellhop_w2'):.2g}x"),
+            ("RAM, 2 workers against 1", f"{figure(d, 'ram_speedup_2_vs_1'):.2f}x (target >= 1.8x)")]
+    return markdown_table(rows) + "\n" + caption(d, "models.json")
+
+
+#: The blocks of the page (and of any page that shows them): name -> the function that makes it.
+TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
+          "ram-crossover": ram_crossover, "models-bench": models_bench}
