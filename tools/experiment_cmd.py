@@ -38,6 +38,9 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--level-sigma-db", type=float, default=None, metavar="DB",
                    help="idm: sigma_l of the filters' SPL likelihood (default the paper's 10 dB; "
                         "the data have 4 dB)")
+    p.add_argument("--truth", choices=("bellhop", "tables"), default=None,
+                   help="shelf, depth: the levels from BELLHOP along the true paths (the default) or "
+                        "from the study's own grid")
     p.add_argument("--manoeuvre-tests", choices=("paper", "default"), default=None,
                    help="gm: the ML analysis's manoeuvre tests, the paper's eqs. 26-29 as written "
                         "(the default of the experiment) or those of tmakit track")
@@ -64,6 +67,8 @@ def _self_built_study_runs(args, study, default_runs: int, bytes_per_run_cycle: 
         raise InputError(f"--level-sigma-db, --grid: the {args.study} study builds {builds}")
     if args.manoeuvre_tests is not None:
         raise InputError(f"--manoeuvre-tests: only the gm study has it, not {args.study}")
+    if args.truth is not None and args.study not in ("shelf", "depth"):
+        raise InputError(f"--truth: only the shelf and depth studies have it, not {args.study}")
     if args.scenario != study.SCENARIO:
         raise InputError(f"{args.study}: the study is written for scenario {study.SCENARIO!r}, got "
                          f"{args.scenario!r}")
@@ -85,7 +90,7 @@ def run_experiment(args) -> Report:
 
         runs = _self_built_study_runs(args, depth, 24, 8.0 * 60, "its own grid")
         res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
-                        progress=want_progress(args))
+                        progress=want_progress(args), truth=args.truth or "bellhop")
         return Report(res["summary"], res)
     if args.study == "follow":
         from tools.studies import follow
@@ -100,7 +105,7 @@ def run_experiment(args) -> Report:
 
         runs = _self_built_study_runs(args, shelf, 100, 8.0 * 40, "its own two grids")
         res = shelf.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
-                        progress=want_progress(args))
+                        progress=want_progress(args), truth=args.truth or "bellhop")
         return Report(res["summary"], res)
     if args.study == "idm":
         from tools.studies import idm as idm_experiment

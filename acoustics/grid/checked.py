@@ -17,6 +17,7 @@ from acoustics.errors import GridFileError
 from acoustics.grid.face import Tables
 from acoustics.grid.flattables import FlatTables
 from acoustics.grid.formats import upgrade_grid
+from acoustics.grid.kerror import MODEL_VARS, MeasuredKError
 from acoustics.grid.radialtables import RadialTables
 from acoustics.grid.schema import check_grid
 from envdata.area import Area
@@ -53,6 +54,16 @@ def checked_tables(ds: xr.Dataset, source: str | None = None, *, area: Area | No
     dims = ("class", "band", "bearing", "range") if "bearing" in ds.dims else ("class", "band", "range")
     if "k_error_sd_db" in ds.data_vars:
         common["k_error_sd_grid_db"] = _values(ds, "k_error_sd_db", *dims)
+    if all(name in ds.data_vars for name in MODEL_VARS):
+        radial = "bearing" in ds.dims
+        common["k_error_measured"] = MeasuredKError(
+            offset_sd_db=_values(ds, "k_offset_sd_db", *MODEL_VARS["k_offset_sd_db"][radial]),
+            residual_sd_db=_values(ds, "k_residual_sd_db", *MODEL_VARS["k_residual_sd_db"][radial]),
+            residual_length_m=_values(ds, "k_residual_length_m", "class"),
+            band_correlation=_values(ds, "k_offset_band_correlation", "class"),
+            bearing_deg=np.asarray(ds["bearing"].values, dtype=float) if radial else None,
+            fallback_offset_db=np.array([c.k_error_sd_db for c in common["classes"]], dtype=float),
+            source=str(ds["k_offset_sd_db"].attrs.get("comment", "a sensitivity study")))
     if "bearing" not in ds.dims:
         return FlatTables(k_grid_db=_values(ds, "k_db", "class", "band", "range"),
                           tl_db=_values(ds, "tl_db", "class", "band", "depth", "range"),

@@ -2,8 +2,9 @@
 
 ``flat_dataset`` makes the grid of an area without ``[origin]`` (``tl_db(class, band, depth,
 range)`` from the class's depth); ``acoustics.builder.radial`` makes the bearing-dependent one from
-the same coordinates and attributes (``grid_coords``, ``grid_attrs``); ``with_k_error_sd`` writes
-a measured K error into a grid (``tmakit sensitivity --into``).
+the same coordinates and attributes (``grid_coords``, ``grid_attrs``); ``with_k_error_model``
+writes K's error model a study measured into a grid (``tmakit sensitivity --into``),
+``with_k_error_sd`` the format-2 map of one sd by range.
 """
 
 from __future__ import annotations
@@ -153,3 +154,29 @@ def with_k_error_sd(ds: xr.Dataset, sd_db: np.ndarray, comment: str, source: str
     return ds.assign(k_error_sd_db=(dims, np.transpose(sd, [canonical.index(d) for d in dims]), {
         "units": "dB", "long_name": "sd of the transfer-characteristic error K - K_true",
         "comment": f"{comment}; NaN where unknown: the class's k_error_sd_db serves there"}))
+
+
+def with_k_error_model(ds: xr.Dataset, model: xr.Dataset, comment: str, source: str = "<grid>") -> xr.Dataset:
+    """A grid dataset with K's error model (``acoustics.grid.kerror.MODEL_VARS``) set from
+    ``model`` (`acoustics.sensitivity.errormodel.k_error_model`, on the grid's classes, bands and
+    bearings), replacing a model or a format-2 ``k_error_sd_db`` map already there.
+
+    Raises
+    ------
+    GridFileError
+        ``model`` not on the grid's class, band (and bearing) coordinates.
+    """
+    from acoustics.errors import GridFileError
+    from acoustics.grid.kerror import MODEL_VARS
+
+    radial = "bearing" in ds.dims
+    out = ds.drop_vars([n for n in ("k_error_sd_db", *MODEL_VARS) if n in ds.data_vars])
+    for name, dims in MODEL_VARS.items():
+        want = dims[radial]
+        var = model[name]
+        for d in want:
+            if d not in var.dims or not np.array_equal(np.asarray(var[d].values), np.asarray(ds[d].values)):
+                raise GridFileError(f"{source}: the K error model's {name} is not on the grid's {d} axis")
+        out = out.assign({name: (want, np.asarray(var.transpose(*want).values, dtype=float),
+                                 {**var.attrs, "comment": comment})})
+    return out.assign_attrs(tmakit_format=GRID_FORMAT)

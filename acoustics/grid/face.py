@@ -44,7 +44,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
-from acoustics.grid.kerror import KErrorModel
+from acoustics.grid.kerror import KErrorModel, MeasuredKError
 from acoustics.grid.levelprofile import LevelProfile
 from acoustics.grid.targetdepth import TargetDepthK, k_at_target_depth, target_depth_span, target_depth_table
 from acoustics.kcurve import spectral_term_db
@@ -97,7 +97,10 @@ class Tables(ABC):
         of the target these tables give K for (`at_target_depth`), m.
     k_error_sd_grid_db : ndarray or None
         The measured K error sd, shaped like ``k_grid_db``, dB, NaN where unknown; None: the
-        tables have none (the classes' ``k_error_sd_db`` serve).
+        tables have none (the classes' ``k_error_sd_db`` serve). Grids of format 2 (an older
+        ``tmakit sensitivity --into``).
+    k_error_measured : MeasuredKError or None
+        K's error model a study measured (`acoustics.grid.kerror`), or None.
     """
 
     source: str
@@ -112,6 +115,7 @@ class Tables(ABC):
     observer_depth_m: float
     target_depth_m: float | None = None
     k_error_sd_grid_db: np.ndarray | None = None
+    k_error_measured: MeasuredKError | None = None
     _cache: dict = field(default_factory=dict, repr=False)
 
     # -- what the implementations answer -------------------------------------------------------
@@ -366,14 +370,18 @@ class Tables(ABC):
         grid), so that they hold less well the farther the observer is from it."""
         return self.observer_offset(np.zeros(1), np.zeros(1)) is not None
 
-    def k_error_model(self, ic: int) -> KErrorModel:
-        """K's error of class ``ic``, with its structure (`acoustics.grid.kerror`): the class's one
-        ``k_error_sd_db`` as the offset, the tables' own residual beside it, both growing away
-        from where tables of one position were computed. A measured ``k_error_sd_db`` map (older
-        ``tmakit sensitivity --into``: the rms of K's error over a study's members) gives the
-        offset its median over the map's ranges and bearings, band by band."""
+    def k_error_model(self, ic: int, bearing_deg: float | None = None) -> KErrorModel:
+        """K's error of class ``ic``, with its structure (`acoustics.grid.kerror`), both parts
+        growing away from where tables of one position were computed: a study's model where the
+        tables carry one (``tmakit sensitivity --into``; at ``bearing_deg``, or the median over the
+        radials), else the class's one ``k_error_sd_db`` as the offset with the tables' own
+        residual beside it. A measured ``k_error_sd_db`` map (format 2: the rms of K's error over
+        a study's members) gives the offset its median over the map's ranges and bearings, band
+        by band."""
         one = self.computed_at_one_position
         n = len(self.bands)
+        if self.k_error_measured is not None:
+            return KErrorModel.measured(self.k_error_measured, ic, one_position=one, bearing_deg=bearing_deg)
         model = KErrorModel.of_class(self.classes[ic].k_error_sd_db, n, one_position=one)
         if self.k_error_sd_grid_db is None:
             return model

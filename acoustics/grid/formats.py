@@ -3,10 +3,14 @@
 Each kind of file has its own integer format, raised when what a reader relies on changes
 (docs/formats.md, "Versions"):
 
-- grid netCDF, `GRID_FORMAT`: 2 carries ``tmakit_format``; 1 is the same file without it (from
-  before formats were numbered; ``area_json`` holds the area-file document) and is read as it is,
-  the attribute added in memory; 0 (``area_json`` a record of the program's objects, not the
-  area-file document) is refused.
+- grid netCDF, `GRID_FORMAT`: 3 may carry K's error model a study measured
+  (``acoustics.grid.kerror.MODEL_VARS``: the offset that persists along a track, the residual
+  and its correlation length, the offset's correlation between bands); 2 carries
+  ``tmakit_format`` and may carry a study's one K error sd by range (``k_error_sd_db``), read as
+  what it meant, the offset (its median, ``Tables.k_error_model``); 1 is the same file without
+  ``tmakit_format`` (from before formats were numbered; ``area_json`` holds the area-file
+  document); both are read as they are, the attribute set in memory; 0 (``area_json`` a record
+  of the program's objects, not the area-file document) is refused.
 - sensitivity study netCDF, `STUDY_FORMAT`: 2 carries it; 1 is the same file without it.
 - the studies' JSON result files, `RESULT_FORMAT`: a key ``tmakit_format`` (1). tmakit writes
   them and reads none back; CSVs are known by their header.
@@ -23,7 +27,7 @@ import json
 import xarray as xr
 
 #: The grid format this version writes, and the oldest it reads.
-GRID_FORMAT = 2
+GRID_FORMAT = 3
 GRID_FORMAT_OLDEST = 1
 #: The sensitivity-study format this version writes, and the oldest it reads.
 STUDY_FORMAT = 2
@@ -72,7 +76,7 @@ def upgrade_grid(ds: xr.Dataset, source: str, error: type[ValueError]) -> xr.Dat
         raise refuse(source, error, "grid", fmt, GRID_FORMAT_OLDEST, GRID_FORMAT, rebuild)
     if fmt == GRID_FORMAT:
         return ds
-    # format 1 -> 2: the attribute alone
+    # formats 1 and 2 -> 3: the attribute alone (a format-2 k_error_sd_db map is read by the face)
     return ds.assign_attrs(tmakit_format=GRID_FORMAT)
 
 

@@ -28,6 +28,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 #: The tables' own residual against BELLHOP run from the target, where nothing else differs
 #: (observer at the tables' origin), common to the bands, dB: the depth study's check
 #: (docs/results/depth/depth.json ``tables_vs_bellhop_from_target_db.fit.fine_sd_db``, shelf-break,
@@ -43,6 +45,12 @@ TABLE_RESIDUAL_GROWTH_DB_PER_KM = 1.37
 #: How the offset grows with that distance, dB/km (``fit.offset_growth_db_per_km``: each depth's
 #: mean error less the origin's on the same bearing).
 TABLE_OFFSET_GROWTH_DB_PER_KM = 1.33
+#: A grid's measured model (``tmakit sensitivity --into``, `acoustics.sensitivity.errormodel`;
+#: docs/formats.md): each variable's dimensions without and with bearings.
+MODEL_VARS = {"k_offset_sd_db": (("class", "band"), ("class", "band", "bearing")),
+              "k_residual_sd_db": (("class", "band"), ("class", "band", "bearing")),
+              "k_residual_length_m": (("class",), ("class",)),
+              "k_offset_band_correlation": (("class",), ("class",))}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -102,6 +110,22 @@ class KErrorModel:
                    residual_growth_db_per_km=TABLE_RESIDUAL_GROWTH_DB_PER_KM if one_position else 0.0,
                    source=source)
 
+    @classmethod
+    def measured(cls, measured: MeasuredKError, ic: int, *, one_position: bool, bearing_deg=None) -> KErrorModel:
+        """A study's model of class ``ic`` (at ``bearing_deg``, linear between radials; the median
+        over them without one), its residual with the tables' own beside it (the members' K is
+        computed as the tables' is, so their differences leave it out)."""
+        off, res = measured.at_bearing(ic, bearing_deg)
+        length = float(measured.residual_length_m[ic])
+        corr = float(measured.band_correlation[ic])
+        return cls(offset_sd_db=tuple(float(v) for v in off),
+                   offset_band_correlation=corr if math.isfinite(corr) else 1.0,
+                   residual_sd_db=tuple(math.hypot(float(v), TABLE_RESIDUAL_SD_DB) for v in res),
+                   residual_length_m=length if math.isfinite(length) and length > 0 else TABLE_RESIDUAL_LENGTH_M,
+                   offset_growth_db_per_km=TABLE_OFFSET_GROWTH_DB_PER_KM if one_position else 0.0,
+                   residual_growth_db_per_km=TABLE_RESIDUAL_GROWTH_DB_PER_KM if one_position else 0.0,
+                   source=measured.source)
+
     def total_sd_db(self, displacement_m: float = 0.0) -> tuple[float, ...]:
         """sd of the whole K error of each band at one cycle (offset and residual), dB."""
         d = displacement_m / 1000.0
@@ -109,5 +133,50 @@ class KErrorModel:
                      for o, r in zip(self.offset_sd_db, self.residual_sd_db))
 
 
-__all__ = ["KErrorModel", "TABLE_OFFSET_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_GROWTH_DB_PER_KM",
-           "TABLE_RESIDUAL_LENGTH_M", "TABLE_RESIDUAL_SD_DB"]
+@dataclass(frozen=True, eq=False, kw_only=True)
+class MeasuredKError:
+    """A grid's measured model (`MODEL_VARS`): arrays by class, band (and bearing).
+
+    Attributes
+    ----------
+    offset_sd_db, residual_sd_db : ndarray, shape (C, M) or (C, M, N)
+        dB; NaN where the study had no K (the class's numbers then serve).
+    residual_length_m, band_correlation : ndarray, shape (C,)
+    bearing_deg : ndarray, shape (N,), or None
+    fallback_offset_db : ndarray, shape (C,)
+        The classes' one ``k_error_sd_db``, where a cell has none.
+    source : str
+    """
+
+    offset_sd_db: np.ndarray
+    residual_sd_db: np.ndarray
+    residual_length_m: np.ndarray
+    band_correlation: np.ndarray
+    bearing_deg: np.ndarray | None
+    fallback_offset_db: np.ndarray
+    source: str = ""
+
+    def at_bearing(self, ic: int, bearing_deg=None) -> tuple[np.ndarray, np.ndarray]:
+        """Offset and residual sds of class ``ic`` per band, dB: at a bearing (linear between
+        radials, across 0/360), or the median over the radials."""
+        off, res = self.offset_sd_db[ic], self.residual_sd_db[ic]
+        if self.bearing_deg is not None:
+            if bearing_deg is None:
+                with np.errstate(all="ignore"):
+                    off, res = np.nanmedian(off, axis=-1), np.nanmedian(res, axis=-1)
+            else:
+                b = np.asarray(self.bearing_deg, dtype=float)
+                x = float(bearing_deg) % 360.0
+                bb = np.concatenate([b, [b[0] + 360.0]])
+                j = int(np.clip(np.searchsorted(bb, x, side="right") - 1, 0, b.size - 1))
+                w = (x - bb[j]) / (bb[j + 1] - bb[j])
+                j1 = (j + 1) % b.size
+                off = (1.0 - w) * off[:, j] + w * off[:, j1]
+                res = (1.0 - w) * res[:, j] + w * res[:, j1]
+        off = np.where(np.isfinite(off), off, self.fallback_offset_db[ic])
+        res = np.where(np.isfinite(res), res, 0.0)
+        return off, res
+
+
+__all__ = ["KErrorModel", "MODEL_VARS", "MeasuredKError", "TABLE_OFFSET_GROWTH_DB_PER_KM",
+           "TABLE_RESIDUAL_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_LENGTH_M", "TABLE_RESIDUAL_SD_DB"]

@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
+from acoustics.grid.kerror import MODEL_VARS
 from envdata.area import Area
 from envdata.areafile import area_from_json
 from envdata.errors import AreaError
@@ -69,6 +70,7 @@ def check_grid(ds: xr.Dataset, source: str = "<grid>", *, area: Area | None = No
                                      or not np.issubdtype(ds[name].dtype, np.floating)):
             raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers "
                                 f"on dimensions {dims}, got {ds[name].dtype} on {ds[name].dims}")
+    _check_model_vars(ds, source, by_bearing)
     for name in REQUIRED_COORDS + (("bearing",) if by_bearing else ()):
         if name not in ds.coords:
             raise GridFileError(f"{source}: missing coordinate {name!r}")
@@ -175,3 +177,26 @@ def _check_consistent(ds: xr.Dataset, area: Area, source: str) -> None:
     if not math.isclose(obs, area.observer.depth_m, rel_tol=1e-9, abs_tol=1e-9):
         raise GridFileError(f"{where}: observer depth {area.observer.depth_m:g} m, but the grid's "
                             f"attribute observer_depth_m is {obs:g} m")
+
+
+def _check_model_vars(ds: xr.Dataset, source: str, by_bearing: bool) -> None:
+    """K's error model a study measured (``tmakit sensitivity --into``): every variable of
+    `MODEL_VARS` or none, each floating-point on its dimensions, its sds and length >= 0 and its
+    correlation in [0, 1] where given (NaN: unknown)."""
+    have = [name for name in MODEL_VARS if name in ds.data_vars]
+    if not have:
+        return
+    if len(have) != len(MODEL_VARS):
+        missing = [name for name in MODEL_VARS if name not in ds.data_vars]
+        raise GridFileError(f"{source}: K's error model needs {', '.join(MODEL_VARS)}; missing {', '.join(missing)}")
+    for name, dims in MODEL_VARS.items():
+        want = dims[by_bearing]
+        if ds[name].dims != want or not np.issubdtype(ds[name].dtype, np.floating):
+            raise GridFileError(f"{source}: variable {name!r} must hold floating-point numbers on dimensions "
+                                f"{want}, got {ds[name].dtype} on {ds[name].dims}")
+        v = np.asarray(ds[name].values, dtype=float)
+        top = 1.0 if name == "k_offset_band_correlation" else np.inf
+        bad = np.isfinite(v) & ((v < 0.0) | (v > top))
+        if bad.any():
+            raise GridFileError(f"{source}: variable {name!r} holds {float(v[bad][0]):g}, "
+                                f"outside [0, {top:g}]")

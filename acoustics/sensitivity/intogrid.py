@@ -1,9 +1,10 @@
-"""A study's K error fed back into a grid: ``k_error_sd_db(class, band[, bearing], range)``.
+"""A study's K error fed back into a grid: K's error model with its structure.
 
-``tmakit sensitivity ... --into GRID`` writes the study's ``k_rms_db`` (the rms over members of
-K - K_nominal at each class, band, bearing and range) into the grid of the same area as its
-``k_error_sd_db`` (docs/formats.md); the trackers then take the sd at each measurement's bearing
-and range in place of the class's one number (``Tables.k_error_sd_at``).
+``tmakit sensitivity ... --into GRID`` writes the model the study's members measure
+(`acoustics.sensitivity.errormodel`: the offset that persists along a track, the residual that
+changes along it and its correlation length, the offset's correlation between bands; per class,
+band and bearing) into the grid of the same area (docs/formats.md); the trackers then take it in
+place of the class's one number (``Tables.k_error_model``, `tracker.levels`).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from acoustics.errors import GridFileError
-from acoustics.grid.dataset import with_k_error_sd
+from acoustics.grid.dataset import with_k_error_model
 from acoustics.grid.face import Tables
 from acoustics.grid.io import write_netcdf
 from acoustics.grid.opentables import open_tables
@@ -54,23 +55,16 @@ def check_into_grid(path: str | Path, area: Area) -> Tables:
 
 
 def k_error_grid(tables: Tables, summary: xr.Dataset, study: Study, study_name: str) -> xr.Dataset:
-    """The grid dataset with the study's ``k_rms_db`` as ``k_error_sd_db`` on the grid's range axis
-    (linear in range; NaN beyond the study's ranges, where the class's one number serves)."""
-    dims = ("class", "band", "bearing", "range") if "bearing" in summary.dims else ("class", "band", "range")
-    rms = summary["k_rms_db"].transpose(*dims).values
-    r_study = summary["range"].values
-    flat = rms.reshape(-1, r_study.size)
-    out = np.full((flat.shape[0], tables.range_m.size), np.nan)
-    for i, row in enumerate(flat):
-        ok = np.isfinite(row)
-        if ok.sum() >= 2:
-            out[i] = np.interp(tables.range_m, r_study[ok], row[ok], left=np.nan, right=np.nan)
-    sd = out.reshape(rms.shape[:-1] + (tables.range_m.size,))
-    comment = (f"rms over {study.members} members of K - K_nominal, tmakit sensitivity study "
-               f"{study_name} (source_hash {study.source_hash[:12]})")
-    return with_k_error_sd(tables.dataset, sd, comment, tables.source)
+    """The grid dataset with the study's K error model (`acoustics.sensitivity.errormodel`) over the
+    summary's range window."""
+    from acoustics.sensitivity.errormodel import k_error_model
+
+    model = k_error_model(study, summary.attrs.get("summary_range_min_m"), summary.attrs.get("summary_range_max_m"))
+    comment = (f"measured over {study.members} members by tmakit sensitivity study {study_name} "
+               f"(source_hash {study.source_hash[:12]})")
+    return with_k_error_model(tables.dataset, model, comment, tables.source)
 
 
 def write_k_error_grid(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
-    """Write the grid with its ``k_error_sd_db`` (through a temporary file unless ``atomic`` is False)."""
+    """Write the grid with its K error model (through a temporary file unless ``atomic`` is False)."""
     return write_netcdf(ds, path, atomic=atomic)

@@ -52,3 +52,23 @@ def interval_calibration(error, sd, keep=None) -> dict:
 def wrap_deg(angle_deg):
     """An angle difference wrapped to [-180, 180) deg."""
     return np.mod(np.asarray(angle_deg, dtype=float) + 180.0, 360.0) - 180.0
+
+
+#: Speed nodes of the studies' runs, in the class's sds: the quantiles 1/10, 3/10, ..., 9/10 of
+#: the normal, each as likely. A run's path depends on its speed; with BELLHOP along the true
+#: paths each distinct path costs a BELLHOP run per cycle, so the speeds are drawn from these
+#: five, the levels' offsets (P0, dK) from the normal itself.
+SPEED_NODES_SD = (-1.2815515655446004, -0.5244005127080407, 0.0, 0.5244005127080407, 1.2815515655446004)
+
+
+def class_draws(sc, cls, runs: int, rng) -> dict[str, np.ndarray]:
+    """Each run's target drawn from its class (the prior the trackers assume): the first tack's
+    speed and P0 set to the class's means plus a draw (later tacks keep the scenario's changes
+    from the first), and dK of eq. 31 from the class's ``k_error_sd_db``; keyword arguments of
+    `tracker.simulate.simulate_batch` (``dv_mps``, ``dp0_db``, ``dk_db``), (runs,) each."""
+    first = sc.target_tacks[0]
+    nodes = np.asarray(SPEED_NODES_SD)[rng.integers(0, len(SPEED_NODES_SD), runs)]
+    speed = cls.speed_mean_mps + cls.speed_sd_mps * nodes
+    return {"dv_mps": speed - first.speed_mps,
+            "dp0_db": cls.noise_mean_db - first.noise_db + rng.normal(0.0, cls.noise_sd_db, runs),
+            "dk_db": rng.normal(0.0, cls.k_error_sd_db, runs)}

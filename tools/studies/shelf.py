@@ -1,18 +1,24 @@
 """Tracking in a range-dependent area: the bearing-dependent grid against the usual shortcut.
 
-A target is simulated in the built-in ``shelf-break`` area on its bearing-dependent grid (the
-sea as the tables know it: K at the target's bearing and range from the observer). The same
-measurements are then tracked twice, by the same trackers:
+A target is simulated in the built-in ``shelf-break`` area, its levels computed by BELLHOP along
+each cycle's true target-to-observer path (``truth="bellhop"``, `acoustics.builder.truthk`: no
+table, the observer moving away from where the grid was computed) or read from the
+bearing-dependent grid (``truth="tables"``, the sea as the tables know it). Each run's target is
+drawn from its class (`tools.studies.calibration.class_draws`: speed, P0, and the dK of eq. 31
+once per run, as G&M's section 4). The same measurements are then tracked twice, by the same
+trackers:
 
-- with that grid;
+- with the bearing-dependent grid;
 - with an isotropic grid built from the origin's own sound-speed profile and water depth, as
   if the whole area were that one column over a flat bottom (the usual shortcut:
   `origin_area`).
 
-The position error of each is averaged over Monte Carlo runs (RMSE against time), for the ML
-motion analysis of Grinenkov & Mashoshin (``ml``, the true class hypothesis) and the particle
-filter with bearings and SPL of Iglesis & de Montella (``rpf``). The level error dK of eq. 31 is
-drawn once per run from the class's ``k_error_sd_db``, as in their section 4.
+The trackers: the ML motion analysis of Grinenkov & Mashoshin (``ml``, the true class
+hypothesis), the particle filter with bearings and SPL of Iglesis & de Montella with the levels'
+lasting errors integrated out (``rpf``, `tracker.levels`), and the filter on bearings alone
+(``bot``, the reference neither should fall behind). The position error of each is averaged over
+the runs (RMSE against time), and its stated sds are checked against the truth: the coverage of
+the 90 % intervals of range, course and speed after `LATE_MIN` (`tools.studies.calibration`).
 """
 
 from __future__ import annotations
@@ -32,14 +38,19 @@ from envdata.areafile import load_area
 from envdata.files import atomic_paths
 from envdata.radials import area_radials
 from envdata.ssp import SoundSpeedProfile
-from tools.studies.trackerrors import ml_errors, rpf_errors
+from tools.studies.calibration import class_draws
+from tools.studies.trackerrors import LEVEL_SD_DB, ml_track, rpf_config, rpf_track
+from tracker.levels import LevelErrors
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
 AREA = "shelf-break"
 SCENARIO = "shelf-tv"
 GRIDS = ("bearing", "isotropic")
-METHODS = ("ml", "rpf")
+METHODS = ("ml", "rpf", "bot")
+TRUTHS = ("bellhop", "tables")
+#: The stated sds are checked from this minute on, min.
+LATE_MIN = 10.0
 #: Times (min after the first cycle) at which the summary gives the RMSE.
 REPORT_MIN = (5, 10, 20, 30)
 #: Where the summary compares the two grids' K(r) of the target's class in the first band.
@@ -73,10 +84,13 @@ def origin_area(area: Area) -> Area:
 
 
 def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
-        progress: bool = False) -> dict:
-    """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs on the
-    bearing-dependent one, track them with both; write ``shelf_rmse.csv``, ``shelf.json`` and
+        progress: bool = False, truth: str = "bellhop") -> dict:
+    """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs (levels
+    from ``truth``: BELLHOP along the true paths, its runs kept in ``out_dir/grids/truth-runs``, or
+    the bearing-dependent grid), track them with both; write ``shelf_rmse.csv``, ``shelf.json`` and
     ``shelf_rmse.png`` (all or none) and return the summary."""
+    if truth not in TRUTHS:
+        raise ValueError(f"truth must be one of {', '.join(TRUTHS)}, got {truth!r}")
     start = time.perf_counter()
     out = Path(out_dir)
     area = load_area(AREA)
@@ -88,23 +102,42 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
 
     tables = {name: open_tables(path) for name, path in grids.items()}
     sc = load_scenario(SCENARIO)
-    truth = tables["bearing"]
-    cls_index = truth.class_index(sc.target_class)
+    sea = tables["bearing"]
+    cls_index = sea.class_index(sc.target_class)
     band = 0  # FB1, the band heard farthest
     rng = np.random.default_rng(seed)
-    sim = simulate_batch(sc, truth, rng, dk_db=rng.normal(0.0, truth.classes[cls_index].k_error_sd_db,
-                                                              runs))
-    errors = {}
-    for name, tab in tables.items():
-        errors[("ml", name)] = ml_errors(tab, sim, tab.class_index(sc.target_class))[0]
-        errors[("rpf", name)] = rpf_errors(tab, sim, tab.class_index(sc.target_class), band,
-                                            np.random.default_rng([seed, GRIDS.index(name)]), n_particles)
+    provider = None
+    if truth == "bellhop":
+        from acoustics.builder.truthk import BellhopTruth
+
+        provider = BellhopTruth(area, cache_dir=out / "grids" / "truth-runs", workers=workers)
+    t0 = time.perf_counter()
+    sim = simulate_batch(sc, sea, rng, **class_draws(sc, sea.classes[cls_index], runs, rng), k_provider=provider)
+    truth_seconds = time.perf_counter() - t0
     minutes = (sim.t_s - sim.t_s[0]) / 60.0
+    late = minutes >= LATE_MIN
+    errors, calibration = {}, {}
+    for name, tab in tables.items():
+        ic = tab.class_index(sc.target_class)
+        target = tab.classes[ic]
+        level_errors = LevelErrors.of_tables(tab, ic, [band], source_sd_db=target.noise_sd_db)
+        tracked = {"ml": ml_track(tab, sim, ic),
+                   "rpf": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name)]), n_particles,
+                                    config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
+                                    level_errors=level_errors),
+                   "bot": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name), 9]),
+                                    n_particles, bearings_only=True)}
+        for method, tr in tracked.items():
+            errors[(method, name)] = tr.position_error_m(sim)
+            calibration[f"{method}_{name}"] = tr.calibration(sim, late)
     frame = pd.DataFrame({"t_min": minutes})
     for (method, grid), err in errors.items():
         frame[f"{method}_{grid}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
     summary = {"scenario": sc.name, "area": AREA, "runs": runs, "seed": seed, "n_particles": n_particles,
-               "band": truth.band_names[band], "class": sc.target_class,
+               "band": sea.band_names[band], "class": sc.target_class, "truth": truth,
+               "truth_runs": None if provider is None else provider.stats.runs,
+               "truth_runs_cached": None if provider is None else provider.stats.cached,
+               "truth_seconds": round(truth_seconds, 1), "late_min": LATE_MIN,
                "origin_depth_m": float(tables["isotropic"].area.water.depth_m),
                "grids": {k: str(v) for k, v in grids.items()},
                "rmse_m": {f"{method}_{grid}": {f"{m:g}": float(np.interp(m, minutes,
@@ -113,6 +146,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                           for method in METHODS for grid in GRIDS},
                "mean_rmse_after_5min_m": {f"{method}_{grid}": float(np.sqrt(np.nanmean(
                    errors[(method, grid)][:, minutes >= 5.0] ** 2))) for method in METHODS for grid in GRIDS},
+               "calibration_after_late_min": calibration,
                "k_difference_db": _k_difference(tables, cls_index, band),
                "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "shelf_rmse.csv", out / "shelf.json", out / "shelf_rmse.png"]
@@ -144,12 +178,17 @@ def _k_difference(tables: dict, cls_index: int, band: int) -> dict:
 
 def _text(summary: dict) -> str:
     lines = [f"shelf study: {summary['runs']} runs of {summary['scenario']} in {summary['area']} "
-             f"(class {summary['class']}, SPL band {summary['band']}); position RMSE, m, at "
+             f"(class {summary['class']}, SPL band {summary['band']}, levels from {summary['truth']}); "
+             f"position RMSE, m, at "
              + ", ".join(f"{m} min" for m in REPORT_MIN) + ":"]
     for key, by_min in summary["rmse_m"].items():
         lines.append(f"  {key:>14}: " + "  ".join(f"{v:8.0f}" for v in by_min.values())
                      + f"   (mean after 5 min {summary['mean_rmse_after_5min_m'][key]:.0f} m)")
     lines.append(f"  the isotropic grid is the origin's column over a flat bottom of "
                  f"{summary['origin_depth_m']:.0f} m")
+    lines.append(f"90 % range interval's coverage of the truth after {summary['late_min']:g} min "
+                 f"(calibrated: 0.90; median |error| / sd, calibrated 0.67):")
+    for key, c in summary["calibration_after_late_min"].items():
+        lines.append(f"  {key:>14}: {c['range']['coverage_90']:.2f} ({c['range']['median_abs_z']:.2f})")
     return "\n".join(lines)
 

@@ -7,7 +7,8 @@ from matplotlib.figure import Figure
 
 from acoustics.plots.figures import new_figure
 
-_STYLE = {"ml": ("ML motion analysis (G&M)", "tab:blue"), "rpf": ("particle filter, bearings + SPL", "tab:red")}
+_STYLE = {"ml": ("ML motion analysis (G&M)", "tab:blue"), "rpf": ("particle filter, bearings + SPL", "tab:red"),
+          "bot": ("particle filter, bearings only", "tab:gray")}
 _GRID = {"bearing": ("bearing-dependent grid", "-"), "isotropic": ("origin's column, flat bottom", "--")}
 
 

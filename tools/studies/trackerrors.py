@@ -88,12 +88,13 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
 
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
               *, level_sigma_db: float | None = None, at_observer: bool = True,
-              config: RpfConfig | None = None, level_errors=None) -> Tracked:
+              config: RpfConfig | None = None, level_errors=None, bearings_only: bool = False) -> Tracked:
     """The particle filter (bearings and the band's SPL) of every run, settings `rpf_config` (or
     ``config``). ``at_observer``: the K profiles where the observer is each cycle (else at the
     origin, as a grid's tables are the same everywhere). ``level_errors``
     (`tracker.levels.LevelErrors`): integrated out per particle (sigma_l the level's own error),
-    the observer's distance from the tables' origin growing them; None: the white likelihood."""
+    the observer's distance from the tables' origin growing them; None: the white likelihood.
+    ``bearings_only``: the filter on the bearings alone (``rpf-bot``)."""
     e, t = sim.bearing_deg.shape
     obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
                     np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
@@ -106,7 +107,8 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
     for run in range(e):  # each run its own measured bearings, so its own K profiles
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run], *where)
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
-                        level_db_meas=sim.level_db[run, :, band][None], k_profiles=profiles, cfg=cfg, rng=rng,
+                        level_db_meas=None if bearings_only else sim.level_db[run, :, band][None],
+                        k_profiles=profiles, cfg=cfg, rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                         p0_sd_db=target.noise_sd_db, summaries=True, level_errors=level_errors,
                         displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])

@@ -28,8 +28,8 @@ FORMAT0 = DATA / "grid-format0.nc"
 
 
 def test_a_new_grid_carries_this_versions_format(tiny_grid, tiny_grid_file):
-    assert tiny_grid.attrs["tmakit_format"] == GRID_FORMAT == 2
-    assert acoustics.open_tables(tiny_grid_file).dataset.attrs["tmakit_format"] == 2
+    assert tiny_grid.attrs["tmakit_format"] == GRID_FORMAT == 3
+    assert acoustics.open_tables(tiny_grid_file).dataset.attrs["tmakit_format"] == 3
 
 
 def test_the_previous_releases_grid_opens_through_the_upgrade(tiny_area):

@@ -1,5 +1,5 @@
-"""A grid's measured K error sd (``k_error_sd_db``, written by ``sensitivity --into``) through the
-typed face, and the ML analysis's eq. 21 nodes taken from it."""
+"""A format-2 grid's measured K error sd (``k_error_sd_db``, written by an older ``sensitivity
+--into``) through the typed face, and the ML analysis's eq. 21 nodes taken from it."""
 
 from __future__ import annotations
 
@@ -47,5 +47,7 @@ def test_the_ml_analysis_widens_its_level_range_sd_with_the_grids_sd(tiny_grid):
         batch = MLBatch(grid, [0], capacity=2)
         res = batch.update(0.0, 0.0, 0.0, 0.0, 0.0, 45.0, 0.5, level[None, :], np.full((1, k.size), 20.0))
         out[name] = res["range_sd_m"][0]
-    # eq. 21: the spread of the level range over dK nodes grows with the sd of dK
-    assert out["large"] > 1.5 * out["small"]
+    # eq. 21: the spread of the level range over dK nodes grows with the sd of dK (the map read as
+    # the offset, `Tables.k_error_model`; the tables' own 1.94 dB residual stands beside it in both:
+    # measured 1195 m against 810 m, 1.48x, where the offset alone gave more than 1.5x)
+    assert out["large"] > 1.3 * out["small"]

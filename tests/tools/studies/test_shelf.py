@@ -28,7 +28,7 @@ def test_the_shortcut_is_the_origins_column_over_a_flat_bottom():
 
 def test_the_study_through_the_command_line(tmp_path, capsys):
     out = tmp_path / "shelf"
-    assert cli.main(["experiment", "shelf", "shelf-tv", "--runs", "3", "--out", str(out),
+    assert cli.main(["experiment", "shelf", "shelf-tv", "--runs", "3", "--out", str(out), "--truth", "tables",
                      "--workers", "2", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert sorted(p.name for p in out.iterdir()) == ["grids", "shelf.json", "shelf_rmse.csv",
@@ -43,4 +43,8 @@ def test_the_study_through_the_command_line(tmp_path, capsys):
     assert errors["ml_isotropic"] > 2.0 * errors["ml_bearing"]
     assert errors["rpf_isotropic"] > 2.0 * errors["rpf_bearing"]
     assert np.isfinite(list(errors.values())).all()
+    # every tracker's stated sds are checked against the truth after the first minutes
+    cal = summary["calibration_after_late_min"]
+    assert set(cal) == {f"{m}_{g}" for m in ("ml", "rpf", "bot") for g in ("bearing", "isotropic")}
+    assert all(0.0 <= c[q]["coverage_90"] <= 1.0 for c in cal.values() for q in ("range", "course", "speed"))
     assert (out / "shelf_rmse.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

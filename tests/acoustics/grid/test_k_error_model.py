@@ -1,0 +1,110 @@
+"""K's error model in a grid (format 3, `acoustics.grid.kerror`), read through the face; a
+format-2 grid's one sd by range read as what it meant; and the model a study's members measure
+(`acoustics.sensitivity.errormodel`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from numpy.testing import assert_allclose
+
+import acoustics
+from acoustics.errors import GridFileError
+from acoustics.grid.dataset import with_k_error_model, with_k_error_sd
+from acoustics.grid.kerror import MODEL_VARS, TABLE_RESIDUAL_LENGTH_M, TABLE_RESIDUAL_SD_DB
+from acoustics.sensitivity.errormodel import measure
+
+
+def _model(tables, offset, residual, length, corr):
+    c, m = len(tables.classes), len(tables.bands)
+    coords = {"class": tables.dataset["class"].values, "band": tables.dataset["band"].values}
+    return xr.Dataset({"k_offset_sd_db": (("class", "band"), np.broadcast_to(offset, (c, m)).copy()),
+                       "k_residual_sd_db": (("class", "band"), np.broadcast_to(residual, (c, m)).copy()),
+                       "k_residual_length_m": (("class",), np.full(c, length)),
+                       "k_offset_band_correlation": (("class",), np.full(c, corr))}, coords=coords)
+
+
+def test_a_grids_model_is_what_the_face_answers(tiny_grid, tmp_path):
+    tables = acoustics.open_tables(tiny_grid)
+    ds = with_k_error_model(tables.dataset, _model(tables, [3.0, 4.0], [1.0, 2.0], 850.0, 0.6), "test")
+    path = tmp_path / "model.nc"
+    acoustics.write_grid(ds, path)
+    model = acoustics.open_tables(path).k_error_model(0)
+    assert model.offset_sd_db == (3.0, 4.0) and model.offset_band_correlation == 0.6
+    assert model.residual_length_m == 850.0
+    # the members' K is computed as the tables' is: the tables' own residual stands beside theirs
+    assert_allclose(model.residual_sd_db, [math.hypot(1.0, TABLE_RESIDUAL_SD_DB), math.hypot(2.0, TABLE_RESIDUAL_SD_DB)])
+    assert model.offset_growth_db_per_km == 0.0  # a flat grid holds everywhere
+
+
+def test_without_a_model_the_classs_number_is_the_offset(tiny_grid):
+    tables = acoustics.open_tables(tiny_grid)
+    model = tables.k_error_model(1)
+    assert model.offset_sd_db == (tables.classes[1].k_error_sd_db,) * len(tables.bands)
+    assert model.residual_sd_db == (TABLE_RESIDUAL_SD_DB,) * len(tables.bands)
+    assert model.residual_length_m == TABLE_RESIDUAL_LENGTH_M
+
+
+def test_a_format_2_map_opens_and_is_read_as_the_offset(tiny_grid):
+    # the previous release's `tmakit sensitivity --into`: the rms of K's error by range
+    tables = acoustics.open_tables(tiny_grid)
+    sd = np.broadcast_to(np.linspace(1.0, 5.0, tables.range_m.size), tables.k_grid_db.shape).copy()
+    old = with_k_error_sd(tables.dataset, sd, "test").assign_attrs(tmakit_format=2)
+    model = acoustics.open_tables(old).k_error_model(0)
+    assert_allclose(model.offset_sd_db, [np.median(sd[0, 0])] * len(tables.bands))
+
+
+def test_a_radial_grids_model_is_read_at_the_bearing(tiny_radial_tables):
+    t = tiny_radial_tables
+    c, m, n = len(t.classes), len(t.bands), t.bearing_axis_deg.size
+    off = np.broadcast_to(np.arange(n, dtype=float) + 1.0, (c, m, n)).copy()     # 1, 2, 3 dB on 0, 120, 240
+    coords = {"class": t.dataset["class"].values, "band": t.dataset["band"].values, "bearing": t.bearing_axis_deg}
+    model = xr.Dataset({"k_offset_sd_db": (("class", "band", "bearing"), off),
+                        "k_residual_sd_db": (("class", "band", "bearing"), np.zeros((c, m, n))),
+                        "k_residual_length_m": (("class",), np.full(c, 500.0)),
+                        "k_offset_band_correlation": (("class",), np.ones(c))}, coords=coords)
+    tables = acoustics.open_tables(with_k_error_model(t.dataset, model, "test"))
+    assert_allclose(tables.k_error_model(0, bearing_deg=60.0).offset_sd_db, [1.5] * m)
+    assert_allclose(tables.k_error_model(0, bearing_deg=300.0).offset_sd_db, [2.0] * m)    # across 360
+    assert_allclose(tables.k_error_model(0).offset_sd_db, [2.0] * m)                        # the median
+    assert tables.k_error_model(0).offset_growth_db_per_km > 0.0    # tables of one position
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda ds: ds.drop_vars("k_residual_length_m"), "missing k_residual_length_m"),
+    (lambda ds: ds.assign(k_offset_band_correlation=ds["k_offset_band_correlation"] * 0 + 1.5), r"outside \[0, 1\]"),
+    (lambda ds: ds.assign(k_residual_sd_db=ds["k_residual_sd_db"] * 0 - 1.0), r"outside \[0, inf\]"),
+])
+def test_a_broken_model_is_refused(tiny_grid, change, message):
+    tables = acoustics.open_tables(tiny_grid)
+    ds = change(with_k_error_model(tables.dataset, _model(tables, 2.0, 1.0, 500.0, 1.0), "test"))
+    with pytest.raises(GridFileError, match=message):
+        acoustics.open_tables(ds)
+
+
+def test_the_members_model_is_measured():
+    # members whose K error is an offset per member (rms 3 dB, the bands' offsets correlated by
+    # 0.5 about zero) and a residual along range with a known correlation length
+    rng = np.random.default_rng(2)
+    e, m, r_n, step, length = 400, 2, 400, 100.0, 800.0
+    r = np.arange(1, r_n + 1) * step
+    common = rng.normal(0.0, 3.0 * math.sqrt(0.5), (e, 1))
+    offsets = common + rng.normal(0.0, 3.0 * math.sqrt(0.5), (e, m))
+    rho = math.exp(-step / length)
+    res = np.empty((e, m, r_n))
+    res[..., 0] = rng.normal(0.0, 2.0, (e, m))
+    for k in range(1, r_n):
+        res[..., k] = rho * res[..., k - 1] + math.sqrt(1 - rho * rho) * rng.normal(0.0, 2.0, (e, m))
+    dk = (offsets[..., None] + res)[:, None]                                       # (E, C=1, M, R)
+    offset_sd, residual_sd, lengths, corr = measure(dk, r)
+    # tolerances: 400 members' sampling (offset rms +- 4 %); the residual's range-mean leaks into the
+    # measured offset (its sd over 40 km of range with 800 m correlation: ~0.4 dB); the length's
+    # estimate from the pooled autocorrelation of 800 series of 400 steps
+    assert_allclose(offset_sd[0], 3.0, rtol=0.1)
+    assert_allclose(residual_sd[0], 2.0, rtol=0.05)
+    assert_allclose(lengths[0], length, rtol=0.1)
+    assert abs(corr[0] - 0.5) < 0.1
+    assert set(MODEL_VARS) == {"k_offset_sd_db", "k_residual_sd_db", "k_residual_length_m", "k_offset_band_correlation"}
