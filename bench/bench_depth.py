@@ -7,7 +7,7 @@ Prints one line per figure, ``name: value unit``, all measured in this one run, 
 docs/results/depth.json:
 
 - the depth likelihood after the last cycle along one shelf-nps track over the depth study's
-  span, with and without the range-scale integral (`tracker.depthlevels.RANGE_SCALE_SD`), 7
+  span, with and without the range-scale integral (`tracker.depth.likelihood.RANGE_SCALE_SD`), 7
   repeats interleaved, medians of CPU time, and their ratio; and the depth posterior as
   ``tmakit track --target-depth unknown`` takes it along one track (every few cycles) over the
   class's whole span (CPU seconds, median of 3);
@@ -33,9 +33,9 @@ RECIPROCITY_DEPTHS_M = (5.0, 10.0, 20.0, 50.0, 150.0, 200.0)
 def posterior_cost() -> None:
     import acoustics
     from tools.studies.depth import DEPTH_SPAN_M
-    from tracker.depthlevels import TrackDepthLikelihood
-    from tracker.depthpost import depth_grid_m
-    from tracker.mltma.depths import posterior_along_tracks
+    from tracker.depth.bank import posterior_along_tracks
+    from tracker.depth.likelihood import TrackDepthLikelihood
+    from tracker.depth.posterior import depth_grid_m
     from tracker.scenario import load_scenario
     from tracker.simulate import measurements_of, simulate_batch, truth_of
 

@@ -31,7 +31,7 @@ tracker has.
 
 Per run: the RMS position error over 5 min to the end; with the depth unknown, the final
 depth posterior's median, 90 % interval and its surface (<= 15 m) and submerged (>= 40 m)
-masses. For the ML analysis the posterior is `tracker.mltma.depths.depth_posterior` (each
+masses. For the ML analysis the posterior is `tracker.depth.bank.depth_posterior` (each
 hypothesis's final estimate carried back over the run); for the particle filter the bank's
 posterior. The
 hypotheses' final weights are kept per run (``w_<depth>``). What the levels themselves allow,
@@ -39,7 +39,7 @@ whatever a tracker makes of the motion: the posterior along the true track (``kn
 and the levels' residual about the tables' K at the true depth along it
 (``level_residual_at_true_depth_db``); how far in range scale each tracker's final estimate
 carried back is off (``track_range_scale_ln_rms``: what the depth likelihood's range-scale
-integral allows for, `tracker.depthlevels.RANGE_SCALE_SD`); each weighed method's track at the
+integral allows for, `tracker.depth.likelihood.RANGE_SCALE_SD`); each weighed method's track at the
 hypothesis nearest to the true depth (variant ``nearest``: the best any weighing of its
 hypotheses could pick; ``ratio_nearest_hypothesis_to_true_pooled``). The summary: medians of
 the position errors and their ratios, the 90 % intervals' coverage of the truth (target
@@ -62,10 +62,7 @@ from envdata.areafile import load_area
 from envdata.classes import SourceLevelModel
 from envdata.files import atomic_paths
 from tools.studies.depthcheck import table_check
-from tracker.depthlevels import TrackDepthLikelihood, line_back
-from tracker.depthpost import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
-from tracker.mltma import MLBatch
-from tracker.mltma.depths import (
+from tracker.depth.bank import (
     TRACK_RULES,
     bearing_fit,
     depth_hypotheses_m,
@@ -74,6 +71,9 @@ from tracker.mltma.depths import (
     owners,
     picked_hypothesis,
 )
+from tracker.depth.likelihood import TrackDepthLikelihood, line_back
+from tracker.depth.posterior import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
+from tracker.mltma import MLBatch
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
@@ -93,7 +93,7 @@ METHODS = ("rpf", "ml")
 #: along each one's track; the ML analysis over its hypotheses.
 UNKNOWN = {"rpf": ("bank",), "ml": ("unknown",)}
 #: How each method weighing depth hypotheses picks the track it reports each cycle
-#: (`tracker.mltma.depths.TRACK_RULES`, as `tmakit track` does); the other rule's figures are
+#: (`tracker.depth.bank.TRACK_RULES`, as `tmakit track` does); the other rule's figures are
 #: kept as variant ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the
 #: weight alone).
 TRACK_RULE = {"rpf": "bearings", "ml": "weight"}
@@ -175,7 +175,7 @@ def _polar(sim, pos):
 
 def _carried_back(sim, pos):
     """Range and bearing of the final estimates (..., T, 4) carried back over the run
-    (`tracker.depthlevels.line_back`), (..., T) each."""
+    (`tracker.depth.likelihood.line_back`), (..., T) each."""
     x, y = line_back(sim.t_s, pos[..., 0], pos[..., 1], pos[..., 2], pos[..., 3])
     return _polar(sim, np.stack([x, y], axis=-1))
 
@@ -232,7 +232,7 @@ def _weighed(sim, pos_z, z, like):
     """Each cycle's position among the hypotheses' (H, E, T, 4) by each rule of `TRACK_RULES`,
     {rule: (E, T, 4)}; the final posterior (E, D) and the hypotheses' final weights (E, H). The
     weights are each hypothesis's posterior mass along the final estimates carried back
-    (`tracker.mltma.depths.depth_posterior`)."""
+    (`tracker.depth.bank.depth_posterior`)."""
     r, b = _carried_back(sim, pos_z)
     post, own = depth_posterior(like, z, DEPTH_SPAN_M, sim.t_s, r, b, sim.level_db, sim.snr_db,
                                 sim.obs_x_m, sim.obs_y_m)                                   # weight (E, T, D)
@@ -253,7 +253,7 @@ def _range_scale(sim, pos, late) -> np.ndarray:
 
 
 def _track_posterior(sim, pos, like, polar=None) -> DepthPosterior:
-    """`tracker.depthpost`'s posterior after the last cycle along positions (E, T, 2+) (or a
+    """`tracker.depth.errors`'s posterior after the last cycle along positions (E, T, 2+) (or a
     given range and bearing)."""
     z = depth_grid_m(like.tables.depth_m, DEPTH_SPAN_M)
     r, b = _polar(sim, pos) if polar is None else polar
@@ -470,7 +470,7 @@ def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, t
 
 def _scale_rms(pos: pd.DataFrame) -> dict:
     """Per tracker (method_variant), the RMS over all runs of `_range_scale`: how far in range
-    scale the tracks a depth posterior reads are off (`tracker.depthlevels`'s range-scale sd)."""
+    scale the tracks a depth posterior reads are off (`tracker.depth.likelihood`'s range-scale sd)."""
     g = pos.groupby(["method", "variant"])["range_scale_ln"]
     return {f"{m}_{v}": round(float(np.sqrt(np.nanmean(x ** 2))), 3) for (m, v), x in g}
 

@@ -1,5 +1,5 @@
 """The depth study's check of the tables against BELLHOP run from the target, where nothing
-else differs (no motion, no tracker): what `tracker.depthpost.LevelErrors` takes its sds and
+else differs (no motion, no tracker): what `tracker.depth.errors.LevelErrors` takes its sds and
 their growth with the observer's distance from (docs/depth.md, `tools.studies.depth`)."""
 
 from __future__ import annotations
@@ -8,10 +8,10 @@ import math
 
 import numpy as np
 
-from tracker.depthlevels import TrackDepthLikelihood
+from tracker.depth.likelihood import TrackDepthLikelihood
 from tracker.simulate import TruePaths
 
-#: The tables against BELLHOP from the target (``tracker.depthpost.LevelErrors`` takes its fine
+#: The tables against BELLHOP from the target (``tracker.depth.errors.LevelErrors`` takes its fine
 #: sds and their growth from it): observers at the grid's origin and away from it (x east, y north,
 #: m; the origin's tables read from there, as a moving observer reads them), each with targets on
 #: one bearing (deg; 150 is a radial, 165 halfway between two) at these ranges (m) and depths (m).

@@ -51,16 +51,16 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         (sigma_theta where blank: its median).
     depth_unknown : bool
         The target's depth unknown: a bank of filters, one per depth hypothesis of the class's
-        ``depth_range_m`` (else the water the tables hold; `tracker.mltma.depths.depth_hypotheses_m`),
+        ``depth_range_m`` (else the water the tables hold; `tracker.depth.bank.depth_hypotheses_m`),
         each with K at its depth; each cycle's row is that of the hypothesis of the largest
         posterior weight times the bearings' fit along its track, and ``depth_m`` and
         ``depth_sd_m`` the median and sd of the depth posterior from the levels of every band
         (``band`` given: its levels alone) along the tracks
-        (`tracker.mltma.depths.weigh_tracks`, taken every few cycles). Measured in
+        (`tracker.depth.bank.weigh_tracks`, taken every few cycles). Measured in
         docs/depth.md: 1.08x the position error of a filter given the true depth, where the
         filter with the depth as a state (retired: its own depth was confidently wrong) was at
         1.82x. ``DataFrame.attrs["depth"]`` holds each class's final
-        posterior (`tracker.mltma.depths.DepthChoice`). Needs levels (``rpf``, ``rpf-vp``).
+        posterior (`tracker.depth.bank.DepthChoice`). Needs levels (``rpf``, ``rpf-vp``).
         Otherwise the depth columns are blank here (``tracker.track.track`` fills in the depth
         the tables assume).
     integrate_errors : bool
@@ -85,9 +85,9 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
 
     from acoustics.errors import GridFileError
     from envdata.classes import SourceLevelModel
+    from tracker.depth.bank import depth_hypotheses_m, weigh_tracks
     from tracker.errors import MeasurementFileError
     from tracker.levels import MEASUREMENT_SD_DB, LevelErrors
-    from tracker.mltma.depths import depth_hypotheses_m, weigh_tracks
 
     m = measurements
     chosen = method

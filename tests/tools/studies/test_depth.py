@@ -39,7 +39,7 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
     # offset, a known offset per band and a known ripple along range common to the bands: the
     # check gives each back, and nothing as the bands' own part
     from acoustics.grid.opentables import open_tables
-    from tracker.depthlevels import TrackDepthLikelihood
+    from tracker.depth.likelihood import TrackDepthLikelihood
 
     tables = open_tables(tiny_depth_grid_file)
     ic = tables.class_index("SUB")
@@ -79,19 +79,19 @@ def test_the_tables_check_splits_the_difference_into_its_parts(tiny_depth_grid_f
 
 
 def test_the_likelihoods_errors_are_those_the_study_recorded():
-    # tracker.depthpost.LevelErrors's defaults are the fit the depth study's check of the tables
+    # tracker.depth.errors.LevelErrors's defaults are the fit the depth study's check of the tables
     # against BELLHOP from the target wrote to docs/results/depth/depth.json
     import json
     from pathlib import Path
 
-    from tracker.depthpost import LevelErrors
+    from tracker.depth.errors import LevelErrors
 
     result = Path(__file__).resolve().parents[3] / "docs" / "results" / "depth" / "depth.json"
     fit = json.loads(result.read_text())["tables_vs_bellhop_from_target_db"]["fit"]
     e = LevelErrors(offset_sd_db=1.0)
     assert (e.fine_sd_db, e.fine_band_sd_db) == (fit["fine_sd_db"], fit["fine_band_sd_db"])
     # the likelihood's range-scale spread is no wider than any tracker's tracks are off by
-    from tracker.depthlevels import RANGE_SCALE_SD
+    from tracker.depth.likelihood import RANGE_SCALE_SD
 
     scales = json.loads(result.read_text())["track_range_scale_ln_rms"]
     assert 0.0 < RANGE_SCALE_SD <= min(scales.values())

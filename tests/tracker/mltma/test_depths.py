@@ -7,8 +7,8 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
+from tracker.depth.bank import _carried_back, bearing_fit
 from tracker.measurements import Measurements
-from tracker.mltma.depths import _carried_back, bearing_fit
 
 
 def _measurements(n: int) -> Measurements:
@@ -71,7 +71,7 @@ def test_the_bearings_fit_prefers_the_track_they_lie_on():
 
 
 def test_an_unknown_track_rule_is_refused():
-    from tracker.mltma.depths import weigh_tracks
+    from tracker.depth.bank import weigh_tracks
 
     with pytest.raises(ValueError, match="rule must be one of weight, bearings"):
         weigh_tracks(None, 0, _measurements(3), [], [], (0.0, 1.0), rule="nearest")

@@ -9,13 +9,14 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.stats import multivariate_normal
 
-from tracker.depthpost import SUBMERGED_MIN_M, SURFACE_MAX_M, LevelErrors, log_marginal, posterior
+from tracker.depth.errors import LevelErrors, log_marginal
+from tracker.depth.posterior import SUBMERGED_MIN_M, SURFACE_MAX_M, posterior
 
 ERR = LevelErrors(offset_sd_db=3.0)
 
 
 def _covariance(idx, t_s, v, err):
-    """The levels' covariance the model says, term by term (module docstring of depthpost)."""
+    """The levels' covariance the model says, term by term (module docstring of tracker.depth.errors)."""
     n = len(idx)
     c = np.zeros((n, n))
     for a, (t, m) in enumerate(idx):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tracker.kstructure import RangeSmoothing, smoothed_k
+from tracker.depth.kstructure import RangeSmoothing, smoothed_k
 
 
 def test_a_straight_k_is_kept_and_a_ripple_becomes_its_mean_and_spread():

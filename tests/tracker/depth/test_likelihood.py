@@ -1,4 +1,4 @@
-"""The depth likelihood read from the tables along a track (`tracker.depthlevels`)."""
+"""The depth likelihood read from the tables along a track (`tracker.depth.likelihood`)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tracker.depthlevels import RANGE_SCALE_SD, TrackDepthLikelihood
+from tracker.depth.likelihood import RANGE_SCALE_SD, TrackDepthLikelihood
 
 pytestmark = pytest.mark.bellhop
 SPAN_M = (2.0, 300.0)
@@ -104,7 +104,7 @@ def test_a_depth_below_the_bottom_along_the_track_is_ruled_out(setting):
     first_dry = int(np.flatnonzero(r > wet[wet < 4500.0].max())[0])   # K linear between range nodes
     assert np.all(np.isneginf(ll[deep, first_dry:])) and np.all(np.isfinite(ll[deep, :first_dry]))
     assert np.all(np.isfinite(ll[~deep]))
-    from tracker.depthpost import posterior
+    from tracker.depth.posterior import posterior
 
     post = posterior(z, ll[:, -1], SPAN_M)
     assert np.all(post.weight[deep] == 0.0) and np.isclose(post.weight.sum(), 1.0)

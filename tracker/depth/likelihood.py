@@ -1,11 +1,11 @@
-"""ln L of depth from the levels of every band along a track (`tracker.depthpost`'s model),
+"""ln L of depth from the levels of every band along a track (`tracker.depth.errors`'s model),
 read from the tables: `TrackDepthLikelihood`.
 
 For each band the table of K against target depth and range (``Tables.target_depth_k``,
 per radial) is taken on the rows of the depth axis the span needs and averaged over the track's
-range uncertainty (`tracker.kstructure`, `K_SMOOTHING`), once. Along a track (the target's
+range uncertainty (`tracker.depth.kstructure`, `K_SMOOTHING`), once. Along a track (the target's
 estimated positions from the observer) the residuals W - (P0 + K_s + G) and eq. 11's
-sigma_dW^2 at each depth asked for go to `tracker.depthpost.log_marginal`.
+sigma_dW^2 at each depth asked for go to `tracker.depth.errors.log_marginal`.
 
 The track should be a smoothed one: the final estimate of a tracker's motion carried back over
 the cycles of its tack (`line_back`), not each cycle's causal estimate, whose early cycles are
@@ -20,8 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from acoustics.grid.targetdepth import TargetDepthK
-from tracker.depthpost import LevelErrors, log_marginal
-from tracker.kstructure import RangeSmoothing, smoothed_k
+from tracker.depth.errors import LevelErrors, log_marginal
+from tracker.depth.kstructure import RangeSmoothing, smoothed_k
 from tracker.mltma import measurement_sd
 
 #: The range uncertainty K is averaged over along an estimated track.
