@@ -29,7 +29,7 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
                         "shelf: runs (100); depth: runs (24); follow: runs (10); kerror: runs (48)")
     p.add_argument("--grid", metavar="FILE",
                    help="propagation grid of the scenario's area (idm: built from munk-1000 if not given; "
-                        "kerror: the grid a sensitivity study wrote its k_error_sd_db into)")
+                        "kerror: the area's bearing-dependent grid)")
     p.add_argument("--study", dest="sensitivity_study", metavar="FILE",
                    help="kerror: the sensitivity study file (tmakit sensitivity)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -163,8 +163,8 @@ def _run_kerror(args) -> Report:
     if args.level_sigma_db is not None:
         raise InputError("--level-sigma-db: the kerror study takes sigma_l from eq. 11 and the K error")
     if args.grid is None or args.sensitivity_study is None:
-        raise InputError("--grid, --study: the kerror study needs the grid a sensitivity study wrote its "
-                         "k_error_sd_db into (tmakit sensitivity shelf-break --into GRID) and that study's file")
+        raise InputError("--grid, --study: the kerror study needs the area's bearing-dependent grid and a "
+                         "sensitivity study's file (tmakit sensitivity shelf-break --out STUDY)")
     if args.scenario != kerror.SCENARIO:
         raise InputError(f"kerror: the study is written for scenario {kerror.SCENARIO!r}, got {args.scenario!r}")
     from tracker.scenario import load_scenario

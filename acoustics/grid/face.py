@@ -186,6 +186,13 @@ class Tables(ABC):
         """How far observer positions (x east, y north of the origin, m) go from the origin the
         tables are computed from (the largest distance); None where the tables hold everywhere."""
 
+    def as_everywhere(self) -> Tables:
+        """These tables read as if they had been computed wherever the observer is: a sea that
+        moves with the observer (a study's member: the simulator reads it from the observer too),
+        so that no error grows with the observer's distance from their origin. Tables that hold
+        everywhere already are returned as they are."""
+        return self
+
     def distance_from_origin_m(self, x_m, y_m) -> np.ndarray | None:
         """Each observer position's distance from where the tables were computed, m (x east, y
         north of the origin); None for tables that hold everywhere (a flat area's, an atlas's)."""

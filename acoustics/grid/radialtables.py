@@ -4,7 +4,7 @@ from the positions around it (``acoustics.grid.atlas.follow``)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -28,6 +28,9 @@ class RadialTables(Tables):
         Tables mixed from others (an atlas's at a position): the weights and TL slabs (C, M, N,
         D, R) of the tables mixed, ``tl_db`` None; the weighted TL is formed the first time it
         is asked for (K at another target depth), never for K alone.
+    everywhere : bool
+        Read as if computed wherever the observer is (`Tables.as_everywhere`): no distance from
+        the origin.
     """
 
     bearing_deg: np.ndarray
@@ -35,6 +38,7 @@ class RadialTables(Tables):
     origin_lat_deg: float
     origin_lon_deg: float
     tl_parts: tuple = ()
+    everywhere: bool = False
     _depth_role = "observer"
 
     @property
@@ -119,7 +123,12 @@ class RadialTables(Tables):
                 "beyond_land_fraction": float(np.mean(np.isnan(bottom))),
                 "k_typical": "median over bearings"}
 
+    def as_everywhere(self) -> RadialTables:
+        return replace(self, everywhere=True, _cache={})
+
     def observer_offset(self, x_m, y_m) -> OriginOffset | None:
+        if self.everywhere:
+            return None
         away = np.hypot(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
         return OriginOffset(distance_m=float(np.max(away)) if away.size else 0.0,
                             origin_lat_deg=self.origin_lat_deg, origin_lon_deg=self.origin_lon_deg)

@@ -195,11 +195,13 @@ def test_a_bearing_dependent_study_end_to_end_feeds_the_grid(capsys, tmp_path, t
     assert study["k_db"].dims == ("member", "class", "band", "bearing", "range")
     assert study["front_north_km"].values.tolist() == [3.0, 3.0, 3.0]  # a what-if: no draw
     tables = acoustics.open_tables(grid)
-    assert tables.has_k_error_map
-    # the grid now carries the study's rms dK per bearing and range, read where it is asked
-    rms = study["k_rms_db"].sel({"class": "SW", "band": "FB2", "bearing": 180.0}).values
-    got = tables.k_error_sd_at(tables.class_index("SW"), np.array([4000.0]), np.array([180.0]))[0, 1]
-    assert abs(got - rms[np.argmin(np.abs(study["range"].values - 4000.0))]) < 1e-9
+    assert tables.k_error_measured is not None and not tables.has_k_error_map
+    # the grid now carries K's error model the members measure, read at the bearing asked: the
+    # offset on radial 180 deg is the rms over members of each member's range-mean dK there
+    dk = (study["k_db"] - study["k_nominal_db"]).sel({"class": "SW", "band": "FB2", "bearing": 180.0})
+    offset_rms = float(np.sqrt(np.nanmean(dk.mean("range", skipna=True).values ** 2)))
+    model = tables.k_error_model(tables.class_index("SW"), bearing_deg=180.0)
+    assert abs(model.offset_sd_db[1] - offset_rms) < 1e-9
 
 
 @pytest.mark.bellhop

@@ -108,3 +108,13 @@ def test_the_members_model_is_measured():
     assert_allclose(lengths[0], length, rtol=0.1)
     assert abs(corr[0] - 0.5) < 0.1
     assert set(MODEL_VARS) == {"k_offset_sd_db", "k_residual_sd_db", "k_residual_length_m", "k_offset_band_correlation"}
+
+
+def test_tables_read_everywhere_do_not_grow_their_error(tiny_radial_tables):
+    # a study's member is a sea computed where the observer starts and read from the observer
+    # wherever it goes: the trackers read the nominal tables alike, with no distance to grow by
+    anywhere = tiny_radial_tables.as_everywhere()
+    assert anywhere.distance_from_origin_m([3000.0], [4000.0]) is None
+    assert anywhere.k_error_model(0).offset_growth_db_per_km == 0.0
+    assert tiny_radial_tables.distance_from_origin_m([3000.0], [4000.0])[0] == 5000.0
+    np.testing.assert_array_equal(anywhere.k_grid_db, tiny_radial_tables.k_grid_db)

@@ -21,3 +21,22 @@ def test_the_kerror_study_refuses_what_it_cannot_run(args, message, tmp_path, ca
     assert cli.main(["experiment", *args, "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and re.search(message, err), err
+
+
+def test_the_halves_and_the_one_number(tiny_radial_tables):
+    # the study's pieces on a tiny radial grid: the one number as a model (no residual of its own,
+    # the tables' beside it), a member's sea (the nominal grid with the member's K, no model)
+    import numpy as np
+
+    import acoustics
+    from acoustics.grid.dataset import with_k_error_model
+    from acoustics.grid.kerror import TABLE_RESIDUAL_SD_DB
+    from tools.studies import kerror
+
+    one = acoustics.open_tables(with_k_error_model(tiny_radial_tables.dataset,
+                                                   kerror._scalar_model(tiny_radial_tables, 4.2), "t"))
+    model = one.as_everywhere().k_error_model(0, bearing_deg=30.0)
+    assert model.offset_sd_db == (4.2,) * len(one.bands)
+    assert model.residual_sd_db == (TABLE_RESIDUAL_SD_DB,) * len(one.bands)
+    assert model.offset_growth_db_per_km == 0.0
+    assert np.isfinite(one.k_grid_db).any()
