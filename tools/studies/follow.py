@@ -3,16 +3,19 @@
 An observer crosses the shelf-break slope (scenario ``shelf-cross``); the measurements are
 simulated with K from BELLHOP along each cycle's true target-to-observer geodesic
 (``acoustics.builder.truthk``: no reciprocity, no grid, no interpolation), and, for reference,
-from the 5 km atlas's own tables. Each set is tracked by the ML analysis (true class; with the
-manoeuvre tests of ``tracker.mltma.maneuver`` as now, and as the paper writes them) and the
-particle filter (bearings and SPL) with three sets of tables:
+from the 5 km atlas's own tables; each run's target drawn from its class
+(`tools.studies.calibration.class_draws`: speed on five nodes, P0 and dK). Each set is tracked by
+the ML analysis (true class; with the manoeuvre tests of ``tracker.mltma.maneuver`` as now, and
+as the paper writes them), the particle filter (bearings and SPL, the levels' lasting errors
+integrated out, `tracker.levels`) and the filter on bearings alone, with three sets of tables:
 
 - ``origin``: the built-in shelf-break grid, centred where the observer starts;
 - ``atlas-10km``, ``atlas-5km``: the area's atlas (``shelf-break-atlas``) at two spacings,
   the tables following the observer.
 
 Position RMSE against time over the runs, the manoeuvres the ML analysis declares (the target
-never manoeuvres), and the truth's levels against the tables' along the path.
+never manoeuvres), the truth's levels against the tables' along the path, and each tracker's
+stated sds against the truth after `LATE_MIN` (`tools.studies.calibration`).
 """
 
 from __future__ import annotations
@@ -32,7 +35,9 @@ from acoustics.grid.formats import RESULT_FORMAT
 from acoustics.grid.opentables import open_tables
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
-from tools.studies.trackerrors import ml_errors, rpf_errors
+from tools.studies.calibration import class_draws
+from tools.studies.trackerrors import LEVEL_SD_DB, ml_errors, ml_track, rpf_config, rpf_track
+from tracker.levels import LevelErrors
 from tracker.mltma import MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import TruePaths, simulate_batch, tables_k
@@ -142,26 +147,37 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     band = 0  # FB1, the band heard farthest
     truth = BellhopTruth(load_area(AREA), cache_dir=out / "grids" / "truth-runs", workers=workers)
     t0 = time.perf_counter()
-    sims = {"bellhop": simulate_batch(sc, tables["origin"], np.random.default_rng([seed, 0]),
-                                      dk_db=np.zeros(runs), k_provider=truth)}
+    draws = class_draws(sc, tables["origin"].classes[ic], runs, np.random.default_rng([seed, 2]))
+    sims = {"bellhop": simulate_batch(sc, tables["origin"], np.random.default_rng([seed, 0]), **draws,
+                                      k_provider=truth)}
     truth_seconds = time.perf_counter() - t0
-    sims["tables"] = simulate_batch(sc, tables["atlas-5km"], np.random.default_rng([seed, 0]), dk_db=np.zeros(runs))
+    sims["tables"] = simulate_batch(sc, tables["atlas-5km"], np.random.default_rng([seed, 0]), **draws)
     minutes = (sims["bellhop"].t_s - sims["bellhop"].t_s[0]) / 60.0
     frame = pd.DataFrame({"t_min": minutes})
-    rmse, tacks, level_ranges = {}, {}, {}
+    rmse, tacks, level_ranges, calibration = {}, {}, {}, {}
+    late = minutes >= LATE_MIN
     for truth_name, sim in sims.items():
         for name, tab in tables.items():
             for label, params in (("ml", MLParams()), ("ml-paper", MLParams(maneuver_curved=False,
                                                                               level_vs_k=False))):
                 record = {} if (label, truth_name) == ("ml", "bellhop") else None
-                err, tk = ml_errors(tab, sim, ic, params, record=record)
+                tr = ml_track(tab, sim, ic, params, record=record)
+                err, tk = tr.position_error_m(sim), tr.tacks
                 if record is not None:
                     level_ranges[name] = level_range_by_time(record, sim.range_m, minutes)
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
                 tacks[f"{label}_{name}_{truth_name}"] = {"mean_manoeuvres": float(np.mean(tk - 1)),
                                                          "runs_with_any": int(np.sum(tk > 1))}
-            err = rpf_errors(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles)
-            frame[f"rpf_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
+                calibration[f"{label}_{name}_{truth_name}"] = tr.calibration(sim, late)
+            target = tab.classes[ic]
+            errors = LevelErrors.of_tables(tab, ic, [band], source_sd_db=target.noise_sd_db)
+            for label, kw in (("rpf", {"config": rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
+                                       "level_errors": errors}),
+                              ("bot", {"bearings_only": True})):
+                tr = rpf_track(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles, **kw)
+                err = tr.position_error_m(sim)
+                frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
+                calibration[f"{label}_{name}_{truth_name}"] = tr.calibration(sim, late)
     for col in frame.columns[1:]:
         rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}
     diff = sims["bellhop"].level_true_db[0, :, band] - sims["tables"].level_true_db[0, :, band]
@@ -181,7 +197,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                "rmse_m": rmse, "mean_rmse_after_10min_m": {
                    col.removesuffix("_rmse_m"): _rms(frame[col].to_numpy()[minutes >= LATE_MIN])
                    for col in frame.columns[1:]},
-               "ml_manoeuvres_declared": tacks, "seconds": round(time.perf_counter() - start, 1)}
+               "ml_manoeuvres_declared": tacks, "late_min": LATE_MIN,
+               "calibration_after_late_min": calibration, "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "follow_rmse.csv", out / "follow.json", out / "follow_rmse.png"]
     fig = _figure(frame, summary)
     from acoustics.plots.figures import save_figure
@@ -227,11 +244,15 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
             tables[f"{name} {label[ratio]}"] = tab
     scores, k_error, pooled = {}, {}, {}
     for seed in seeds:
-        sim = simulate_batch(sc, origin, np.random.default_rng([seed, 0]), dk_db=np.zeros(runs), k_provider=truth)
+        draws = class_draws(sc, origin.classes[ic], runs, np.random.default_rng([seed, 2]))
+        sim = simulate_batch(sc, origin, np.random.default_rng([seed, 0]), **draws, k_provider=truth)
         late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
         for name, tab in tables.items():
+            errors = LevelErrors.of_tables(tab, ic, [0], source_sd_db=tab.classes[ic].noise_sd_db)
             errs = {"ml": ml_errors(tab, sim, ic, MLParams())[0],
-                    "rpf": rpf_errors(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles)}
+                    "rpf": rpf_track(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles,
+                                     config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
+                                     level_errors=errors).position_error_m(sim)}
             for method, err in errs.items():
                 pooled.setdefault(f"{method} {name}", []).append(err[:, late])
                 rmse = np.sqrt(np.nanmean(err ** 2, axis=0))
