@@ -97,7 +97,8 @@ PAPER_PARAMS = MLParams(maneuver_curved=False, level_vs_k=False)
 
 def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     """Simulate and track one chunk of runs: squared errors and estimates (C, E, T) of course,
-    speed, range, the simulation, and the tack each row declared at each cycle (C, E, T)."""
+    speed, range, the simulation, the tack each row declared at each cycle (C, E, T), and each
+    estimate's error over the sd the tracker stated (C, E, T) of course, speed and range."""
     from acoustics import open_tables
 
     tables = open_tables(grid_path)
@@ -113,6 +114,7 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
     err = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     est = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     tacks = np.zeros((n_cls, e, t), dtype=int)
+    z = {k: np.zeros((n_cls, e, t)) for k in ("course", "speed", "range")}
     for i in range(t):
         rep = lambda a, i=i: np.repeat(a[:, i], n_cls, axis=0)  # noqa: E731
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
@@ -128,7 +130,11 @@ def run_chunk(grid_path: str, scenario: str, dv, dp, dk, seed, params=None):
         err["speed"][:, :, i] = (v - sim.speed_mps[None, :, i]) ** 2
         err["range"][:, :, i] = (r - sim.range_m[None, :, i]) ** 2
         tacks[:, :, i] = out["tack"].reshape(e, n_cls).T
-    return err, est, sim, tacks
+        with np.errstate(invalid="ignore", divide="ignore"):
+            z["course"][:, :, i] = wrap180(k - sim.course_deg[None, :, i]) / out["course_sd_deg"].reshape(e, n_cls).T
+            z["speed"][:, :, i] = (v - sim.speed_mps[None, :, i]) / out["speed_sd_mps"].reshape(e, n_cls).T
+            z["range"][:, :, i] = (r - sim.range_m[None, :, i]) / out["range_sd_m"].reshape(e, n_cls).T
+    return err, est, sim, tacks, z
 
 
 def manoeuvre_detection(tacks, true_tack, t_s, weights) -> list[dict]:
@@ -252,11 +258,14 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
     ic = names.index(sc.target_class)
     tacks = np.concatenate([r[3][ic] for r in results], axis=0)
     detection = manoeuvre_detection(tacks, sim0.tack, t_s, w)
+    zs = {k: np.concatenate([r[4][k][ic] for r in results], axis=0) for k in ("course", "speed", "range")}
+    calibration = weighted_calibration(zs, w, t_s, sim0.tack)
     elapsed = time.perf_counter() - t_start
     summary = {"scenario": sc.name, "true_class": sc.target_class, "runs": n_runs,
                "center": center,
                "cycles": len(t_s), "classes": names, "elapsed_s": elapsed,
                "steady_state": steady, "later_tacks": later, "manoeuvres": detection,
+               "calibration_after_late_min": calibration, "late_min": LATE_MIN,
                "rms_csv": str(out / "rms.csv")}
     try:
         from tools.studies.gm_plot import plot_experiment
@@ -289,8 +298,54 @@ def run(scenario: str, *, grid_path, n: int = 11, out_dir, seed: int = 0, worker
                      + f", missed in {item['missed_runs']} runs")
     lines.append(f"  {sc.target_class}: manoeuvres declared where there was none, per run: "
                  f"{sum(item['false_per_run'] for item in detection):.2f}")
+    cov = calibration["all"].get("range", {})
+    lines.append(f"  {sc.target_class}: 90 % range interval covers the truth in "
+                 f"{100 * cov.get('coverage_90', float('nan')):.0f} % of cycles after {LATE_MIN:g} min "
+                 f"(median |error| / sd {cov.get('median_abs_z', float('nan')):.2f}; calibrated: 90 %, 0.67)")
     summary["summary"] = "\n".join(lines)
     return summary
+
+
+#: The stated sds are checked from this minute on, min (DESIGN.md "K's error and stated
+#: uncertainty": every study after its first 10 minutes).
+LATE_MIN = 10.0
+
+
+def weighted_calibration(z: dict, weights, t_s, true_tack) -> dict:
+    """The true class's stated sds against the truth after `LATE_MIN`, each run weighted by its
+    design weight (eqs. 32-34: the class's distribution), over the whole run and per true tack:
+    the weighted share of cycles whose |error| / sd is within 1.645 (the 90 % interval's
+    coverage), the weighted median |error| / sd and the weighted mean of its square.
+
+    Parameters
+    ----------
+    z : dict of str to ndarray, shape (E, T)
+        Error over stated sd of course, speed and range (NaN: no estimate).
+    weights : ndarray, shape (E,)
+    t_s : ndarray, shape (T,)
+    true_tack : ndarray of int, shape (T,)
+    """
+    from tools.studies.calibration import Z90
+
+    late = (np.asarray(t_s) - t_s[0]) / 60.0 >= LATE_MIN
+    parts = {"all": late, **{f"tack_{k}": late & (np.asarray(true_tack) == k) for k in np.unique(true_tack)}}
+    out = {}
+    for name, cycles in parts.items():
+        item = {}
+        for key, v in z.items():
+            a = np.abs(v[:, cycles])
+            ww = np.broadcast_to(np.asarray(weights, dtype=float)[:, None], a.shape)
+            ok = np.isfinite(a)
+            if not ok.any():
+                continue
+            a, ww = a[ok], ww[ok]
+            order = np.argsort(a)
+            cum = np.cumsum(ww[order]) / ww.sum()
+            item[key] = {"coverage_90": round(float(np.sum(ww * (a <= Z90)) / ww.sum()), 4),
+                         "median_abs_z": round(float(a[order][np.searchsorted(cum, 0.5)]), 3),
+                         "mean_sq_z": round(float(np.sum(ww * a * a) / ww.sum()), 3)}
+        out[name] = item
+    return out
 
 
 def _later_tacks(df: pd.DataFrame, t_s, true_tack) -> list[dict]:

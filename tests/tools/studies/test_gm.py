@@ -45,6 +45,10 @@ def test_tv_30km_reduced_design_meets_the_paper(ocean_grid_file, tmp_path):
     assert tv["speed_rms_mps"] < s["NPS"]["speed_rms_mps"]
     assert (tmp_path / "rms.csv").exists() and (tmp_path / "rms.png").exists()
     assert sorted(Path(f).name for f in res["plots"]) == ["rms.png", "run.png"]
+    # the stated sds are checked after 10 min, over the run and per true tack
+    cal = res["calibration_after_late_min"]
+    assert set(cal) == {"all", "tack_1", "tack_2"}
+    assert all(0.0 <= cal["all"][q]["coverage_90"] <= 1.0 for q in ("course", "speed", "range"))
     assert (tmp_path / "run.png").stat().st_size > 10_000   # a drawn figure, not an empty one
 
 
@@ -140,3 +144,16 @@ def test_the_default_manoeuvre_tests_are_as_quick_as_the_papers(ocean_grid_file,
         paper, default = (res[k][tack] if tack == "steady_state" else res[k][tack][0] for k in ("paper", "default"))
         for key in ("course_rms_deg", "speed_rms_mps", "range_rms_m"):
             assert default["TV"][key] == pytest.approx(paper["TV"][key], rel=0.05)
+
+
+def test_weighted_calibration_counts_the_weighted_share_inside_the_interval():
+    import numpy as np
+
+    from tools.studies.gm import weighted_calibration
+
+    t = np.arange(0.0, 1800.0, 60.0)                     # 30 cycles, 10 min on from cycle 10
+    z = {"range": np.zeros((2, t.size)), "course": np.zeros((2, t.size)), "speed": np.zeros((2, t.size))}
+    z["range"][0] = 3.0                                   # run 0 always outside 1.645, run 1 inside
+    cal = weighted_calibration(z, np.array([1.0, 3.0]), t, np.ones(t.size, dtype=int))
+    assert cal["all"]["range"]["coverage_90"] == 0.75 and cal["all"]["range"]["median_abs_z"] == 0.0
+    assert cal["all"]["range"]["mean_sq_z"] == 2.25 and cal["tack_1"] == cal["all"]
