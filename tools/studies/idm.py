@@ -44,6 +44,8 @@ CHUNK_RUNS = 20
 SL_OFFSET_PRIOR_SD_DB = 6.0
 #: sigma_l of the filters' SPL likelihood in the paper, dB (its data have 4 dB).
 PAPER_LEVEL_SIGMA_DB = 10.0
+#: The particles' stated sds are checked from this minute on, min.
+LATE_MIN = 10.0
 
 
 def methods_for(scenario: IdmScenario) -> tuple[str, ...]:
@@ -88,7 +90,8 @@ def simulate(scenario: IdmScenario, k_profile, runs: int, rng: np.random.Generat
 
 
 def _chunk(args) -> dict[str, np.ndarray]:
-    """One chunk of runs: simulate, filter with every method, return position errors (m)."""
+    """One chunk of runs: simulate, filter with every method, return position errors (m) and each
+    estimate's error over the sd its particles state (range, course, speed)."""
     scenario, range_m, k_db, runs, seed_seq, n_particles, level_sigma_db = args
     from acoustics.grid.levelprofile import LevelProfile
 
@@ -103,11 +106,36 @@ def _chunk(args) -> dict[str, np.ndarray]:
         res = rpf.run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings,
                             level_db_meas=None if method == "rpf-bot" else levels,
                             k_profiles=[profile] * t.size,
-                            cfg=_config(method, n_particles, level_sigma_db), rng=rng)
+                            cfg=_config(method, n_particles, level_sigma_db), rng=rng, summaries=True)
         out[method] = np.hypot(res.mean[:, :, 0] - rel[None, :, 0],
                                res.mean[:, :, 1] - rel[None, :, 1])
         out[method + ":resampled"] = res.resampled.mean(axis=1)
+        out[method + ":z"] = _z_scores(res, rel, obs)
     return out
+
+
+def _z_scores(res, rel, obs) -> np.ndarray:
+    """Range, course and speed error over the sd the particles state, (3, runs, K)."""
+    from tools.studies.calibration import wrap_deg
+
+    mean, sd = res.mean, res.extra["sd"]
+    tvx, tvy = mean[..., 2] + obs[None, :, 2], mean[..., 3] + obs[None, :, 3]
+    true_v = rel[:, 2:4] + obs[:, 2:4]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.stack([
+            (np.hypot(mean[..., 0], mean[..., 1]) - np.hypot(rel[None, :, 0], rel[None, :, 1])) / sd[..., 0],
+            wrap_deg(np.degrees(np.arctan2(tvx, tvy) - np.arctan2(true_v[None, :, 0], true_v[None, :, 1])))
+            / sd[..., 1],
+            (np.hypot(tvx, tvy) - np.hypot(true_v[None, :, 0], true_v[None, :, 1])) / sd[..., 2]])
+
+
+def _calibration(z: np.ndarray, late) -> dict:
+    """Coverage of the 90 % intervals, median |z| and mean z^2 of range, course and speed after
+    the late cycles (`tools.studies.calibration`), from the z scores (3, runs, K)."""
+    from tools.studies.calibration import interval_calibration
+
+    return {name: interval_calibration(z[j][:, late], 1.0)
+            for j, name in enumerate(("range", "course", "speed"))}
 
 
 def _find_grid(grid):
@@ -202,6 +230,9 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
     err = {m: np.concatenate([r[m] for r in results]) for m in methods}
     resampled = {m: float(np.mean(np.concatenate([r[m + ":resampled"] for r in results])))
                  for m in methods}
+    late = t / 60.0 >= LATE_MIN
+    calibration = {_col(m): _calibration(np.concatenate([r[m + ":z"] for r in results], axis=1), late)
+                   for m in methods}
 
     obs = sc.observer_state(t)
     rel = sc.target_state(t) - obs
@@ -262,7 +293,8 @@ def run(scenario: str, *, runs: int, out_dir: Path, seed: int, progress: bool = 
         "final": {f"rmse_{_col(m)}_m": float(frame[f"rmse_{_col(m)}_m"].iloc[-1])
                   for m in methods} | {"crlb_bot_m": float(crlb[-1]),
                                        "crlb_spl_m": float(crlb_spl[-1])},
-        "resampled_fraction": resampled, "table1": table_rows, "files": files,
+        "resampled_fraction": resampled, "late_min": LATE_MIN, "calibration_after_late_min": calibration,
+        "table1": table_rows, "files": files,
         "elapsed_s": elapsed, "workers": workers,
         "particle_steps_per_s": particle_steps / elapsed,
     }

@@ -101,6 +101,10 @@ def test_spl_beats_bot_on_a_reduced_static_run(munk_grid, tmp_path):
     assert (tmp_path / "idm-static_rmse.png").read_bytes()[:4] == b"\x89PNG"
     assert json.loads((tmp_path / "idm-static.json").read_text())["runs"] == 12
     assert "idm-static" in out["summary"] and "BOT+SPL" in out["summary"]
+    # each filter's particle sds against the truth after 10 min: every cycle of every run counted
+    cal = out["calibration_after_late_min"]
+    assert set(cal) == {"bot", "spl", "spl_vp"}
+    assert all(cal[m][q]["cycles"] == 12 * 141 for m in cal for q in ("range", "course", "speed"))
 
 
 @pytest.mark.bellhop
