@@ -61,7 +61,26 @@ from acoustics.builder.gridfile import build_grid_file
 from envdata.areafile import load_area
 from envdata.classes import SourceLevelModel
 from envdata.files import atomic_paths
+from tools.studies.calibration import Z90
+from tools.studies.depth_setup import (  # noqa: F401  (the study's settings, named here too)
+    AREA,
+    CALIBRATION_MIN,
+    DEPTH_SPAN_M,
+    KNOWN,
+    LATE_MIN,
+    METHODS,
+    SCENARIO,
+    SCENARIOS,
+    TARGET_COVERAGE,
+    TARGET_RATIO,
+    TRACK_RULE,
+    TRUE_DEPTHS_M,
+    UNKNOWN,
+    VARIANTS,
+)
+from tools.studies.depth_summary import _mismatch_summary, _summary, _text
 from tools.studies.depthcheck import table_check
+from tools.studies.trackerrors import LEVEL_SD_DB, rpf_config
 from tracker.depth.bank import (
     TRACK_RULES,
     bearing_fit,
@@ -72,56 +91,24 @@ from tracker.depth.bank import (
     picked_hypothesis,
 )
 from tracker.depth.likelihood import TrackDepthLikelihood, line_back
-from tracker.depth.posterior import SUBMERGED_MIN_M, SURFACE_MAX_M, DepthPosterior, depth_grid_m, posterior
+from tracker.depth.posterior import (
+    DepthPosterior,
+    depth_grid_m,
+    posterior,
+)
+from tracker.levels import LevelErrors
 from tracker.mltma import MLBatch
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
-AREA = "shelf-break"
-#: The scenario the command names; the study runs `SCENARIOS`.
-SCENARIO = "shelf-nps"
-SCENARIOS = ("shelf-nps", "shelf-slope-nps")
-TRUE_DEPTHS_M = (6.0, 20.0, 40.0, 60.0, 100.0, 200.0)
-#: The span a submarine's depth is searched over, m (the depth_range_m a class would give).
-DEPTH_SPAN_M = (2.0, 300.0)
-VARIANTS = ("class", "true", "unknown")
-METHODS = ("rpf", "ml")
-#: Each method's ways of meeting the unknown depth besides the class's and the true one: a bank
-#: of particle filters at the ML analysis's depth hypotheses weighed by the depth posterior
-#: along each one's track; the ML analysis over its hypotheses.
-UNKNOWN = {"rpf": ("bank",), "ml": ("unknown",)}
-#: How each method weighing depth hypotheses picks the track it reports each cycle
-#: (`tracker.depth.bank.TRACK_RULES`, as `tmakit track` does); the other rule's figures are
-#: kept as variant ``<variant>_by_<rule>`` (the ML analysis by the bearings, the bank by the
-#: weight alone).
-TRACK_RULE = {"rpf": "bearings", "ml": "weight"}
-#: The rows of the depth posterior along the true track (the motion known): what the levels
-#: themselves say of the depth, whatever a tracker makes of the motion.
-KNOWN = "known_motion"
-#: The position error is taken from this many minutes after the first cycle.
-LATE_MIN = 5.0
-#: The filters carry the offset common to a run's levels (P0 and dK) as a state, sigma_l then
-#: eq. 11's per-cycle error and a margin for the K model, dB.
-LEVEL_SIGMA_DB = 1.5
-#: Targets of the issue: the 90 % interval covers the truth in this share of runs; the particle
-#: filter with the depth unknown within this factor of the filter given the true depth.
-TARGET_COVERAGE = 0.85
-TARGET_RATIO = 1.1
-
 
 def _rpf_config(tables, sim, ic: int, n_particles: int) -> RpfConfig:
     """The shelf study's settings (class speed statistics, a range prior around the first range
-    with 25 % sd, the variance-preserving regularization), and the errors that do not change
-    within a run (P0's sd and dK's) as the source-level offset state, leaving eq. 11's error
-    and a margin to sigma_l."""
-    target = tables.classes[ic]
-    r0 = float(np.mean(sim.range_m[:, 0]))
-    return RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
-                     level_sigma_db=LEVEL_SIGMA_DB, range_mean_m=r0, range_sd_m=0.25 * r0,
-                     speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True,
-                     sl_offset_sd_db=float(np.hypot(target.noise_sd_db, target.k_error_sd_db)))
+    with 25 % sd, the variance-preserving regularization), sigma_l eq. 11's error: the errors
+    that last along a run are integrated out (`tracker.levels`, `_rpf`)."""
+    return rpf_config(tables, sim, ic, n_particles, LEVEL_SD_DB)
 
 
 def _observer(sim) -> np.ndarray:
@@ -130,39 +117,46 @@ def _observer(sim) -> np.ndarray:
 
 
 def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particles: int):
-    """Positions and velocities (E, T, 4)."""
+    """Positions and velocities and the stated range sd (E, T, 5): the filter on the levels of
+    every band, their lasting errors integrated out (`tracker.levels.LevelErrors.of_tables`)."""
     e, t = sim.bearing_deg.shape
     obs = _observer(sim)
     cfg = _rpf_config(tables, sim, ic, n_particles)
     target = tables.classes[ic]
     view = tables.at_target_depth(true_depth_m) if variant == "true" else tables
     n_bands = len(tables.bands)
-    pos = np.empty((e, t, 4))
+    errors = LevelErrors.of_tables(view, ic, source_sd_db=target.noise_sd_db)
+    away = view.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m)
+    pos = np.empty((e, t, 5))
     for run in range(e):
         profiles = [cycle_profiles(view, ic, b, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
                     for b in range(n_bands)]
         res = run_batch(k_profiles=profiles, t_s=sim.t_s, obs_state=obs,
                         bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
+                        bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None],
                         level_db_meas=sim.level_db[run][None], cfg=cfg, rng=rng,
-                        source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db)
-        pos[run] = res.mean[0][:, :4] + obs
+                        source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, summaries=True,
+                        level_errors=errors, displacement_m=away)
+        pos[run, :, :4] = res.mean[0][:, :4] + obs
+        pos[run, :, 4] = res.extra["sd"][0][:, 0]
     return pos
 
 
 def _ml_positions(tables, sim, ic: int) -> np.ndarray:
-    """Positions and velocities of the ML analysis, every run and cycle, (E, T, 4)."""
+    """Positions and velocities of the ML analysis and its stated range sd, every run and cycle,
+    (E, T, 5)."""
     e, t = sim.bearing_deg.shape
     batch = MLBatch(tables, np.full(e, ic), t)
     vx = np.gradient(sim.obs_x_m, sim.t_s)
     vy = np.gradient(sim.obs_y_m, sim.t_s)
-    pos = np.full((e, t, 4), np.nan)
+    pos = np.full((e, t, 5), np.nan)
     for i in range(t):
         out = batch.update(sim.t_s[i], sim.obs_x_m[i], sim.obs_y_m[i], vx[i], vy[i],
                            sim.bearing_deg[:, i], sim.bearing_sigma_deg[:, i], sim.level_db[:, i, :],
                            sim.snr_db[:, i, :], obs_depth_m=sim.obs_depth_m)
         course = np.radians(out["course_deg"])
         pos[:, i] = np.stack([out["x_m"], out["y_m"], out["speed_mps"] * np.sin(course),
-                              out["speed_mps"] * np.cos(course)], axis=-1)
+                              out["speed_mps"] * np.cos(course), out["range_sd_m"]], axis=-1)
     return pos
 
 
@@ -221,11 +215,20 @@ def _nearest_rows(sim, hypotheses, z, z_true: float, late, base) -> list:
 
 
 def _position_rows(sim, pos, late, base) -> pd.DataFrame:
-    """Rows of positions (E, T, 2+) without a depth of their own: the RMS position error over the
-    ``late`` cycles and the range scale (`_range_scale`)."""
+    """Rows of positions (E, T, 5) without a depth of their own: the RMS position error over the
+    ``late`` cycles, the range scale (`_range_scale`), and how the stated range sd holds from
+    `CALIBRATION_MIN` on: the share of cycles whose 90 % range interval covers the truth and the
+    median |error| / sd."""
     err = np.hypot(pos[..., 0] - sim.x_m, pos[..., 1] - sim.y_m)
+    r, _ = _polar(sim, pos)
+    checked = (sim.t_s - sim.t_s[0]) / 60.0 >= CALIBRATION_MIN
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = np.abs(r - sim.range_m)[:, checked] / pos[..., 4][:, checked]
+        cover = np.nanmean(np.where(np.isfinite(z), z <= Z90, np.nan), axis=1)
+        z_med = np.nanmedian(z, axis=1)
     return pd.DataFrame({**base, "depth_from": "", "rms_error_m": np.sqrt(np.nanmean(err[:, late] ** 2, axis=1)),
-                         "range_scale_ln": _range_scale(sim, pos, late)})
+                         "range_scale_ln": _range_scale(sim, pos, late), "range_cover_90": cover,
+                         "range_abs_z_median": z_med})
 
 
 def _weighed(sim, pos_z, z, like):
@@ -276,17 +279,6 @@ def _k_mismatch(sim, like, z_true: float, scenario: str) -> pd.DataFrame:
     return pd.DataFrame({"scenario": scenario, "true_depth_m": z_true,
                          "band": np.tile(np.arange(k.shape[-1]), k.shape[0]),
                          "band_offset_db": band_mean.ravel(), "along_track_sd_db": along.ravel()})
-
-
-def _mismatch_summary(parts) -> dict:
-    """Per scenario and true depth: the median over runs and bands of the residual's sd along
-    the track, and the sd of the bands' offsets from the run's common one, dB."""
-    d = pd.concat(parts, ignore_index=True)
-    out = {}
-    for (sc, z), g in d.groupby(["scenario", "true_depth_m"]):
-        out.setdefault(sc, {})[f"{z:g}"] = {"along_track_sd_db": round(float(g["along_track_sd_db"].median()), 2),
-                                             "band_offset_sd_db": round(float(np.nanstd(g["band_offset_db"])), 2)}
-    return out
 
 
 def _depth_rows(post: DepthPosterior) -> dict:
@@ -390,106 +382,6 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     summary["files"] = [str(f) for f in files]
     summary["summary"] = _text(summary)
     return summary
-
-
-def _call_error(d: pd.DataFrame) -> dict:
-    """The surface-or-submerged call (surface where the posterior's mass at most 15 m deep
-    exceeds its mass at least 40 m deep) on the runs whose truth is one or the other."""
-    judged = d[(d["true_depth_m"] <= SURFACE_MAX_M) | (d["true_depth_m"] >= SUBMERGED_MIN_M)]
-    called_surface = judged["p_surface"] > judged["p_submerged"]
-    wrong = called_surface != (judged["true_depth_m"] <= SURFACE_MAX_M)
-    surface = judged["true_depth_m"] <= SURFACE_MAX_M
-    return {"runs": int(len(judged)), "error_rate": float(wrong.mean()) if len(judged) else None,
-            "error_rate_surface_targets": float(wrong[surface].mean()) if surface.any() else None,
-            "error_rate_submerged_targets": float(wrong[~surface].mean()) if (~surface).any() else None}
-
-
-def _depth_stats(d: pd.DataFrame) -> dict:
-    cover = (d["lo_m"] <= d["true_depth_m"]) & (d["true_depth_m"] <= d["hi_m"])
-    return {"coverage_90": float(cover.mean()), "median_width_m": float((d["hi_m"] - d["lo_m"]).median()),
-            "median_depth_m": float(d["depth_m"].median()),
-            "median_abs_error_m": float((d["depth_m"] - d["true_depth_m"]).abs().median())}
-
-
-def _summary(frame: pd.DataFrame, tables, ic: int, *, runs, seed, n_particles, truth, grid, provider) -> dict:
-    pos = frame[frame["method"] != KNOWN].drop_duplicates(["scenario", "true_depth_m", "run", "method", "variant"])
-    med = pos.groupby(["scenario", "true_depth_m", "method", "variant"])["rms_error_m"].median()
-    errors = {}
-    for (sc, z, method, variant), v in med.items():
-        errors.setdefault(sc, {}).setdefault(f"{z:g}", {})[f"{method}_{variant}"] = round(float(v), 1)
-    pooled = pos.groupby(["method", "variant"])["rms_error_m"].median()
-    unknown = [(m, u) for m in METHODS for u in UNKNOWN[m]]
-    ratios = {f"{m}_{u}": float(pooled[(m, u)] / pooled[(m, "true")]) for m, u in unknown}
-    nearest = {m: round(float(pooled[(m, "nearest")] / pooled[(m, "true")]), 3)
-               for m in METHODS if (m, "nearest") in pooled.index}
-    other_rule = {f"{m}_{v}": round(float(pooled[(m, v)] / pooled[(m, "true")]), 3)
-                  for m, v in pooled.index if "_by_" in v}
-    per_combo_ratio = {}
-    for sc, by_z in errors.items():
-        for z, v in by_z.items():
-            per_combo_ratio.setdefault(sc, {})[z] = {f"{m}_{u}": round(v[f"{m}_{u}"] / v[f"{m}_true"], 3)
-                                                     for m, u in unknown}
-    # the ratio of the medians over each scenario's runs (all depths)
-    by_sc = pos.groupby(["scenario", "method", "variant"])["rms_error_m"].median()
-    ratio_by_scenario = {sc: {f"{m}_{u}": round(float(by_sc[(sc, m, u)] / by_sc[(sc, m, "true")]), 3)
-                              for m, u in unknown} for sc in errors}
-    depth = frame[frame["variant"].isin(["unknown", "bank"])]
-    estimators = {}
-    for (method, variant, source), d in depth.groupby(["method", "variant", "depth_from"]):
-        key = f"{method}_bank" if variant == "bank" else f"{method}_{source}"
-        estimators[key] = {"all": _depth_stats(d), "surface_call": _call_error(d),
-                           "by_true_depth": {f"{z:g}": _depth_stats(g) for z, g in d.groupby("true_depth_m")},
-                           "by_scenario": {sc: _depth_stats(g) for sc, g in d.groupby("scenario")}}
-    wcols = [c for c in frame.columns if c.startswith("w_")]
-    weights = {}
-    for (method, variant, sc, z), g in depth[depth["depth_from"] == "posterior"].groupby(
-            ["method", "variant", "scenario", "true_depth_m"]):
-        key = f"{method}_bank" if variant == "bank" else method
-        weights.setdefault(key, {}).setdefault(sc, {})[f"{z:g}"] = {c[2:]: round(float(g[c].mean()), 3)
-                                                                    for c in wcols}
-    cls = tables.classes[ic]
-    out = {"area": AREA, "scenarios": sorted(frame["scenario"].unique().tolist()), "runs": runs, "seed": seed,
-           "n_particles": n_particles, "truth": truth, "class": cls.name, "class_depth_m": float(cls.depth_m),
-           "true_depths_m": sorted(float(z) for z in frame["true_depth_m"].unique()),
-           "depth_span_m": list(DEPTH_SPAN_M), "grid": str(grid),
-           "median_rms_error_m": errors, "median_rms_error_pooled_m": {f"{m}_{v}": round(float(x), 1)
-                                                                      for (m, v), x in pooled.items()},
-           "ratio_unknown_to_true_pooled": ratios, "ratio_unknown_to_true": per_combo_ratio,
-           "ratio_nearest_hypothesis_to_true_pooled": nearest,
-           "track_rule": TRACK_RULE, "ratio_other_track_rule_to_true_pooled": other_rule,
-           "ratio_unknown_to_true_by_scenario": ratio_by_scenario,
-           "target_ratio": TARGET_RATIO, "target_coverage": TARGET_COVERAGE, "depth_estimates": estimators,
-           "hypothesis_weights_mean": weights,
-           "track_range_scale_ln_rms": _scale_rms(pos),
-           "late_min": LATE_MIN}
-    if provider is not None:
-        out["truth_runs"] = int(provider.stats.runs)
-        out["truth_runs_cached"] = int(provider.stats.cached)
-    return out
-
-
-def _scale_rms(pos: pd.DataFrame) -> dict:
-    """Per tracker (method_variant), the RMS over all runs of `_range_scale`: how far in range
-    scale the tracks a depth posterior reads are off (`tracker.depth.likelihood`'s range-scale sd)."""
-    g = pos.groupby(["method", "variant"])["range_scale_ln"]
-    return {f"{m}_{v}": round(float(np.sqrt(np.nanmean(x ** 2))), 3) for (m, v), x in g}
-
-
-def _text(summary: dict) -> str:
-    lines = [f"depth study: {summary['runs']} runs of {', '.join(summary['scenarios'])} in {summary['area']} at "
-             f"{', '.join(f'{z:g}' for z in summary['true_depths_m'])} m (class {summary['class']} tables at "
-             f"{summary['class_depth_m']:g} m; levels from {summary['truth']}); median RMS position error after "
-             f"{summary['late_min']:g} min, all runs, m:"]
-    for key, v in summary["median_rms_error_pooled_m"].items():
-        lines.append(f"  {key:>12}: {v:8.0f}")
-    for m, ratio in summary["ratio_unknown_to_true_pooled"].items():
-        lines.append(f"  {m}: position error / given the true depth = {ratio:.2f} (target <= {TARGET_RATIO})")
-    for key, est in summary["depth_estimates"].items():
-        a, c = est["all"], est["surface_call"]
-        lines.append(f"  depth from {key}: 90 % interval covers the truth in {100 * a['coverage_90']:.0f} % of "
-                     f"runs (target >= {100 * TARGET_COVERAGE:.0f} %), median width {a['median_width_m']:.0f} m; "
-                     f"surface-or-submerged call wrong in {100 * (c['error_rate'] or 0):.1f} % of {c['runs']} runs")
-    return "\n".join(lines)
 
 
 def main(argv=None) -> int:

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 from numpy.testing import assert_allclose
 
-from tools.studies import depth, depthcheck
+from tools.studies import depth, depth_summary, depthcheck
 
 
 def _runs(truth, lo, hi, p_surface, p_submerged):
@@ -19,16 +19,19 @@ def _runs(truth, lo, hi, p_surface, p_submerged):
 def test_coverage_counts_the_runs_whose_interval_holds_the_truth():
     d = _runs([6.0, 60.0, 60.0, 200.0], [2.0, 10.0, 70.0, 150.0], [10.0, 300.0, 90.0, 250.0],
               [0.9, 0.1, 0.0, 0.0], [0.0, 0.8, 1.0, 1.0])
-    s = depth._depth_stats(d)
+    s = depth_summary._depth_stats(d)
     assert_allclose(s["coverage_90"], 0.75)
     assert_allclose(s["median_width_m"], np.median([8.0, 290.0, 20.0, 100.0]))
+    # the width against the prior's own 90 % interval over the span (uniform in ln(z + 1 m))
+    lo, hi = (math.exp(math.log(3.0) + q * math.log(301.0 / 3.0)) - 1.0 for q in (0.05, 0.95))
+    assert_allclose(s["median_width_over_prior"], round(np.median([8.0, 290.0, 20.0, 100.0]) / (hi - lo), 3))
 
 
 def test_the_call_is_judged_on_surface_and_submerged_targets_only():
     # 20 m is neither (15 < z < 40): not judged; a 6 m target called submerged is the one error
     d = _runs([6.0, 6.0, 20.0, 60.0, 100.0], [0.0] * 5, [1.0] * 5,
               [0.9, 0.2, 0.5, 0.1, 0.3], [0.05, 0.7, 0.5, 0.8, 0.6])
-    c = depth._call_error(d)
+    c = depth_summary._call_error(d)
     assert c["runs"] == 4
     assert_allclose([c["error_rate"], c["error_rate_surface_targets"], c["error_rate_submerged_targets"]],
                     [0.25, 0.5, 0.0])
