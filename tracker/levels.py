@@ -132,8 +132,9 @@ class LevelErrors:
         model = tables.k_error_model(ic)
         idx = list(range(len(model.offset_sd_db))) if bands is None else [int(b) for b in bands]
         rho = model.offset_band_correlation
-        off = float(np.median([model.offset_sd_db[b] for b in idx]))
-        res = float(np.median([model.residual_sd_db[b] for b in idx]))
+        read = idx or list(range(len(model.offset_sd_db)))  # no band given: no level to use it on
+        off = float(np.median([model.offset_sd_db[b] for b in read]))
+        res = float(np.median([model.residual_sd_db[b] for b in read]))
         return cls.tracking(offset_sd_db=math.hypot(source_sd_db, math.sqrt(rho) * off),
                             band_offset_sd_db=math.sqrt(1.0 - rho) * off,
                             residual_sd_db=math.sqrt(rho) * res, band_residual_sd_db=math.sqrt(1.0 - rho) * res,

@@ -9,10 +9,14 @@ of the area's origin (the local plane of the grid's area, docs/formats.md). The 
 for the bands the detection holds, P0 the class's level (its mean ``noise_mean_db``, or for a
 Ross class 170 + 53 lg(v / 5.14 m/s) at the state's own speed, eq. 12 of Iglesis & de Montella),
 K from the grid or atlas face (``acoustics.open_tables``; an atlas's tables where the observer
-is) at the observer's depth, H the sonar's receiver gain. The noise is Gaussian and independent:
-the bearing's sd, and per band sqrt(sd_P0^2 + sd_l^2 + sd_K(r)^2) -- the class's source-level
-sd, the level measurement's and the grid's ``k_error_sd_db`` at the state's range where it holds
-a measured map (else the class's one number). ``logpdf`` evaluates every particle at once.
+is) at the observer's depth, H the sonar's receiver gain. The noise is Gaussian: the bearing's
+sd, and between the bands the covariance of one cycle's level errors as the one level model has
+it (`tracker.levels.LevelErrors.of_tables`: the source level's sd and K's offset and residual,
+the part common to the bands correlated between them, each grown with the observer's distance
+from where tables of one position were computed) plus the level measurement's own variance on
+the diagonal. A Stone Soup filter counts each detection's errors anew: the offset that persists
+along a track is integrated out only by tmakit's own trackers (`tracker.levels`). ``logpdf``
+evaluates every particle at once.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from stonesoup.models.measurement.nonlinear import NonLinearGaussianMeasurement
 from stonesoup.types.array import CovarianceMatrix, StateVector, StateVectors
 
 from envdata.classes import SourceLevelModel, ross_source_level_db
+from tracker.levels import LevelErrors
 
 #: A state's position and velocity rows in Stone Soup's (x, vx, y, vy).
 X, VX, Y, VY = 0, 1, 2, 3
@@ -65,12 +70,19 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
     def __init__(self, *args, **kwargs):
         tables, ic = kwargs["tables"], kwargs["class_index"]
         cls = tables.classes[ic]
+        bands = list(kwargs["band_index"])
+        away = tables.distance_from_origin_m(kwargs["observer_x_m"], kwargs["observer_y_m"])
+        errors = LevelErrors.of_tables(tables, ic, bands, source_sd_db=cls.noise_sd_db)
+        level_cov = errors.cycle_covariance(len(bands), 0.0 if away is None else float(away))
+        level_cov = level_cov + kwargs["level_sd_db"] ** 2 * np.eye(len(bands))
         if kwargs.get("noise_covar") is None:  # Stone Soup checks it on construction
-            level_var = cls.noise_sd_db ** 2 + kwargs["level_sd_db"] ** 2 + float(cls.k_error_sd_db) ** 2
-            kwargs["noise_covar"] = CovarianceMatrix(np.diag(
-                [kwargs["bearing_sd_rad"] ** 2] + [level_var] * len(kwargs["band_index"])))
+            cov = np.zeros((1 + len(bands),) * 2)
+            cov[0, 0] = kwargs["bearing_sd_rad"] ** 2
+            cov[1:, 1:] = level_cov
+            kwargs["noise_covar"] = CovarianceMatrix(cov)
         super().__init__(*args, **kwargs)
         self._cls = cls
+        self._level_cov = level_cov
 
     @property
     def ndim_state(self) -> int:
@@ -79,9 +91,6 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
     @property
     def ndim_meas(self) -> int:
         return 1 + len(self.band_index)
-
-    def _level_var(self, k_sd_db) -> np.ndarray:
-        return self._cls.noise_sd_db ** 2 + self.level_sd_db ** 2 + np.asarray(k_sd_db, dtype=float) ** 2
 
     def _geometry(self, state_vector) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return geometry(state_vector, self.observer_x_m, self.observer_y_m)
@@ -109,24 +118,21 @@ class TablesMeasurementModel(NonLinearGaussianMeasurement):
 
     def logpdf(self, state1, state2, **kwargs) -> float | np.ndarray:
         """Log likelihood of the measurement ``state1`` for the states of ``state2`` (each particle),
-        the bearing residual wrapped to (-pi, pi], the level variance with K's error sd at the
-        state's range where the tables carry one."""
+        the bearing residual wrapped to (-pi, pi], the levels with their covariance between bands
+        (module docstring)."""
         z = np.asarray(state1.state_vector, dtype=float).ravel()
         sv = np.asarray(state2.state_vector, dtype=float).reshape(4, -1)
-        bearing, rng, _ = self._geometry(sv)
+        bearing, _, _ = self._geometry(sv)
         d_b = np.mod(z[0] - bearing + math.pi, 2.0 * math.pi) - math.pi
         out = -0.5 * (d_b ** 2 / self.bearing_sd_rad ** 2 + math.log(2.0 * math.pi * self.bearing_sd_rad ** 2))
         if len(self.band_index):
-            levels = self.levels_db(sv)
-            # the grid's measured K error sd at each state's range and bearing (its class's one
-            # number where it has none)
-            k_sd = np.atleast_2d(self.tables.k_error_sd_at(self.class_index, rng,
-                                                           bearing_deg=np.degrees(bearing) % 360.0))
-            var = self._level_var(k_sd[:, list(self.band_index)].T)
-            d_l = z[1:, None] - levels
+            d_l = z[1:, None] - self.levels_db(sv)
             # a state where the grid has no K (beyond land) explains no level
             d_l = np.where(np.isfinite(d_l), d_l, 1e3)
-            out = out - 0.5 * np.sum(d_l ** 2 / var + np.log(2.0 * math.pi * var), axis=0)
+            chol = np.linalg.cholesky(self._level_cov)
+            w = np.linalg.solve(chol, d_l)
+            logdet = 2.0 * float(np.log(np.diag(chol)).sum())
+            out = out - 0.5 * (np.sum(w * w, axis=0) + logdet + d_l.shape[0] * math.log(2.0 * math.pi))
         return out if out.size > 1 else float(out[0])
 
     def pdf(self, state1, state2, **kwargs):

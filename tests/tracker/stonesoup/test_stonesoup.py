@@ -97,8 +97,12 @@ def test_the_vectorised_likelihood_is_stone_soups_gaussian(tables):
     z = np.asarray(model.function(State(StateVector(np.asarray(near)[:, 0])))).ravel()
     z[0] = math.radians(359.5)
     ll = model.logpdf(Detection(StateVector(z), measurement_model=model), State(StateVector(np.asarray(near)[:, 0])))
+    # the levels exact: their term is the normal's at zero with the bands' covariance (one level model)
+    levels = np.asarray(model.covar())[1:, 1:]
     assert ll == pytest.approx(-0.5 * (1.0 / 1.5) ** 2 - 0.5 * math.log(2 * math.pi * math.radians(1.5) ** 2)
-                               + float(np.sum(-0.5 * np.log(2 * math.pi * np.diag(model.covar())[1:]))), abs=1e-6)
+                               - 0.5 * math.log(np.linalg.det(2 * math.pi * levels)), abs=1e-6)
+    # the bands' errors are correlated: the offset common to them (the class's K error and P0)
+    assert levels.shape == (1, 1) or levels[0, 1] > 0.5 * math.sqrt(levels[0, 0] * levels[1, 1])
 
 
 def test_the_detection_probability_is_the_detection_maps_rule(tables):
