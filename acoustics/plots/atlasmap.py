@@ -45,6 +45,28 @@ def coverage_values(store: AtlasStore, *, what: AtlasWhat, cls_name: str, band: 
     return out
 
 
+def draw_atlas_relief(ax, store: AtlasStore, *, colorbar: bool = True) -> None:
+    """The water depth where the atlas's radials sampled it (from the tables of the first month),
+    filled contours on latitude-longitude axes."""
+    lats, lons, depths = [], [], []
+    for o in range(store.lat_deg.size):
+        if not store.done[0, o]:
+            continue
+        bottom = store.slab(0, o)[2]
+        for j, bearing in enumerate(store.bearing_deg):
+            la, lo = geodesic_points(store.lat_deg[o], store.lon_deg[o], bearing, store.range_m)
+            lats.append(la)
+            lons.append(lo)
+            depths.append(bottom[j])
+    if lats:
+        la, lo, d = np.concatenate(lats), np.concatenate(lons), np.concatenate(depths)
+        wet = np.isfinite(d)
+        if wet.sum() >= 3:
+            cf = ax.tricontourf(lo[wet], la[wet], d[wet], levels=12, cmap="Blues")
+            if colorbar:
+                ax.figure.colorbar(cf, ax=ax, label="water depth, m", shrink=0.8)
+
+
 def coverage_figure(store: AtlasStore, *, what: AtlasWhat | str = AtlasWhat.DETECTION, cls_name: str | None = None,
                     band: str | None = None, month: int | None = None, range_m: float | None = None):
     """The coverage map (a ``Figure``). Raises InputError for a class, band or month not in the atlas."""
@@ -64,23 +86,7 @@ def coverage_figure(store: AtlasStore, *, what: AtlasWhat | str = AtlasWhat.DETE
     values = coverage_values(store, what=what, cls_name=cls_name, band=band, month=month, range_m=range_m)
     fig = new_figure(figsize=(7.5, 6.0), layout="constrained")
     ax = fig.add_subplot()
-    # the water depth where the atlas's radials sampled it, from the tables of the first month
-    lats, lons, depths = [], [], []
-    for o in range(store.lat_deg.size):
-        if not store.done[0, o]:
-            continue
-        bottom = store.slab(0, o)[2]
-        for j, bearing in enumerate(store.bearing_deg):
-            la, lo = geodesic_points(store.lat_deg[o], store.lon_deg[o], bearing, store.range_m)
-            lats.append(la)
-            lons.append(lo)
-            depths.append(bottom[j])
-    if lats:
-        la, lo, d = np.concatenate(lats), np.concatenate(lons), np.concatenate(depths)
-        wet = np.isfinite(d)
-        if wet.sum() >= 3:
-            cf = ax.tricontourf(lo[wet], la[wet], d[wet], levels=12, cmap="Blues")
-            fig.colorbar(cf, ax=ax, label="water depth, m", shrink=0.8)
+    draw_atlas_relief(ax, store)
     label = (f"median detection range of {cls_name} ({band or 'any band'}), km" if what is AtlasWhat.DETECTION
              else f"median K of {cls_name} in {band or store.band_names[0]} at {range_m / 1000:g} km, dB")
     sc = ax.scatter(store.lon_deg, store.lat_deg, c=values, s=120, cmap="viridis", edgecolors="k", zorder=3)
