@@ -106,9 +106,11 @@ def run_track(args) -> Report:
              f"  P(detected by the end), any band: {first['p_detected_by_end']:.3f}; "
              + (f"first detection, given one: {mean:.0f} s on average" if mean is not None else "no detection expected")
              + (f"; P_cum reaches 0.5 at {first['median_s']:g} s" if first["median_s"] is not None else "")]
-    for row in result.rows[:-1]:
+    for row in (*result.rows[:-1], "any_shared"):
         f = result.first[row]
-        lines.append(f"    {row}: P(detected by the end) {f['p_detected_by_end']:.3f}")
+        said = "any band, one offset shared by the bands" if row == "any_shared" else row
+        lines.append(f"    {said}: P(detected by the end) {f['p_detected_by_end']:.3f}"
+                     + (f", P_cum 0.5 at {f['median_s']:g} s" if f["median_s"] is not None else ""))
     if not path.observer_given and args.track is not None:
         lines.append("  note: the file gives no observer position (obs_x_m, obs_y_m): the observer is at the origin")
     lines.append("  sigma: " + result.sigma_source)

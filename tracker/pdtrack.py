@@ -14,8 +14,10 @@ level) and the level's sd split into its persistent and per-look parts
 
 per band: the persistent part (the target's source level, K's offset) drawn once per track, the
 per-look part independently at every look. Any band: 1 - prod over bands (1 - P_cum,band), the
-bands independent, offsets included. The expected time of the first detection is given for the
-tracks on which it comes (``acoustics.pd.first_detection_times``).
+bands independent, offsets included; beside it the bound of bands that share one offset (the
+source level is one number for all bands): the same integral over every look's every band
+(``any_shared``), never more than the independent bands' figure. The expected time of the first
+detection is given for the tracks on which it comes (``acoustics.pd.first_detection_times``).
 """
 
 from __future__ import annotations
@@ -48,7 +50,8 @@ ASSUMPTIONS = (
     "the persistent part (the target's source level, K's offset) drawn once per track: a target quieter than "
     "its class stays quieter",
     "the target at its class's mean level (a scenario's own noise_db is the simulator's truth, not a planner's)",
-    "any band: the bands independent of each other, their offsets too",
+    "any band: the bands independent of each other, their offsets too (any_shared: one offset for all bands, "
+    "the pessimistic bound)",
 )
 
 
@@ -192,8 +195,10 @@ class TrackPD:
         P_D of each look alone.
     cumulative : ndarray, shape (T, M + 1)
         P(detected at one of the looks so far).
+    cumulative_shared : ndarray, shape (T,)
+        P(detected in any band by then) with one offset shared by the bands (module docstring).
     first : dict
-        row -> ``acoustics.pd.first_detection_times``.
+        row -> ``acoustics.pd.first_detection_times`` (and ``"any_shared"``).
     look_s : float
         The time between looks, s (the sonar's integration time).
     sigma_source : str
@@ -205,6 +210,7 @@ class TrackPD:
     rows: tuple[str, ...]
     pd: np.ndarray
     cumulative: np.ndarray
+    cumulative_shared: np.ndarray
     first: dict
     look_s: float
     sigma_source: str
@@ -218,6 +224,7 @@ class TrackPD:
             out[f"pd_{row}"] = self.pd[:, i]
         for i, row in enumerate(self.rows):
             out[f"cum_pd_{row}"] = self.cumulative[:, i]
+        out["cum_pd_any_shared"] = self.cumulative_shared
         return out
 
 
@@ -265,10 +272,14 @@ def track_pd(tables: Tables, path: TrackPath, cls_name: str, *, override: SigmaO
                     for b in range(len(tables.bands))], axis=1)
     pd_all = np.concatenate([p_bands, any_band(p_bands, axis=1)[:, None]], axis=1)
     cum_all = np.concatenate([cum, any_band(cum, axis=1)[:, None]], axis=1)
+    # one offset for every band: the looks' bands in a row, one integral (every M-th value: a look's end)
+    m = len(tables.bands)
+    shared = cumulative_pd(excess.ravel(), sigma.persistent_db.ravel(), sigma.per_look_db.ravel())[m - 1::m]
     rows = (*tables.band_names, "any")
     first = {row: first_detection_times(looks.t_s, cum_all[:, i]) for i, row in enumerate(rows)}
+    first["any_shared"] = first_detection_times(looks.t_s, shared)
     return TrackPD(path=looks, range_m=rng, bearing_deg=bearing, rows=rows, pd=pd_all, cumulative=cum_all,
-                   first=first, look_s=look_s, sigma_source=sigma.source)
+                   cumulative_shared=shared, first=first, look_s=look_s, sigma_source=sigma.source)
 
 
 def _sigma_along(tables: Tables, ic: int, looks: TrackPath, rng: np.ndarray, bearing: np.ndarray, override):
@@ -284,7 +295,8 @@ def _sigma_along(tables: Tables, ic: int, looks: TrackPath, rng: np.ndarray, bea
 def track_pd_figure(result: TrackPD):
     """The cumulative P_D against time per band and any band, each look's own P_D, and the range.
 
-    Artists carry ``gid``s ``cum:ROW`` and ``look:ROW`` (minutes, P_D) and ``range`` (minutes, km).
+    Artists carry ``gid``s ``cum:ROW``, ``cum:any_shared`` and ``look:ROW`` (minutes, P_D) and
+    ``range`` (minutes, km).
     """
     import matplotlib
 
@@ -302,6 +314,9 @@ def track_pd_figure(result: TrackPD):
         line.set_gid(f"cum:{row}")
         look, = ax.plot(t_min, result.pd[:, i], color=color, lw=0.8, ls=":", alpha=0.8)
         look.set_gid(f"look:{row}")
+    shared, = ax.plot(t_min, result.cumulative_shared, color="k", lw=1.4, ls="--",
+                      label="any band, one offset shared by the bands")
+    shared.set_gid("cum:any_shared")
     first = result.first["any"]
     for key, level in (("median_s", 0.5), ("p90_s", 0.9)):
         if first[key] is not None:

@@ -201,7 +201,8 @@ def test_plan_track_from_a_scenario_and_from_its_truth(capsys, tmp_path, tiny_gr
                     tmp_path / "p.csv", "--plot", tmp_path / "p.png", "--look-sd-db", "1")
     table = pd.read_csv(tmp_path / "p.csv")
     assert list(table.columns) == ["t_s", "obs_x_m", "obs_y_m", "x_m", "y_m", "range_m", "bearing_deg", "pd_FB1",
-                                   "pd_F500", "pd_any", "cum_pd_FB1", "cum_pd_F500", "cum_pd_any"]
+                                   "pd_F500", "pd_any", "cum_pd_FB1", "cum_pd_F500", "cum_pd_any",
+                                   "cum_pd_any_shared"]
     assert len(table) == data["looks"] == 61 and data["class"] == "SUB" and png_size(tmp_path / "p.png")[0] > 800
     assert np.all(np.diff(table["cum_pd_any"]) >= 0.0) and table["cum_pd_any"].iloc[-1] > 0.9
     first = data["first_detection"]["any"]

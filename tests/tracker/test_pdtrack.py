@@ -58,6 +58,10 @@ def test_without_a_per_look_part_detection_by_t_is_the_best_look_so_far(flat):
     assert_allclose(result.cumulative[:, :2], normal_cdf(best / np.hypot(sub.noise_sd_db, sub.k_error_sd_db)),
                     rtol=0, atol=1e-12)
     assert_allclose(result.cumulative[:, 2], 1.0 - np.prod(1.0 - result.cumulative[:, :2], axis=1), atol=1e-12)
+    # one offset shared by the bands: the best band's look so far
+    assert_allclose(result.cumulative_shared, normal_cdf(best.max(axis=1) / np.hypot(sub.noise_sd_db, sub.k_error_sd_db)),
+                    rtol=0, atol=1e-12)
+    assert np.all(result.cumulative_shared <= result.cumulative[:, 2] + 1e-12)
     # far more than the independent-looks answer, which would detect almost surely by the end
     independent = 1.0 - np.cumprod(1.0 - result.pd[:, 0])
     assert result.cumulative[20, 0] < independent[20] - 0.2
@@ -77,6 +81,9 @@ def test_the_cumulative_p_d_is_a_monte_carlo_of_the_same_model(flat, rng):
     hit = np.logical_or.accumulate(se[None] + offset + look >= 0.0, axis=1)      # (N, T, M)
     mc = np.concatenate([hit.mean(axis=0), hit.any(axis=2).mean(axis=0)[:, None]], axis=1)
     assert_allclose(result.cumulative, mc, rtol=0, atol=0.01)
+    # and one offset for both bands, drawn the same way
+    shared = np.logical_or.accumulate((se[None] + offset[..., :1] + look >= 0.0).any(axis=2), axis=1).mean(axis=0)
+    assert_allclose(result.cumulative_shared, shared, rtol=0, atol=0.01)
     first = result.first["any"]
     assert 0.0 < first["mean_s_given_detected"] < result.path.t_s[-1]
 
