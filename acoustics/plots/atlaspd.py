@@ -25,7 +25,7 @@ from acoustics.grid.atlas.store import AtlasStore
 from acoustics.plots.atlasmap import draw_atlas_relief
 from acoustics.plots.figures import new_figure
 from acoustics.plots.pdplot import BEYOND_COLOR, pd_panel
-from acoustics.plots.style import DEG, ORIGIN_STYLE
+from acoustics.plots.style import DEG
 from envdata.radials import geodesic_points
 
 #: Positions drawn as polar panels beside the map (all are on the map).
@@ -127,11 +127,14 @@ def seasons_figure(store: AtlasStore, rows: list[PositionRange], *, cls_name: st
         for o in sorted({r.origin for r in rows}):
             at = {r.month: r for r in rows if r.origin == o and r.level == 0.5}
             worst = min(months, key=lambda m: np.inf if at[m].median_beyond_table else at[m].median_m)
-            ax.plot([at[worst].lon_deg], [at[worst].lat_deg], ms=9, **{**ORIGIN_STYLE, "color": "0.9"})
-            ax.annotate(str(worst), (at[worst].lon_deg, at[worst].lat_deg), ha="center", va="center", fontsize=8,
-                        fontweight="bold")
+            everywhere = all(at[m].median_beyond_table for m in months)
+            ax.plot([at[worst].lon_deg], [at[worst].lat_deg], marker="o", ms=15, ls="none", mec="k",
+                    color=BEYOND_COLOR if everywhere else "white")
+            ax.annotate("-" if everywhere else str(worst), (at[worst].lon_deg, at[worst].lat_deg), ha="center",
+                        va="center", fontsize=8, fontweight="bold")
         ax.set_aspect(1.0 / math.cos(math.radians(float(np.mean(store.lat_deg)))))
-        ax.set_title("the month of the shortest median\nP_D = 0.5 range at each position", fontsize=9)
+        ax.set_title("the month of the shortest median P_D = 0.5\nrange at each position (magenta: beyond the "
+                     "table in every month)", fontsize=9)
         ax.tick_params(labelsize=7)
         axes.append(ax)
     fig.colorbar(sc, ax=axes, orientation="horizontal", shrink=0.6, pad=0.02,
