@@ -154,14 +154,40 @@ SPREADING_DB_PER_DECADE = (10.0, 20.0)
 REACH_LIMIT_M = 2.0e7
 
 
+def tail_fit(range_m, k_db, beta_db_per_km) -> tuple[np.ndarray, np.ndarray]:
+    """K's tail as `tail_reach_m` fits it: K(r) = A - m lg r - beta r beyond the table.
+
+    Returns (A, m), each of shape ``k_db.shape[:-1]``: A in dB, m in dB per decade of range
+    (clipped to `SPREADING_DB_PER_DECADE`); ``beta_db_per_km`` broadcasts with ``k_db[..., 0]``.
+    """
+    r = np.asarray(range_m, dtype=float)
+    k = np.asarray(k_db, dtype=float)
+    n_tail = max(TAIL_MIN_POINTS, int(math.ceil(TAIL_FRACTION * r.size)))
+    rt = r[-n_tail:]
+    beta = np.asarray(beta_db_per_km, dtype=float)[..., None] / 1000.0     # dB/m
+    y = k[..., -n_tail:] + beta * rt
+    x = np.log10(rt)
+    xm = x.mean()
+    slope = np.sum((x - xm) * (y - y.mean(axis=-1, keepdims=True)), axis=-1) / np.sum((x - xm) ** 2)
+    m = np.clip(-slope, *SPREADING_DB_PER_DECADE)
+    return np.mean(y + m[..., None] * x, axis=-1), m
+
+
+def tail_k_db(a, m, beta_db_per_km, range_m) -> np.ndarray:
+    """K of a fitted tail (`tail_fit`) at ranges, (..., R) for a and m of shape (...), dB."""
+    r = np.asarray(range_m, dtype=float)
+    beta = np.asarray(beta_db_per_km, dtype=float)[..., None] / 1000.0
+    return np.asarray(a)[..., None] - np.asarray(m)[..., None] * np.log10(r) - beta * r
+
+
 def tail_reach_m(range_m, k_db, beta_db_per_km, k_target_db) -> tuple[np.ndarray, np.ndarray]:
     """Where K(r) would fall to ``k_target_db`` beyond the table: K's tail extrapolated.
 
     Over the last `TAIL_FRACTION` of the range axis, K(r) + beta r (absorption added back) is
     fitted by least squares as A - m lg r, m the spreading loss per decade clipped to
     `SPREADING_DB_PER_DECADE` (a convergence-zone or modal tail can fit any slope); beyond the
-    table K(r) = A - m lg r - beta r, solved for K = ``k_target_db`` by bisection. Where the
-    fitted tail is already below the target at the table's end, the table's last range.
+    table K(r) = A - m lg r - beta r (`tail_fit`), solved for K = ``k_target_db`` by bisection.
+    Where the fitted tail is already below the target at the table's end, the table's last range.
 
     Parameters
     ----------
@@ -178,31 +204,22 @@ def tail_reach_m(range_m, k_db, beta_db_per_km, k_target_db) -> tuple[np.ndarray
     -------
     reach_m, spreading_db_per_decade : ndarray, shape ``k_db.shape[:-1]``
     """
-    r = np.asarray(range_m, dtype=float)
-    k = np.asarray(k_db, dtype=float)
-    n_tail = max(TAIL_MIN_POINTS, int(math.ceil(TAIL_FRACTION * r.size)))
-    rt = r[-n_tail:]
-    beta = np.asarray(beta_db_per_km, dtype=float)[..., None] / 1000.0     # dB/m
-    y = k[..., -n_tail:] + beta * rt
-    x = np.log10(rt)
-    xm = x.mean()
-    slope = np.sum((x - xm) * (y - y.mean(axis=-1, keepdims=True)), axis=-1) / np.sum((x - xm) ** 2)
-    m = np.clip(-slope, *SPREADING_DB_PER_DECADE)
-    a = np.mean(y + m[..., None] * x, axis=-1)
-    beta = beta[..., 0]
+    r_end = float(np.asarray(range_m, dtype=float)[-1])
+    a, m = tail_fit(range_m, k_db, beta_db_per_km)
+    beta = np.broadcast_to(np.asarray(beta_db_per_km, dtype=float), a.shape) / 1000.0
     target = np.broadcast_to(np.asarray(k_target_db, dtype=float), a.shape)
 
     def k_fit(rr):
         return a - m * np.log10(rr) - beta * rr
 
-    lo = np.full(a.shape, r[-1])
+    lo = np.full(a.shape, r_end)
     hi = np.full(a.shape, REACH_LIMIT_M)
     for _ in range(80):  # bisection in lg r: K_fit falls monotonically
         mid = np.sqrt(lo * hi)
         above = k_fit(mid) > target
         lo = np.where(above, mid, lo)
         hi = np.where(above, hi, mid)
-    reach = np.where(k_fit(r[-1]) > target, np.sqrt(lo * hi), r[-1])
+    reach = np.where(k_fit(r_end) > target, np.sqrt(lo * hi), r_end)
     bad = ~np.isfinite(a)
     return np.where(bad, np.nan, reach), np.where(bad, np.nan, m)
 
@@ -235,4 +252,5 @@ def first_detection_times(t_s, p_cum) -> dict:
 
 
 __all__ = ["PD_LEVELS", "any_band", "cumulative_pd", "first_detection_times", "normal_cdf",
-           "normal_quantile", "pd_of_excess", "tail_reach_m"]
+           "normal_quantile", "pd_of_excess", "tail_fit", "tail_k_db",
+           "tail_reach_m"]
