@@ -27,6 +27,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+from bench.docfigures_planning import TABLES as PLANNING_TABLES
 from bench.harness import REPO
 
 PAGES = ("README.md", "docs/*.md")
@@ -805,6 +806,7 @@ TABLES: dict[str, Callable[[Path], str]] = {"grids": grids, "accuracy": accuracy
                                              "kerror-sd": kerror_sd, "kerror-rmse": kerror_rmse,
                                              "nx2d-times": nx2d_times, "nx2d-bearings": nx2d_bearings,
                                              "nx2d-attribution": nx2d_attribution}
+TABLES.update(PLANNING_TABLES)
 
 #: Figures quoted in prose: (page, result file, the figure's keys in it, how the page prints it).
 QUOTES: tuple[tuple[str, str, tuple[str, ...], str], ...] = (

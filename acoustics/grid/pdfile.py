@@ -105,7 +105,21 @@ def _attrs(tables: Tables, row: str, pm: PDMap, what: str) -> dict:
                          "detection may go on past it)"}
 
 
-def _variables(stack: str, names, pds, beyonds, ranges, past, bearings) -> dict:
+def _layers(which, row: str, lat_axis, lon_axis, override):
+    """The raster and the radials' ranges of each (tables, class), stacked: (pd, beyond_table,
+    detection_range_m, detection_beyond_table), and the last P_D map (for the attributes)."""
+    pds, beyonds, ranges, past = [], [], [], []
+    for tables, cls_name in which:
+        pm = pd_map(tables, cls_name, tables.bearing_deg, override=override)
+        pd, beyond = pd_on_latlon(tables, cls_name, row, lat_axis, lon_axis, pm, override)
+        pds.append(pd)
+        beyonds.append(beyond)
+        ranges.append(np.stack([pm.ranges_m[p][pm.row(row)] for p in PD_LEVELS]))
+        past.append(np.stack([pm.beyond[p][pm.row(row)] for p in PD_LEVELS]))
+    return (pds, beyonds, ranges, past), pm
+
+
+def _variables(stack: str, pds, beyonds, ranges, past) -> dict:
     flags = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "inside_or_ends beyond_table",
              "grid_mapping": "crs"}
     return {
@@ -141,16 +155,9 @@ def grid_pd_dataset(tables: Tables, row: str, *, classes=None, override: SigmaOv
     r_max = float(tables.range_m[-1])
     cell = cell_size_m(tables, 2 * r_max) if cell_m is None else cell_m
     lat_axis, lon_axis = latlon_axes(tables.origin_lat_deg, tables.origin_lon_deg, r_max, cell)
-    pds, beyonds, ranges, past = [], [], [], []
-    for c in classes:
-        pm = pd_map(tables, c, tables.bearing_deg, override=override)
-        pd, beyond = pd_on_latlon(tables, c, row, lat_axis, lon_axis, pm, override)
-        pds.append(pd)
-        beyonds.append(beyond)
-        ranges.append(np.stack([pm.ranges_m[p][pm.row(row)] for p in PD_LEVELS]))
-        past.append(np.stack([pm.beyond[p][pm.row(row)] for p in PD_LEVELS]))
-    ds = xr.Dataset(_variables("class", classes, pds, beyonds, ranges, past, tables.bearing_deg),
-                    coords=_coords("class", classes, lat_axis, lon_axis, tables.bearing_deg))
+    layers, pm = _layers([(tables, c) for c in classes], row, lat_axis, lon_axis, override)
+    ds = xr.Dataset(_variables("class", *layers), coords=_coords("class", classes, lat_axis, lon_axis,
+                                                                 tables.bearing_deg))
     ds = ds.assign(crs=((), np.int32(0), WGS84))
     ds["class"].attrs["long_name"] = "target class"
     ds.attrs.update(_attrs(tables, row, pm, f"{row} of the classes of {tables.area.name}"),
@@ -169,17 +176,10 @@ def atlas_pd_dataset(store, month: int, cls_name: str, row: str, *, override: Si
     first = store.sel(month=month, origin=built[0])
     cell = cell_size_m(first, span) if cell_m is None else cell_m
     lat_axis, lon_axis = latlon_axes(lat0, lon0, r_max, cell)
-    pds, beyonds, ranges, past = [], [], [], []
-    for o in built:
-        tables = store.sel(month=month, origin=o)
-        pm = pd_map(tables, cls_name, tables.bearing_deg, override=override)
-        pd, beyond = pd_on_latlon(tables, cls_name, row, lat_axis, lon_axis, pm, override)
-        pds.append(pd)
-        beyonds.append(beyond)
-        ranges.append(np.stack([pm.ranges_m[p][pm.row(row)] for p in PD_LEVELS]))
-        past.append(np.stack([pm.beyond[p][pm.row(row)] for p in PD_LEVELS]))
-    ds = xr.Dataset(_variables("origin", built, pds, beyonds, ranges, past, store.bearing_deg),
-                    coords=_coords("origin", built, lat_axis, lon_axis, store.bearing_deg))
+    layers, pm = _layers([(store.sel(month=month, origin=o), cls_name) for o in built], row, lat_axis, lon_axis,
+                         override)
+    ds = xr.Dataset(_variables("origin", *layers), coords=_coords("origin", built, lat_axis, lon_axis,
+                                                                  store.bearing_deg))
     ds = ds.assign_coords(origin_lat_deg=("origin", lat0, {"standard_name": "latitude", "units": "degrees_north",
                                                            "long_name": "observer position"}),
                           origin_lon_deg=("origin", lon0, {"standard_name": "longitude", "units": "degrees_east",

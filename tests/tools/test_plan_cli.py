@@ -4,7 +4,6 @@ check, ``atlas plot --what pd``, ``plan track`` and ``plan months``, and their b
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -17,23 +16,10 @@ from acoustics.grid.atlas.store import open_store
 from acoustics.grid.pdmap import pd_map
 from tests.acoustics.atlas.atlasarea import write_atlas_area
 from tests.acoustics.plots.test_radialplots import png_size
+from tests.tools.test_plot_bearing_cli import run_error, run_json
 from tools import cli
 
 pytestmark = pytest.mark.bellhop
-
-
-def run_json(capsys, *argv) -> dict:
-    assert cli.main([*map(str, argv), "--json"]) == 0
-    return json.loads(capsys.readouterr().out)
-
-
-def run_error(capsys, *argv) -> str:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    assert status == 2, (out, err)
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), err
-    return lines[0]
 
 
 @pytest.fixture(scope="module")
