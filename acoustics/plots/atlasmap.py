@@ -3,7 +3,9 @@ over the water depth the atlas's radials sampled.
 
 Each position's value is the median over its radials: the detection range of the class at its
 mean level (``acoustics.grid.detectionmap``, in one band or any band), or K(r) at ``range_m``
-in one band. Positions left out (land, shallow water) are marked with a cross.
+in one band. Positions left out (land, shallow water) are marked with a cross; a position whose
+median detection range is the table's last range is ringed: the table ends there, not detection
+(``--what pd`` says how far it goes, ``acoustics.plots.atlaspd``).
 """
 
 from __future__ import annotations
@@ -91,9 +93,18 @@ def coverage_figure(store: AtlasStore, *, what: AtlasWhat | str = AtlasWhat.DETE
              else f"median K of {cls_name} in {band or store.band_names[0]} at {range_m / 1000:g} km, dB")
     sc = ax.scatter(store.lon_deg, store.lat_deg, c=values, s=120, cmap="viridis", edgecolors="k", zorder=3)
     fig.colorbar(sc, ax=ax, label=label, shrink=0.8)
+    if what is AtlasWhat.DETECTION:
+        # a median at the table's last range is the table's edge, not where detection ends
+        edge = np.isclose(values, store.range_m[-1] / 1000.0)
+        if edge.any():
+            ring = ax.scatter(store.lon_deg[edge], store.lat_deg[edge], s=260, facecolors="none",
+                              edgecolors="#e7298a", linewidths=2.0, zorder=4,
+                              label="at the table's last range: detection may go on (--what pd)")
+            ring.set_gid("table-edge")
     if store.left_out:
         ax.scatter([p["lon_deg"] for p in store.left_out], [p["lat_deg"] for p in store.left_out], marker="x",
                    c="0.3", label="left out (land, shallow)", zorder=3)
+    if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="lower left", fontsize=8)
     ax.set_xlabel("longitude, deg E")
     ax.set_ylabel("latitude, deg N")

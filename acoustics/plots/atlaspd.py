@@ -109,7 +109,7 @@ def atlas_pd_figure(store: AtlasStore, *, month: int, cls_name: str, row: str, m
 def seasons_figure(store: AtlasStore, rows: list[PositionRange], *, cls_name: str, row: str, months: list[int]):
     """The months side by side, and the worst month at each position (module docstring)."""
     n = len(months) + (len(months) > 1)
-    ncols = min(n, 4)
+    ncols = min(n, 5)
     nrows = math.ceil(n / ncols)
     fig = new_figure(figsize=(4.2 * ncols + 0.6, 4.2 * nrows + 1.0), layout="constrained")
     vmax = float(store.range_m[-1]) / 1000.0

@@ -197,9 +197,10 @@ def polar_setting(tables: RadialTables, ax, bearings: np.ndarray, bottom: np.nda
 
 
 def latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict[str, np.ndarray],
-                 bearings: np.ndarray, note: str, said: str = "detected out to") -> None:
+                 bearings: np.ndarray, note: str, said: str = "detected out to", gaps: bool = False) -> None:
     """The bathymetry file's relief and contours on lat/lon axes, with the radials and outlines
-    (``said`` after each class's name in the legend)."""
+    (``said`` after each class's name in the legend; with ``gaps`` an outline's NaN is a gap, else
+    no range: the origin)."""
     import matplotlib
 
     lat0, lon0 = tables.origin_lat_deg, tables.origin_lon_deg
@@ -213,6 +214,9 @@ def latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict[
     colors = matplotlib.colormaps["Set1"]
     for i, (c, rr) in enumerate(outlines.items()):
         lat, lon = _ring(lat0, lon0, bearings, np.nan_to_num(rr, nan=0.0))
+        if gaps:
+            missing = np.isnan(np.append(rr, rr[0]))
+            lat, lon = np.where(missing, np.nan, lat), np.where(missing, np.nan, lon)
         ax.plot(_near(lon, lon0), lat, color=colors(i), lw=1.5 if i == 0 else 1.2,
                 ls=("-", "--", "-.", ":")[i % 4], label=f"{c}: {said}")
     r_max = float(rng[-1])

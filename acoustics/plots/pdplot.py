@@ -90,7 +90,8 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
                  fontsize=9)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
-        latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note, said="P_D = 0.5 out to")
+        latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note, gaps=True,
+                     said="P_D = 0.5 out to (gaps: beyond the table)")
     return fig, summaries
 
 

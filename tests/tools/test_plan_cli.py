@@ -223,3 +223,29 @@ def test_bad_tracks_are_one_line_and_write_nothing(capsys, tmp_path, tiny_grid_f
                      "--plot", tmp_path / "p.png", *options)
     assert message in line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv", "t.csv"] and old.read_text() == "a,b\n1,2\n"
+
+
+def test_the_coverage_map_rings_a_median_at_the_table_s_edge(atlas):
+    import dataclasses
+
+    from acoustics.plots.atlasmap import coverage_figure
+
+    store = open_store(atlas)
+    fig, values = coverage_figure(store, what="detection", month=8)
+    assert np.all(values < 10.0) and not [a for a in fig.axes[0].get_children() if a.get_gid() == "table-edge"]
+    # a 30 dB larger array hears the transport past the 10 km tables: ringed, the edge is not a range
+    store.area = dataclasses.replace(store.area, sonar=dataclasses.replace(store.area.sonar,
+                                                                           directivity_index_db=42.0))
+    fig, values = coverage_figure(store, what="detection", month=8)
+    ring = [a for a in fig.axes[0].get_children() if a.get_gid() == "table-edge"]
+    assert np.all(values == 10.0) and len(ring) == 1 and len(ring[0].get_offsets()) == 2
+
+
+def test_the_demo_checks_its_p_d_netcdf_before_any_work(capsys, tmp_path):
+    out = tmp_path / "demo"
+    out.mkdir()
+    (out / "shelf-break-pd.nc").write_text("my notes\n")
+    line = run_error(capsys, "demo", "--out", out)
+    assert line == (f"error: {out / 'shelf-break-pd.nc'}: exists and is not a tmakit netCDF file; not replaced "
+                    f"(--force replaces it)")
+    assert [p.name for p in out.iterdir()] == ["shelf-break-pd.nc"]
