@@ -78,3 +78,9 @@ def tiny_radial_tables(tiny_area):
     doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
     doc["propagation"] = {**doc["propagation"], "step_m": 10.0}
     return acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "tiny-radial"), workers=2))
+
+
+@pytest.fixture(scope="session")
+def tiny_radial_grid_file(tiny_radial_tables, tmp_path_factory) -> Path:
+    """The tiny Munk area's three-radial grid as a file (what ``grids plot`` and ``plan`` open)."""
+    return _written(tiny_radial_tables.dataset, tmp_path_factory.mktemp("radial-grid") / "tiny-radial.nc")

@@ -34,8 +34,10 @@ STONESOUP_COMPARISON = "bench.bench_stonesoup"
 #: Inside ``acoustics.grid``: what a grid is, its face and their kernels (rank 0, every module not
 #: named), the atlas's store over them, and the one way in (``open_tables``) over both.
 GRID_RANKS = {"atlas": 1, "opentables": 2}
-#: What of ``acoustics.grid`` the tracker may import: the face and what it answers with.
-FACE_MODULES = ("acoustics.grid.face", "acoustics.grid.levelprofile", "acoustics.grid.targetdepth")
+#: What of ``acoustics.grid`` the tracker may import: the face and what it answers with (the level's
+#: sd for P_D is the face's K error and the class's source level, read in one place).
+FACE_MODULES = ("acoustics.grid.face", "acoustics.grid.levelprofile", "acoustics.grid.targetdepth",
+                "acoustics.grid.detectionsigma")
 #: What builds or computes tables: the tracker takes tables (the grid's face) and never these.
 TABLE_MAKERS = ("acoustics.bellhop", "acoustics.ram", "acoustics.builder", "acoustics.nx2d",
                 "acoustics.sensitivity")

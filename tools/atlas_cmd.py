@@ -32,13 +32,19 @@ def register(sub, common) -> None:
 
     pl = asub.add_parser("plot", parents=[common], help="the coverage map over the bathymetry")
     pl.add_argument("store", type=Path, metavar="NAME.zarr")
-    pl.add_argument("--out", type=Path, required=True, metavar="PNG")
-    pl.add_argument("--what", choices=["detection", "k"], default="detection",
-                    help="median detection range of the class at each position (default), or its K at --range-km")
+    pl.add_argument("--out", type=Path, required=True, metavar="PNG",
+                    help="the map; with --what pd also STEM.nc beside it (CF netCDF on lat/lon for a GIS)")
+    pl.add_argument("--what", choices=["detection", "k", "pd"], default="detection",
+                    help="median detection range of the class at each position (default), its K at --range-km, "
+                         "or (pd) the probability of detection: each position's P_D map, its 0.9 / 0.5 / 0.1 "
+                         "ranges, beyond the table marked")
     pl.add_argument("--class", dest="cls_name", help="class (default: the first)")
-    pl.add_argument("--band", help="band (default: any band for detection, the first for k)")
+    pl.add_argument("--band", help="band (default: any band for detection and pd, the first for k)")
     pl.add_argument("--month", type=int, help="month (default: the atlas's first)")
     pl.add_argument("--range-km", type=float, help="range of K, km (default: the middle of the range axis)")
+    pl.add_argument("--sigma-db", type=float, metavar="DB",
+                    help="with --what pd: the level's sd in place of the class's source-level sd and K's error "
+                         "sd, dB (> 0)")
     pl.add_argument("--force", action="store_true", help="replace --out even if it is not a PNG")
     pl.set_defaults(func=run_plot)
 
@@ -122,6 +128,10 @@ def run_plot(args) -> Report:
     from acoustics.plots.figures import save_figure
 
     out = check_output_file(args.out, Kind.PNG, force=args.force)
+    if args.what == "pd":
+        return _plot_pd(args, out)
+    if args.sigma_db is not None:
+        raise InputError("--sigma-db is for the probability of detection (--what pd)")
     if args.range_km is not None and not (args.range_km > 0 and args.range_km < 1e5):
         raise InputError(f"--range-km: must be > 0 km, got {args.range_km}")
     store = open_store(args.store)
@@ -130,6 +140,53 @@ def run_plot(args) -> Report:
     save_figure(fig, out)
     return Report(f"wrote {out}: coverage map of {store.area.name} ({args.what})",
                   {"file": str(out), "values": [None if v != v else float(v) for v in values]})
+
+
+def _plot_pd(args, out: Path) -> Report:
+    """``atlas plot --what pd``: the map PNG and its netCDF, all or none, and each position's ranges."""
+    from acoustics.grid.atlas.seasons import check_choice, position_maps, position_ranges
+    from acoustics.grid.atlas.store import open_store
+    from acoustics.grid.detectionsigma import SigmaOverride
+    from acoustics.grid.pdfile import atlas_pd_dataset
+    from acoustics.grid.pdmap import pd_summary
+    from acoustics.plots.atlaspd import atlas_pd_figure
+    from acoustics.plots.radialplots import write_figures
+    from tools.pdtext import pd_lines
+
+    if args.range_km is not None:
+        raise InputError("--range-km is for the K map (--what k)")
+    netcdf = out.with_name(f"{out.stem}.nc")
+    if netcdf == out:
+        raise InputError(f"{out}: the map's PNG needs a name of its own (say {out.stem}.png): its netCDF goes "
+                         f"beside it as {out.name}")
+    check_output_file(netcdf, Kind.NETCDF, force=args.force)
+    sigma = None if args.sigma_db is None else SigmaOverride(sigma_db=args.sigma_db)
+    store = open_store(args.store)
+    month = int(store.months[0]) if args.month is None else args.month
+    cls_name, row, _ = check_choice(store, args.cls_name, args.band, [month])
+    maps = position_maps(store, cls_name, month, override=sigma)
+    rows = position_ranges(store, month, maps, row)
+    fig = atlas_pd_figure(store, month=month, cls_name=cls_name, row=row, maps=maps, rows=rows, override=sigma)
+    write_figures({out: fig}, datasets={netcdf: atlas_pd_dataset(store, month, cls_name, row, override=sigma)})
+    lines = [f"wrote {out} (map) and {netcdf} (netcdf): P_D of {cls_name}, {row}, month {month} of "
+             f"{store.area.name}"]
+    positions = []
+    for o, pm in maps.items():
+        lines += pd_lines({f"position {o} ({store.lat_deg[o]:.4f} N {store.lon_deg[o]:.4f} E): {cls_name}": pm}, row)
+        positions.append({"origin": o, "lat_deg": float(store.lat_deg[o]), "lon_deg": float(store.lon_deg[o]),
+                          **pd_summary(pm)})
+    data = {"files": {"map": str(out), "netcdf": str(netcdf)}, "what": "pd", "month": month, "class": cls_name,
+            "band": row, "positions": positions,
+            "median_range_m": [_position_row(r) for r in rows]}
+    return Report("\n".join(lines), data)
+
+
+def _position_row(r) -> dict:
+    """A ``PositionRange`` as JSON (NaN as None)."""
+    import dataclasses
+    import math
+
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in dataclasses.asdict(r).items()}
 
 
 def run_sample(args) -> Report:

@@ -27,13 +27,14 @@ from tools import (
     experiment_cmd,
     grids_cmd,
     locate_cmd,
+    plan_cmd,
     sensitivity_cmd,
     simulate_cmd,
     track_cmd,
 )
 
 COMMAND_MODULES = (doctor_cmd, areas_cmd, grids_cmd, atlas_cmd, sensitivity_cmd, simulate_cmd, track_cmd,
-                   experiment_cmd, locate_cmd, demo_cmd)
+                   plan_cmd, experiment_cmd, locate_cmd, demo_cmd)
 
 
 class _Parser(argparse.ArgumentParser):

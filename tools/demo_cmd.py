@@ -8,12 +8,14 @@ from pathlib import Path
 
 from tools.grids_cmd import grid_file_data
 from tools.outputs import Kind, check_output_dir, check_output_file
+from tools.pdtext import reach_data, reach_lines
 from tools.report import Report, want_progress
 
 #: The built-in area whose bearing-dependent grid the demo maps.
 MAP_AREA = "shelf-break"
-#: Its figures, each written as MAP_AREA-NAME.png.
-MAP_FIGURES = ("k", "detection", "bottom")
+#: Its figures, each written as MAP_AREA-NAME.png (the P_D map, any band, with MAP_AREA-pd.nc beside
+#: it: the same on latitude and longitude for a GIS).
+MAP_FIGURES = ("k", "detection", "pd", "bottom")
 
 
 def register(sub, common) -> None:
@@ -30,6 +32,7 @@ def run(args) -> Report:
     import acoustics
     import envdata
     from acoustics.builder.gridfile import build_grid_file
+    from acoustics.grid.pdmap import table_reach
 
     check_output_dir(args.out)
     grid_path = args.out / f"{envdata.DEFAULT_AREA}-bellhop.nc"
@@ -42,6 +45,7 @@ def run(args) -> Report:
     map_pngs = {what: args.out / f"{MAP_AREA}-{what}.png" for what in MAP_FIGURES}
     for png in map_pngs.values():
         check_output_file(png, Kind.PNG, force=args.force)
+    map_pngs["pd-netcdf"] = check_output_file(args.out / f"{MAP_AREA}-pd.nc", Kind.NETCDF, force=args.force)
     args.out.mkdir(parents=True, exist_ok=True)
     info = build_grid_file(envdata.DEFAULT_AREA, grid_path, workers=args.workers,
                            progress=want_progress(args))
@@ -56,11 +60,15 @@ def run(args) -> Report:
         plot_grid(tables, png, PlotRequest(cls_name=cls_name))
         plots.append(str(png))
     map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
-    plot_map_set(acoustics.open_tables(map_grid), map_pngs, grid_path=map_grid)
+    map_tables = acoustics.open_tables(map_grid)
+    plot_map_set(map_tables, map_pngs, grid_path=map_grid)
     plots.extend(str(p) for p in map_pngs.values())
+    reach = table_reach(map_tables)
     state = "up to date" if info.up_to_date else f"built in {info.wall_seconds:.1f} s"
     map_state = "up to date" if map_info.up_to_date else f"built in {map_info.wall_seconds:.1f} s"
     summary = (f"demo: area {envdata.DEFAULT_AREA}: grid {grid_path} ({state})\n"
                f"      area {MAP_AREA}: grid {map_grid} ({map_state})\n"
-               + "\n".join(f"  plot {p}" for p in plots))
-    return Report(summary, {"grid": grid_file_data(info), "map_grid": grid_file_data(map_info), "plots": plots})
+               + "\n".join(f"  plot {p}" for p in plots)
+               + f"\n  where P_D falls below 0.1 on {MAP_AREA}'s tables:\n" + "\n".join(reach_lines(reach, "    ")))
+    return Report(summary, {"grid": grid_file_data(info), "map_grid": grid_file_data(map_info), "plots": plots,
+                            "map_reach": reach_data(reach)})

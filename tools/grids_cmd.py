@@ -9,6 +9,7 @@ from pathlib import Path
 
 from acoustics.plots.what import What
 from tools.outputs import Kind, check_output_file
+from tools.pdtext import pd_lines, reach_data, reach_lines
 from tools.report import Report, want_progress
 
 #: The values of ``acoustics.Model`` (the builders' enum, which imports xarray: the parser lists
@@ -55,14 +56,20 @@ def register(sub, common) -> None:
     pl.add_argument("--class", dest="cls_name",
                     help="class whose TL field (or section) to draw, the only class on the map "
                          "(default: the first; every class on the map)")
-    pl.add_argument("--band", help="band of the K(r) map, the section and the depth figure "
-                                   "(default: the first)")
+    pl.add_argument("--band", help="band of the K(r) or P_D map, the section and the depth figure "
+                                   "(default: the first; any band for P_D: --band any)")
     pl.add_argument("--what", choices=[w.value for w in What],
                     help="the map: K(r) in --band (k, the default) or the detection range per band, "
-                         "each class at its mean level (detection), bearing-dependent grids; or "
+                         "each class at its mean level (detection), bearing-dependent grids; (pd) the "
+                         "probability of detection P_D = Phi(SE / sigma) in --band or any band with its "
+                         "0.9 / 0.5 / 0.1 ranges, as a map with STEM.nc beside it (CF netCDF on lat/lon "
+                         "for a GIS), or against range on a flat grid; or "
                          "(depth) only PNG: K of --class in --band against target depth and range, "
                          "on the radial nearest to --bearing (default: the first) or a flat grid "
                          "built with a class's depth_range_m")
+    pl.add_argument("--sigma-db", type=float, metavar="DB",
+                    help="with --what pd: the level's sd in place of the class's source-level sd and K's "
+                         "error sd, dB (> 0)")
     pl.add_argument("--bearing", type=float, metavar="DEG",
                     help="also write STEM-section.png: TL over depth and range on the radial nearest "
                          "to this bearing, deg in [0, 360) (bearing-dependent grids); with --what "
@@ -83,8 +90,10 @@ def register(sub, common) -> None:
 
 
 def run_build(args) -> Report:
+    import acoustics
     import envdata
     from acoustics.builder.gridfile import build_grid_file
+    from acoustics.grid.pdmap import table_reach
 
     area = envdata.load_area(args.area)
     out = args.out if args.out is not None else Path(f"{area.name}-{args.model}.nc")
@@ -100,7 +109,11 @@ def run_build(args) -> Report:
                    f"{info.bellhop_seconds:.1f} s of BELLHOP, {info.ram_seconds:.1f} s of RAM, "
                    f"{info.wall_seconds:.1f} s wall")
     summary += "".join(f"\nnote: {note}" for note in info.notes)
-    return Report(summary, grid_file_data(info))
+    data = grid_file_data(info)
+    reach = table_reach(acoustics.open_tables(out))
+    summary += "\nwhere P_D falls below 0.1 (the class at its mean level):\n" + "\n".join(reach_lines(reach))
+    data["reach"] = reach_data(reach)
+    return Report(summary, data)
 
 
 def run_check(args) -> Report:
@@ -171,18 +184,26 @@ def run_show(args) -> Report:
 
 def run_plot(args) -> Report:
     import acoustics
+    from acoustics.grid.detectionsigma import SigmaOverride
+    from acoustics.grid.pdmap import pd_summary
     from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
 
+    sigma = None if args.sigma_db is None else SigmaOverride(sigma_db=args.sigma_db)
     tables = acoustics.open_tables(args.file)
     request = PlotRequest(cls_name=args.cls_name, band=args.band,
                           what=None if args.what is None else What(args.what), bearing_deg=args.bearing,
-                          bathymetry=args.bathymetry, grid_path=args.file)
-    for path in plot_paths(tables, args.out, request).values():
-        check_output_file(path, Kind.PNG, force=args.force)
+                          bathymetry=args.bathymetry, grid_path=args.file, sigma=sigma)
+    for key, path in plot_paths(tables, args.out, request).items():
+        check_output_file(path, Kind.NETCDF if key == "netcdf" else Kind.PNG, force=args.force)
     plots = plot_grid(tables, args.out, request)
     lines = [f"wrote {path} ({key})" for key, path in plots.files.items()]
     data = {"files": {key: str(path) for key, path in plots.files.items()}}
-    if plots.what in (What.K, What.DETECTION):  # a map: say which bathymetry file it drew
+    if plots.what == What.PD:
+        lines += pd_lines(plots.pd_maps, plots.pd_row)
+        bearings = tables.bearing_axis_deg is not None
+        data.update(what=str(plots.what), band=plots.pd_row,
+                    pd={c: pd_summary(pm, with_bearings=bearings) for c, pm in plots.pd_maps.items()})
+    if plots.what in (What.K, What.DETECTION, What.PD) and "map" in plots.files:  # say which bathymetry file
         data["what"] = str(plots.what)
         choice = plots.bathymetry
         if choice is not None:
@@ -195,6 +216,8 @@ def run_plot(args) -> Report:
     elif plots.what == What.DEPTH:
         lines = [f"wrote {args.out} (K against target depth and range)"]
         data = {"file": str(args.out), "what": str(plots.what)}
+    elif plots.what == What.PD:
+        pass
     else:
         lines = [f"wrote {args.out}"]
         data = {"file": str(args.out)}

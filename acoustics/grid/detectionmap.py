@@ -46,6 +46,15 @@ def class_terms(tables: Tables, cls_name: str) -> DetectionTerms:
     return detection_terms(tables.area, tables.classes[tables.class_index(cls_name)], tables.bands)
 
 
+def class_k_db(tables: Tables, cls_name: str, bearing_deg: np.ndarray) -> np.ndarray:
+    """K(r) of a class at the observer depth along bearings, (B, M, R), dB (K of a grid without
+    bearings repeated on each)."""
+    k = np.asarray(tables.k_db(None, bearing_deg)[tables.class_index(cls_name)])   # (M, [B,] R)
+    k = np.broadcast_to(k if k.ndim == 3 else k[:, None, :],
+                        (len(tables.bands), bearing_deg.size, tables.range_m.size))
+    return np.moveaxis(k, 1, 0)
+
+
 def detection_map(tables: Tables, cls_name: str, bearing_deg) -> DetectionMap:
     """Detection ranges of a class at its mean level along bearings from the grid's observer.
 
@@ -60,10 +69,7 @@ def detection_map(tables: Tables, cls_name: str, bearing_deg) -> DetectionMap:
     """
     terms = class_terms(tables, cls_name)
     bearings = np.atleast_1d(np.asarray(bearing_deg, dtype=float))
-    k = np.asarray(tables.k_db(None, bearings)[tables.class_index(cls_name)])   # (M, [B,] R)
-    k = np.broadcast_to(k if k.ndim == 3 else k[:, None, :],
-                        (len(tables.bands), bearings.size, tables.range_m.size))
-    det = terms.detected(np.moveaxis(k, 1, 0))                                  # (B, M, R)
+    det = terms.detected(class_k_db(tables, cls_name, bearings))                # (B, M, R)
     rng = tables.range_m
     return DetectionMap(cls_name=cls_name, terms=terms, bearing_deg=bearings,
                         band_names=tables.band_names,

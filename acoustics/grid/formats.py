@@ -15,6 +15,8 @@ Each kind of file has its own integer format, raised when what a reader relies o
 - the studies' JSON result files, `RESULT_FORMAT`: a key ``tmakit_format`` (1). tmakit writes
   them and reads none back; CSVs are known by their header.
 - atlas Zarr store, `ATLAS_FORMAT`: 1, the first (docs/formats.md "Atlas (Zarr store)").
+- P_D map netCDF, `PD_MAP_FORMAT`: 1, the first (docs/formats.md "P_D map"); tmakit writes
+  them for a GIS and reads none back.
 
 A file of a format this version cannot read is refused with an error that names the file's
 format, the formats this version reads and the command that writes the file anew.
@@ -36,6 +38,8 @@ STUDY_FORMAT_OLDEST = 1
 RESULT_FORMAT = 1
 #: The atlas (Zarr store) format this version writes and reads (the first atlas format).
 ATLAS_FORMAT = 1
+#: The P_D map netCDF format (``acoustics.grid.pdfile``; written, never read back).
+PD_MAP_FORMAT = 1
 
 
 def file_format(ds: xr.Dataset, source: str, error: type[ValueError], what: str) -> int | None:

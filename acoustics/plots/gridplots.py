@@ -4,7 +4,10 @@ A grid without bearings gets one PNG (``acoustics.plots.flatplot``: TL fields an
 a bearing-dependent grid the map around the origin, the bottom along the radials and, given a
 bearing, a TL section (``acoustics.plots.radialplots``), with the bathymetry file behind the grid
 on the map when it is at hand (``acoustics.plots.bathymetry``). Asked for K against target
-depth (`What.DEPTH`), either gets that one PNG (``acoustics.plots.depthplot``). The choice follows the grid's
+depth (`What.DEPTH`), either gets that one PNG (``acoustics.plots.depthplot``). Asked for the
+probability of detection (`What.PD`), a bearing-dependent grid's map comes with its CF netCDF on
+latitude and longitude beside it (``acoustics.grid.pdfile``); a grid without bearings gets P_D
+against range, one PNG. The choice follows the grid's
 type: callers pass the typed face and a `PlotRequest`, and never ask which geometry it is.
 """
 
@@ -14,8 +17,10 @@ import functools
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from acoustics.grid.detectionsigma import SigmaOverride
 from acoustics.grid.face import Tables
 from acoustics.grid.flattables import FlatTables
+from acoustics.grid.pdmap import check_band
 from acoustics.grid.radialtables import RadialTables
 from acoustics.plots.bathymetry import BathymetryChoice, find_bathymetry, load_around_origin
 from acoustics.plots.style import check_plot_options
@@ -45,6 +50,8 @@ class PlotRequest:
         records, when it is found by its name and sha256).
     grid_path : Path, optional
         Where the grid file is (the recorded bathymetry file is looked for beside it).
+    sigma : SigmaOverride, optional
+        The user's sigma for P_D (`What.PD` only).
     """
 
     cls_name: str | None = None
@@ -53,16 +60,20 @@ class PlotRequest:
     bearing_deg: float | None = None
     bathymetry: Path | None = None
     grid_path: Path | None = None
+    sigma: SigmaOverride | None = None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GridPlots:
-    """What was written: {role: path}, and the bathymetry file drawn (None when none was)."""
+    """What was written: {role: path}, the bathymetry file drawn (None when none was), and for
+    `What.PD` the P_D maps of the summary (class -> ``PDMap`` on the radials) and the row drawn."""
 
     files: dict[str, Path]
     what: What | None = None
     bathymetry: BathymetryChoice | None = None
     notes: tuple[str, ...] = field(default_factory=tuple)
+    pd_maps: dict = field(default_factory=dict)
+    pd_row: str | None = None
 
 
 @functools.singledispatch
@@ -73,7 +84,7 @@ def plot_paths(tables: Tables, out: str | Path, request: PlotRequest) -> dict[st
 
 @plot_paths.register
 def _(tables: FlatTables, out: str | Path, request: PlotRequest) -> dict[str, Path]:
-    return {"depth" if request.what == What.DEPTH else "plot": Path(out)}
+    return {{What.DEPTH: "depth", What.PD: "pd"}.get(request.what, "plot"): Path(out)}
 
 
 @plot_paths.register
@@ -82,7 +93,7 @@ def _(tables: RadialTables, out: str | Path, request: PlotRequest) -> dict[str, 
 
     if request.what == What.DEPTH:
         return {"depth": Path(out)}
-    return bearing_plot_paths(out, section=request.bearing_deg is not None)
+    return bearing_plot_paths(out, section=request.bearing_deg is not None, netcdf=request.what == What.PD)
 
 
 @functools.singledispatch
@@ -103,6 +114,11 @@ _BEARING_ONLY = {"band": "a map's band", "what": "a map (K or detection ranges)"
                  "bearing_deg": "a section's bearing", "bathymetry": "a bathymetry file"}
 
 
+def _check_sigma(tables: Tables, request: PlotRequest) -> None:
+    if request.sigma is not None and request.what != What.PD:
+        raise InputError(f"{tables.source}: --sigma-db is for the probability of detection (--what pd)")
+
+
 def _depth_plot(tables: Tables, out: str | Path, request: PlotRequest) -> GridPlots:
     """K against target depth and range (`What.DEPTH`), on any grid's face."""
     from acoustics.plots.depthplot import plot_target_depth
@@ -119,6 +135,9 @@ def _depth_plot(tables: Tables, out: str | Path, request: PlotRequest) -> GridPl
 def _(tables: FlatTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
     from acoustics.plots.flatplot import plot_flat_grid
 
+    _check_sigma(tables, request)
+    if request.what == What.PD:
+        return _pd_curves(tables, out, request)
     if request.what == What.DEPTH:
         if request.bearing_deg is not None:
             raise InputError(f"{tables.source}: a bearing is for a bearing-dependent grid; this grid "
@@ -138,9 +157,12 @@ def _(tables: FlatTables, out: str | Path, request: PlotRequest = PlotRequest())
 def _(tables: RadialTables, out: str | Path, request: PlotRequest = PlotRequest()) -> GridPlots:
     from acoustics.plots.radialplots import plot_bearing_grid
 
+    _check_sigma(tables, request)
     if request.what == What.DEPTH:
         return _depth_plot(tables, out, request)
-    check_plot_options(tables, cls_name=request.cls_name, band=request.band,
+    if request.what == What.PD:
+        check_band(tables, request.band)
+    check_plot_options(tables, cls_name=request.cls_name, band=None if request.what == What.PD else request.band,
                        bearing_deg=request.bearing_deg)
     choice = find_bathymetry(tables, given=request.bathymetry, grid_path=request.grid_path)
     bathymetry, note = None, ""
@@ -150,7 +172,25 @@ def _(tables: RadialTables, out: str | Path, request: PlotRequest = PlotRequest(
         note = (f"{choice.how}; sha256 as the grid records" if choice.matches
                 else "given; not the file the grid was built from (sha256 differs)")
     what = What(request.what or What.K)
-    files = plot_bearing_grid(tables, out, what=what, cls_name=request.cls_name, band=request.band,
+    drawn = plot_bearing_grid(tables, out, what=what, cls_name=request.cls_name, band=request.band,
                               bearing_deg=request.bearing_deg, bathymetry=bathymetry,
-                              bathymetry_note=note)
-    return GridPlots(files=files, what=what, bathymetry=choice, notes=(note,) if note else ())
+                              bathymetry_note=note, sigma=request.sigma)
+    return GridPlots(files=drawn.files, what=what, bathymetry=choice, notes=(note,) if note else (),
+                     pd_maps=drawn.pd_maps, pd_row=drawn.pd_row)
+
+
+def _pd_curves(tables: Tables, out: str | Path, request: PlotRequest) -> GridPlots:
+    """P_D against range (`What.PD` on a grid without bearings): one PNG."""
+    from acoustics.plots.figures import save_figure
+    from acoustics.plots.pdplot import pd_curves_figure
+
+    for name in ("bearing_deg", "bathymetry"):
+        if getattr(request, name) is not None:
+            raise InputError(f"{tables.source}: {_BEARING_ONLY[name]} is for a bearing-dependent grid; this grid "
+                             f"has no bearings (its area has no [origin]), its P_D is the same along every bearing")
+    check_plot_options(tables, cls_name=request.cls_name)
+    row = check_band(tables, request.band)
+    fig, maps = pd_curves_figure(tables, classes=None if request.cls_name is None else [request.cls_name],
+                                 override=request.sigma)
+    path = save_figure(fig, out)
+    return GridPlots(files={"pd": path}, what=What.PD, pd_maps=maps, pd_row=row)

@@ -107,7 +107,7 @@ def map_figure(tables: RadialTables, *, what: What | str = What.K, classes: list
                      f"T {terms.integration_time_s:g} s, the area's sea noise); tan: land\n{where}", fontsize=9.5)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
-        _latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note)
+        latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note)
     return fig
 
 
@@ -123,7 +123,7 @@ def _k_panels(tables, fig, axes, classes, band, bearings, bottom, r_km) -> None:
         mesh = ax.pcolormesh(np.radians(bearings), r_km, k.T, shading="nearest", cmap="viridis",
                              vmin=vmin, vmax=vmax, zorder=0, rasterized=True)
         mesh.set_gid(f"k:{c}")
-        _setting(tables, ax, bearings, bottom, r_km)
+        polar_setting(tables, ax, bearings, bottom, r_km)
         ax.set_title(f"class {class_label(ds, c)}", fontsize=9.5)
     fig.colorbar(mesh, ax=axes, orientation="horizontal", shrink=0.6, aspect=45,
                  label=f"K(r), dB, in band {band_label(ds, band)} (band level W = P0 + K(r) + H)")
@@ -151,7 +151,7 @@ def _detection_panels(tables, fig, axes, classes, bearings, bottom, r_km, outlin
                             ls=("-", "--", ":", "-.")[i % 4], label=band_label(ds, b))
             line.set_gid(f"detection:{c}:{b}")
         outlines[c] = dm.range_m
-        _setting(tables, ax, bearings, bottom, r_km)
+        polar_setting(tables, ax, bearings, bottom, r_km)
         ax.set_title(f"class {class_label(ds, c)}, {dm.terms.level_label}\n{_span(dm.range_m)}", fontsize=9.5)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8,
@@ -169,7 +169,7 @@ def _span(range_m: np.ndarray) -> str:
     return f"any band detected out to {found.min():g}-{found.max():g} km"
 
 
-def _setting(tables: RadialTables, ax, bearings: np.ndarray, bottom: np.ndarray, r_km: np.ndarray) -> None:
+def polar_setting(tables: RadialTables, ax, bearings: np.ndarray, bottom: np.ndarray, r_km: np.ndarray) -> None:
     """Land, the grid's depth contours, the radials, the origin and the axes of a polar panel."""
     from matplotlib.colors import ListedColormap
 
@@ -196,9 +196,11 @@ def _setting(tables: RadialTables, ax, bearings: np.ndarray, bottom: np.ndarray,
     ax.grid(alpha=0.35)
 
 
-def _latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict[str, np.ndarray],
-                  bearings: np.ndarray, note: str) -> None:
-    """The bathymetry file's relief and contours on lat/lon axes, with the radials and outlines."""
+def latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict[str, np.ndarray],
+                 bearings: np.ndarray, note: str, said: str = "detected out to", gaps: bool = False) -> None:
+    """The bathymetry file's relief and contours on lat/lon axes, with the radials and outlines
+    (``said`` after each class's name in the legend; with ``gaps`` an outline's NaN is a gap, else
+    no range: the origin)."""
     import matplotlib
 
     lat0, lon0 = tables.origin_lat_deg, tables.origin_lon_deg
@@ -212,8 +214,11 @@ def _latlon_panel(tables: RadialTables, ax, bathy: ElevationGrid, outlines: dict
     colors = matplotlib.colormaps["Set1"]
     for i, (c, rr) in enumerate(outlines.items()):
         lat, lon = _ring(lat0, lon0, bearings, np.nan_to_num(rr, nan=0.0))
+        if gaps:
+            missing = np.isnan(np.append(rr, rr[0]))
+            lat, lon = np.where(missing, np.nan, lat), np.where(missing, np.nan, lon)
         ax.plot(_near(lon, lon0), lat, color=colors(i), lw=1.5 if i == 0 else 1.2,
-                ls=("-", "--", "-.", ":")[i % 4], label=f"{c}: detected out to")
+                ls=("-", "--", "-.", ":")[i % 4], label=f"{c}: {said}")
     r_max = float(rng[-1])
     ring_b = np.arange(0.0, 360.0, 5.0)
     lat, lon = _ring(lat0, lon0, ring_b, np.full(ring_b.shape, r_max))

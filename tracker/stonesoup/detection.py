@@ -4,9 +4,10 @@ Stone Soup updater that uses it.
 A band is detected where its indicator SNR Q = q sqrt(df T) reaches the sonar's threshold
 (Grinenkov & Mashoshin eq. 2; ``acoustics.detection``): 10 lg q = P0 + K(r) - (N_band - DI)
 must reach 10 lg(threshold / sqrt(df T)). The level a target gives scatters about its class's
-mean by the source level's sd and K's error sd (Gaussian in dB), so
+mean by the source level's sd and K's error (Gaussian in dB; sigma from
+``acoustics.grid.detectionsigma``, the one place P_D maps and tracks take it), so
 
-    P_band = Phi((10 lg q_mean - 10 lg q_needed) / sqrt(sd_P0^2 + sd_K^2)),
+    P_band = Phi((10 lg q_mean - 10 lg q_needed) / sigma),     (``acoustics.pd``, in logs here)
     P_d = 1 - prod over bands (1 - P_band)        (a detection: any band),
 
 which is 1/2 exactly at the detection map's range (``acoustics.grid.detectionmap``, the class at
@@ -28,6 +29,7 @@ from stonesoup.base import Property
 from stonesoup.updater.particle import BernoulliParticleUpdater
 
 from acoustics.detection import band_snr_db, detection_terms
+from acoustics.grid.detectionsigma import detection_sigma_db
 from tracker.stonesoup.model import geometry, source_level_db
 
 
@@ -55,8 +57,7 @@ class DetectionProbability:
         snr = band_snr_db(k, p0, terms.noise_band_db[:, None], terms.directivity_index_db)
         needed = 10.0 * np.log10(terms.threshold / np.sqrt(terms.bandwidth_hz * terms.integration_time_s))
         if self.level_sd_db is None:
-            k_sd = np.atleast_2d(tables.k_error_sd_at(self.class_index, rng, bearing_deg=bearing)).T
-            sd = np.sqrt(cls.noise_sd_db ** 2 + k_sd ** 2)
+            sd = np.atleast_2d(detection_sigma_db(tables, self.class_index, rng, bearing).total_db).T
         else:
             sd = np.full(snr.shape, float(self.level_sd_db))
         margin = np.nan_to_num(snr - needed[:, None], nan=-np.inf)  # no K (beyond land): never

@@ -210,7 +210,7 @@ def test_the_bathymetry_the_grid_records_is_found_and_read_around_the_origin(she
 
 
 def test_plot_bearing_grid_writes_all_three_pngs(shelf, tmp_path):
-    written = plot_bearing_grid(shelf, tmp_path / "m.png", what="detection", bearing_deg=45.0)
+    written = plot_bearing_grid(shelf, tmp_path / "m.png", what="detection", bearing_deg=45.0).files
     assert written == {"map": tmp_path / "m.png", "bottom": tmp_path / "m-bottom.png",
                        "section": tmp_path / "m-section.png"}
     for path in written.values():
@@ -313,7 +313,7 @@ def test_one_radial_over_a_flat_bottom_plots_too(tiny_area, tmp_path):
     doc["area"] = {**doc["area"], "latitude_deg": 43.0, "longitude_deg": 5.0}
     doc["bearings"] = {"bearing_deg": [30.0]}
     grid = acoustics.open_tables(acoustics.build_grid(envdata.parse_area(doc, "one-radial"), model="urick"))
-    written = plot_bearing_grid(grid, tmp_path / "one.png", what="detection", bearing_deg=200.0)
+    written = plot_bearing_grid(grid, tmp_path / "one.png", what="detection", bearing_deg=200.0).files
     assert all(png_size(p)[0] > 1000 for p in written.values())
     fig = bottom_figure(grid)
     image = fig.axes[1].collections[0]  # the range-bearing image: one row, the water depth
