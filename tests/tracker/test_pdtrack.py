@@ -38,15 +38,22 @@ def _excess(tables, result):
     return snr - 10 * np.log10(sonar.detection_threshold / np.sqrt(tables.bandwidth_hz * sonar.integration_time_s))
 
 
+def _sigma(tables, cls):
+    """The level's sd about the class's mean: its source level sd and K's error model's offset and
+    residual (the class's k_error_sd_db and the tables' own residual), all lasting along a track."""
+    model = tables.k_error_model(tables.class_index(cls.name))
+    return float(np.hypot(cls.noise_sd_db, np.hypot(model.offset_sd_db[0], model.residual_sd_db[0])))
+
+
 def test_looks_are_one_per_integration_time_along_the_path(flat):
     result = track_pd(flat, approach(), "SUB")
     assert_allclose(np.diff(result.path.t_s), flat.area.sonar.integration_time_s)
     assert_allclose(result.range_m, 4800.0 - 7.5 * result.path.t_s)
     assert result.rows == ("FB1", "F500", "any")
     assert np.all(np.diff(result.cumulative, axis=0) >= 0.0)
-    # each look's P_D is Phi(SE / sigma) with sigma the class's two sds
+    # each look's P_D is Phi(SE / sigma), sigma the class's source level sd and K's error (offset and residual)
     sub = flat.classes[flat.class_index("SUB")]
-    assert_allclose(result.pd[:, :2], normal_cdf(_excess(flat, result) / np.hypot(sub.noise_sd_db, sub.k_error_sd_db)),
+    assert_allclose(result.pd[:, :2], normal_cdf(_excess(flat, result) / _sigma(flat, sub)),
                     rtol=0, atol=1e-12)
 
 
@@ -55,11 +62,11 @@ def test_without_a_per_look_part_detection_by_t_is_the_best_look_so_far(flat):
     result = track_pd(flat, approach(), "SUB")
     sub = flat.classes[flat.class_index("SUB")]
     best = np.maximum.accumulate(_excess(flat, result), axis=0)
-    assert_allclose(result.cumulative[:, :2], normal_cdf(best / np.hypot(sub.noise_sd_db, sub.k_error_sd_db)),
+    assert_allclose(result.cumulative[:, :2], normal_cdf(best / _sigma(flat, sub)),
                     rtol=0, atol=1e-12)
     assert_allclose(result.cumulative[:, 2], 1.0 - np.prod(1.0 - result.cumulative[:, :2], axis=1), atol=1e-12)
     # one offset shared by the bands: the best band's look so far
-    assert_allclose(result.cumulative_shared, normal_cdf(best.max(axis=1) / np.hypot(sub.noise_sd_db, sub.k_error_sd_db)),
+    assert_allclose(result.cumulative_shared, normal_cdf(best.max(axis=1) / _sigma(flat, sub)),
                     rtol=0, atol=1e-12)
     assert np.all(result.cumulative_shared <= result.cumulative[:, 2] + 1e-12)
     # far more than the independent-looks answer, which would detect almost surely by the end
@@ -68,13 +75,13 @@ def test_without_a_per_look_part_detection_by_t_is_the_best_look_so_far(flat):
 
 
 def test_the_cumulative_p_d_is_a_monte_carlo_of_the_same_model(flat, rng):
-    # a per-look part of 1.5 dB beside the class's persistent 3.2 dB: the model the integral solves,
+    # a per-look part of 1.5 dB beside the class's persistent 3.7 dB: the model the integral solves,
     # drawn: one offset per band per track, a fresh error per look
     over = SigmaOverride(look_sd_db=1.5)
     result = track_pd(flat, approach(300.0), "SUB", override=over)
     se = _excess(flat, result)                                                   # (T, M)
     sub = flat.classes[flat.class_index("SUB")]
-    s = np.hypot(sub.noise_sd_db, sub.k_error_sd_db)
+    s = _sigma(flat, sub)
     draws = 100_000   # binomial sd at most 0.0016: the 0.01 bound is 6 of them
     offset = s * rng.standard_normal((draws, 1, se.shape[1]))
     look = 1.5 * rng.standard_normal((draws,) + se.shape)

@@ -58,11 +58,14 @@ def test_a_cell_s_p_d_is_that_of_a_target_there(pd_file, tiny_radial_tables):
         x, y = lat_lon_to_local_plane(43.0, 5.0, lat, lon)
         r, b = np.hypot(x, y), np.mod(np.degrees(np.arctan2(x, y)), 360.0)
         inside = r <= t.range_m[-1]
-        # K where the target is, eqs. 2 and 11 written out, sigma the class's two sds
+        # K where the target is, eqs. 2 and 11 written out, sigma the class's source level sd and
+        # K's error model's offset and residual (the class's k_error_sd_db, the tables' own)
         k = t.k_at(t.class_index("SUB"), r[inside], bearing_deg=b[inside])
         snr = sub.noise_mean_db + k - (t.noise_band_db - sonar.directivity_index_db)
         needed = 10 * np.log10(sonar.detection_threshold / np.sqrt(t.bandwidth_hz * sonar.integration_time_s))
-        p_band = normal_cdf((snr - needed) / np.hypot(sub.noise_sd_db, sub.k_error_sd_db))
+        model = t.k_error_model(t.class_index("SUB"))
+        sigma = np.hypot(sub.noise_sd_db, np.hypot(model.offset_sd_db, model.residual_sd_db))
+        p_band = normal_cdf((snr - needed) / sigma)
         expected = 1.0 - np.prod(1.0 - p_band, axis=-1)
         assert_allclose(ds["pd"].sel({"class": "SUB"}).values[inside], expected, rtol=0, atol=1e-6)  # float32
         assert 0.05 < expected.mean() < 0.95   # the map holds both detection and its absence

@@ -46,13 +46,14 @@ def test_as_sigma_goes_to_zero_p_d_is_the_detection_map_s_step_at_every_range(ti
     # no range of the table sits within 1e-6 dB of the edge, so 1e-9 dB of sigma is a step there
     assert np.nanmin(np.abs(pm.excess_db)) > 1e-6
     assert np.array_equal(pm.pd[:, :-1, :], step.astype(float))
-    # a class without scatter (source level and K's error sd 0) is the step exactly
+    # a class without scatter of its own (source level and K offset sd 0) still has the tables' own
+    # residual (acoustics.grid.kerror): its sigma is that and nothing else
+    from acoustics.grid.kerror import TABLE_RESIDUAL_SD_DB
+
     ic = t.class_index(cls_name)
     exact = dataclasses.replace(t.classes[ic], noise_sd_db=0.0, k_error_sd_db=0.0)
     quiet = dataclasses.replace(t, classes=tuple(exact if i == ic else c for i, c in enumerate(t.classes)))
-    pm0 = pd_map(quiet, cls_name, bearings)
-    assert np.all(pm0.sigma.total_db == 0.0)
-    assert np.array_equal(pm0.pd[:, :-1, :], step.astype(float))
+    assert_allclose(pd_map(quiet, cls_name, bearings).sigma.total_db, TABLE_RESIDUAL_SD_DB)
 
 
 def test_p_d_is_one_half_where_the_detection_map_puts_its_edge(tiny_radial_tables):
@@ -76,9 +77,12 @@ def test_p_d_is_one_half_where_the_detection_map_puts_its_edge(tiny_radial_table
 
 
 def test_sigma_is_the_source_level_and_k_error_sds_or_the_grid_s_map(flat, tiny_grid):
+    from acoustics.grid.kerror import TABLE_RESIDUAL_SD_DB
+
     sub = flat.classes[flat.class_index("SUB")]
     sigma = detection_sigma_db(flat, flat.class_index("SUB"), np.array([500.0, 4000.0]))
-    assert_allclose(sigma.total_db, np.hypot(sub.noise_sd_db, sub.k_error_sd_db))   # 2.5 and 2.0 dB: 3.20 dB
+    # 2.5 dB source level, 2.0 dB K offset, the tables' own 1.94 dB residual: 3.74 dB
+    assert_allclose(sigma.total_db, np.sqrt(sub.noise_sd_db ** 2 + sub.k_error_sd_db ** 2 + TABLE_RESIDUAL_SD_DB ** 2))
     assert np.all(sigma.per_look_db == 0.0) and np.array_equal(sigma.persistent_db, sigma.total_db)
     # a sensitivity study's map in the grid replaces the class's one number where it has values
     from acoustics.grid.dataset import with_k_error_sd
@@ -86,7 +90,7 @@ def test_sigma_is_the_source_level_and_k_error_sds_or_the_grid_s_map(flat, tiny_
     sd = np.full(flat.k_grid_db.shape, 6.0)
     mapped = acoustics.open_tables(with_k_error_sd(tiny_grid, sd, "test map"))
     got = detection_sigma_db(mapped, 0, np.array([1000.0])).total_db
-    assert_allclose(got, np.hypot(sub.noise_sd_db, 6.0))
+    assert_allclose(got, np.sqrt(sub.noise_sd_db ** 2 + 6.0 ** 2 + TABLE_RESIDUAL_SD_DB ** 2))
     # the user's sigma replaces the persistent part; a per-look part adds to one look's sigma
     mine = detection_sigma_db(flat, 0, np.array([1000.0]), override=SigmaOverride(sigma_db=4.0, look_sd_db=3.0))
     assert_allclose(mine.total_db, 5.0)
