@@ -51,3 +51,23 @@ def rmse_rows(d: dict, names, heads: tuple[str, str], fmt: str, scale: float) ->
         rows.append((label, *(fmt.format(r[t] / scale) for t in ("5", "10", "20", "30")),
                      fmt.format(d["mean_rmse_after_5min_m"][key] / scale)))
     return rows
+
+
+def calibration_rows(calibration: dict, names, head: str = "tracker") -> list[tuple]:
+    """How a study's trackers' stated sds hold against the truth (``calibration_after_late_min``
+    of its result file, `tools.studies.calibration`): per (key, label) of ``names``, the 90 %
+    interval's coverage of range, course and speed, and range's median |error| / sd and mean
+    (error / sd)^2 (calibrated: 90 %, 0.67, 1)."""
+    rows = [(head, "range: 90 % interval holds the truth", "median \\|error\\| / sd", "mean (error / sd)^2",
+             "course: 90 % holds", "speed: 90 % holds"), ("---",) * 6]
+    for key, label in names:
+        c = calibration[key]
+        r = c["range"]
+        rows.append((label, f"{100 * r['coverage_90']:.0f} %", f"{r['median_abs_z']:.2f}", _nees(r["mean_sq_z"]),
+                     f"{100 * c['course']['coverage_90']:.0f} %", f"{100 * c['speed']['coverage_90']:.0f} %"))
+    return rows
+
+
+def _nees(value: float) -> str:
+    """A mean squared normalised error as a page prints it (large ones in powers of ten)."""
+    return f"{value:.2f}" if value < 100 else f"{value:.1e}"
