@@ -84,9 +84,10 @@ def test_a_missing_level_adds_nothing():
 
 
 def test_the_particles_filter_is_the_same(monkeypatch):
-    # the compiled per-particle Kalman filter along one path gives log_marginal's density (up to
-    # the constant it leaves out), with the path's steps as the run's estimate gives them
-    from tracker.rpf.kernel.levelerrors import errors_init, errors_predict, errors_update_particle
+    # the compiled per-particle Kalman filter along one path gives log_marginal's density (with the
+    # constants the filter's weights leave out added back), the path's steps as the run's
+    # estimate gives them
+    from tracker.rpf.kernel.levelerrors import errors_gain, errors_init, errors_predict, errors_update_particle
     from tracker.rpf.kernel.params import errors_of
 
     rng = np.random.default_rng(7)
@@ -101,8 +102,8 @@ def test_the_particles_filter_is_the_same(monkeypatch):
     want = log_marginal(e, np.full((t_n, 1), 1.21), errors, t_s=t, step_m=step, displacement_m=d)
     arrays = errors_of(errors, 1, t_n, d)
     s = arrays.h.shape[1]
-    mean, cov = np.zeros((s, 1)), np.zeros((s, s, 1))
-    rho, ph = np.ones(s), np.empty(s)
+    mean, cov = np.zeros((s, 1)), np.zeros((s, s))
+    rho, ph, gain = np.ones(s), np.empty(s), np.empty(s)
     errors_init(mean, cov, arrays.var[0])
     total, got = 0.0, []
     for k in range(t_n):
@@ -110,7 +111,9 @@ def test_the_particles_filter_is_the_same(monkeypatch):
             errors_predict(mean, cov, t[k] - t[k - 1], step[k], arrays.inv_time_s, arrays.inv_length_m,
                            arrays.var[k - 1], arrays.var[k], rho)
         if np.isfinite(e[k, 0]):
-            total += errors_update_particle(mean, cov, 0, arrays.h[0], e[k, 0], 1.21, ph) - 0.5 * math.log(2 * math.pi)
+            var = errors_gain(cov, arrays.h[0], 1.21, ph, gain)
+            total += (errors_update_particle(mean, 0, arrays.h[0], e[k, 0], gain, 0.5 / var)
+                      - 0.5 * math.log(2 * math.pi * var))
         got.append(total)
     assert_allclose(got, want, rtol=0, atol=1e-9)
 

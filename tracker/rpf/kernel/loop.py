@@ -38,7 +38,7 @@ from numba import njit
 
 from tracker.rpf.kernel.estimate import moments_run, particle_sds_run
 from tracker.rpf.kernel.fastmath import FASTMATH
-from tracker.rpf.kernel.levelerrors import errors_copy, errors_init, errors_predict, errors_update_particle
+from tracker.rpf.kernel.levelerrors import errors_copy, errors_gain, errors_init, errors_predict, errors_update_particle
 from tracker.rpf.kernel.likelihood import (
     bearing_pass,
     level_loglik_particle,
@@ -101,14 +101,15 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
     var_l = model.sigma_l_db * model.sigma_l_db
     half_l = 0.5 / var_l
     log_n = -math.log(n)
-    # the levels' error components of each particle (S, N) and (S, S, N); S = 0 without
+    # the levels' error components: each particle's means (S, N), the run's covariance (S, S);
+    # S = 0 without
     n_err = errors.h.shape[1] if errors.on else 0
     e_mean = np.zeros((n_err, n))
-    e_cov = np.zeros((n_err, n_err, n))
+    e_cov = np.zeros((n_err, n_err))
     e_mean_new = np.zeros((n_err, n))
-    e_cov_new = np.zeros((n_err, n_err, n))
     rho = np.ones(n_err)
     ph = np.empty(n_err)
+    gain = np.empty(n_err)
 
     z0 = bearing[0]
     ovx0, ovy0 = obs[0, 2], obs[0, 3]
@@ -164,10 +165,11 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
             fp = profiles.k_db[p]
             if errors.on:  # the exact marginal likelihood, each particle's components updated
                 hb = errors.h[b]
+                half = 0.5 / errors_gain(e_cov, hb, var_l, ph, gain)
                 for i in range(n):
                     pred = level_prediction_particle(state[0, i], state[1, i], state[2, i], state[3, i],
                                                      ovx, ovy, ross, p0_db, xp, fp, m)
-                    log_w[i] += errors_update_particle(e_mean, e_cov, i, hb, lv - pred, var_l, ph)
+                    log_w[i] += errors_update_particle(e_mean, i, hb, lv - pred, gain, half)
             elif profiles.has_sd:  # the grid's K error sd at each particle's range
                 sp = profiles.k_sd_db[p]
                 for i in range(n):
@@ -192,9 +194,8 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
             regularise_run(state, idx, mean, chol, eps, h, settings.shrink, new)
             state, new = new, state
             if errors.on:
-                errors_copy(e_mean, e_cov, idx, e_mean_new, e_cov_new)
+                errors_copy(e_mean, idx, e_mean_new)
                 e_mean, e_mean_new = e_mean_new, e_mean
-                e_cov, e_cov_new = e_cov_new, e_cov
             for i in range(n):
                 log_w[i] = log_n
                 w[i] = 1.0 / n
