@@ -1,0 +1,128 @@
+"""The tables' own K error against BELLHOP run from the target, and how it grows where tables of
+one position are read by an observer who moved away: what `acoustics.grid.kerror` takes its
+tables' residual, its correlation length and the two growths from.
+
+    python -m bench.kerror_check [--cache DIR] [--workers 2]
+
+On the built-in shelf-break grid, for the surface ship class (TV, 8 m: the sea surface acts at
+its end), observers at the grid's origin and 3 and 6 km from it toward the four quarters, each
+with targets on three bearings from the observer (60, 180 and 300 deg: none of the studies' own
+geometries) every 250 m from 3 to 15 km; K from BELLHOP along each
+target-to-observer geodesic with the area's own relief and water (`acoustics.builder.truthk`,
+as ``tmakit simulate --truth bellhop``) less K from the origin's tables read from the observer,
+as a moving observer reads them. Per line of targets: the mean (the offset that line keeps) and
+the residual about it; fitted over the lines: the residual's sd at the origin and its growth g in
+sd^2 = sd0^2 + (g d)^2 with the observer's distance d, the offset's growth (the lines' means
+away from the origin less the origin's on the same bearing, their RMS against d through zero),
+and the residual's correlation length along range (the pooled autocorrelation falls to 1/e).
+Writes docs/results/kerror-check.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from bench.harness import REPO, Session
+
+CLASSES = ("TV",)
+DISTANCES_M = (0.0, 3000.0, 6000.0)
+QUARTERS_DEG = (0.0, 90.0, 180.0, 270.0)
+BEARINGS_DEG = (60.0, 180.0, 300.0)
+RANGES_M = tuple(np.arange(3000.0, 15000.0 + 1.0, 250.0))
+
+
+def lines(tables, provider, ic: int) -> list[dict]:
+    """Each observer position and bearing's line of targets: BELLHOP's K less the tables' (R, M)."""
+    from tracker.simulate import TruePaths
+
+    cls = tables.classes[ic]
+    r = np.asarray(RANGES_M)
+    out = []
+    for d in DISTANCES_M:
+        for quarter in (QUARTERS_DEG if d > 0 else (0.0,)):
+            ox, oy = d * math.sin(math.radians(quarter)), d * math.cos(math.radians(quarter))
+            for bearing in BEARINGS_DEG:
+                x = ox + r * math.sin(math.radians(bearing))
+                y = oy + r * math.cos(math.radians(bearing))
+                paths = TruePaths(ic=ic, obs_x_m=np.full(1, ox), obs_y_m=np.full(1, oy),
+                                  obs_depth_m=tables.observer_depth_m, x_m=x[:, None], y_m=y[:, None],
+                                  range_m=r[:, None], bearing_deg=np.full((r.size, 1), bearing),
+                                  target_depth_m=cls.depth_m)
+                truth = provider(paths)[:, 0, :]                                        # (R, M)
+                table = tables.k_at(ic, r, bearing_deg=np.full(r.size, bearing))        # (R, M)
+                out.append({"distance_m": d, "quarter_deg": quarter, "bearing_deg": bearing,
+                            "diff_db": truth - table})
+    return out
+
+
+def fit(found: list[dict], step_m: float) -> dict:
+    """The model's numbers from the lines (module docstring)."""
+    rows = []
+    for line in found:
+        diff = line["diff_db"]
+        ok = np.isfinite(diff).all(axis=1)
+        if ok.sum() < 8:   # a line mostly over land: nothing to read
+            continue
+        mean = np.nanmean(diff[ok], axis=0)                                             # (M,)
+        resid = diff - mean
+        rows.append({**{k: line[k] for k in ("distance_m", "quarter_deg", "bearing_deg")},
+                     "offset_db": [round(float(v), 2) for v in mean],
+                     "residual_sd_db": round(float(np.sqrt(np.nanmean(resid[ok] ** 2))), 2),
+                     "resid": np.where(ok[:, None], resid, np.nan)})
+    origin = {r["bearing_deg"]: np.asarray(r["offset_db"]) for r in rows if r["distance_m"] == 0.0}
+    base = float(np.sqrt(np.mean([r["residual_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
+    away = [(r["distance_m"] / 1000.0, r["residual_sd_db"]) for r in rows if r["distance_m"] > 0.0]
+    d2 = np.array([d * d for d, _ in away])
+    excess = np.array([sd * sd - base * base for _, sd in away])
+    residual_growth = math.sqrt(max(float(np.sum(d2 * excess) / np.sum(d2 * d2)), 0.0))
+    shifts = [(r["distance_m"] / 1000.0, float(np.sqrt(np.mean((np.asarray(r["offset_db"])
+                                                                - origin[r["bearing_deg"]]) ** 2))))
+              for r in rows if r["distance_m"] > 0.0 and r["bearing_deg"] in origin]
+    sd2 = np.array([d * d for d, _ in shifts])
+    offset_growth = math.sqrt(max(float(np.sum(sd2 * np.array([s * s for _, s in shifts])) / np.sum(sd2 * sd2)), 0.0))
+    series = np.concatenate([np.moveaxis(r["resid"], 1, 0) for r in rows])             # (lines x M, R)
+    from acoustics.sensitivity.errormodel import _e_folding_m
+
+    length = _e_folding_m(series, step_m)
+    for r in rows:
+        r.pop("resid")
+    return {"residual_sd_db_at_origin": round(base, 3), "residual_growth_db_per_km": round(residual_growth, 3),
+            "offset_growth_db_per_km": round(offset_growth, 3), "residual_length_m": round(length, 1),
+            "lines": rows}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cache", default=str(REPO / "out" / "kerror-check" / "truth-runs"),
+                        help="where BELLHOP's truth runs are kept (a rerun reuses them)")
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    import acoustics
+    import envdata
+    from acoustics.builder.truthk import BellhopTruth
+
+    session = Session("kerror-check")
+    grid = REPO / "out" / "kerror-check" / "shelf-break-bellhop.nc"
+    area = envdata.load_area("shelf-break")
+    acoustics.build_grid_file(area, grid, workers=args.workers)
+    tables = acoustics.open_tables(grid)
+    provider = BellhopTruth(area, cache_dir=args.cache, workers=args.workers)
+    by_class = {}
+    for name in CLASSES:
+        ic = tables.class_index(name)
+        result = fit(lines(tables, provider, ic), RANGES_M[1] - RANGES_M[0])
+        by_class[name] = result
+        for key in ("residual_sd_db_at_origin", "residual_growth_db_per_km", "offset_growth_db_per_km",
+                    "residual_length_m"):
+            session.say(f"{name}_{key}", result[key], "dB" if "sd_db" in key else ("dB/km" if "growth" in key else "m"))
+    session.write(classes=by_class, distances_m=list(DISTANCES_M), quarters_deg=list(QUARTERS_DEG),
+                  bearings_deg=list(BEARINGS_DEG), ranges_m=[RANGES_M[0], RANGES_M[-1], RANGES_M[1] - RANGES_M[0]],
+                  truth_runs=provider.stats.runs, truth_runs_cached=provider.stats.cached)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
