@@ -121,15 +121,17 @@ class LevelErrors:
         return cls(components=tuple(c for c in parts if c.sd_db > 0.0 or c.growth_db_per_km > 0.0))
 
     @classmethod
-    def of_tables(cls, tables, ic: int, bands=None, *, source_sd_db: float = 0.0) -> LevelErrors:
+    def of_tables(cls, tables, ic: int, bands=None, *, source_sd_db: float = 0.0,
+                  bearing_deg: float | None = None) -> LevelErrors:
         """The errors of class ``ic``'s levels read from ``tables``: K's error as the tables know it
         (``Tables.k_error_model``, `acoustics.grid.kerror`) and the source level's sd
         ``source_sd_db`` (P0's: the class's ``noise_sd_db`` for its constant level), persistent
         and common to the bands. ``bands``: the band indices whose levels are given, in their
-        order (default every band). The offset and the residual are split between a part common
-        to the bands and each band's own by the model's correlation between bands; the sds are
-        the median over the bands."""
-        model = tables.k_error_model(ic)
+        order (default every band); ``bearing_deg``: where a study's model is by bearing, the
+        bearing the track is on (default its median over the radials). The offset and the residual
+        are split between a part common to the bands and each band's own by the model's correlation
+        between bands; the sds are the median over the bands."""
+        model = tables.k_error_model(ic, bearing_deg)
         idx = list(range(len(model.offset_sd_db))) if bands is None else [int(b) for b in bands]
         rho = model.offset_band_correlation
         read = idx or list(range(len(model.offset_sd_db)))  # no band given: no level to use it on
@@ -257,6 +259,16 @@ def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=Non
             cov = 0.5 * (cov + np.swapaxes(cov, 1, 2))  # rounding keeps it symmetric
         out[:, i] = total
     return out.reshape(lead + (t_n,))
+
+
+def track_bearing_deg(bearing_deg) -> float | None:
+    """The bearing a track is on, for a model of K's error by bearing: the circular mean of its
+    measured bearings, deg (None without any)."""
+    b = np.radians(np.asarray(bearing_deg, dtype=float))
+    b = b[np.isfinite(b)]
+    if b.size == 0:
+        return None
+    return float(np.degrees(np.arctan2(np.sin(b).mean(), np.cos(b).mean())) % 360.0)
 
 
 def path_steps_m(x_m, y_m) -> np.ndarray:

@@ -37,7 +37,6 @@ from envdata.areafile import load_area
 from envdata.files import atomic_paths
 from tools.studies.calibration import class_draws
 from tools.studies.trackerrors import LEVEL_SD_DB, ml_errors, ml_track, rpf_config, rpf_track
-from tracker.levels import LevelErrors
 from tracker.mltma import MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import TruePaths, simulate_batch, tables_k
@@ -169,10 +168,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                 tacks[f"{label}_{name}_{truth_name}"] = {"mean_manoeuvres": float(np.mean(tk - 1)),
                                                          "runs_with_any": int(np.sum(tk > 1))}
                 calibration[f"{label}_{name}_{truth_name}"] = tr.calibration(sim, late)
-            target = tab.classes[ic]
-            errors = LevelErrors.of_tables(tab, ic, [band], source_sd_db=target.noise_sd_db)
             for label, kw in (("rpf", {"config": rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                       "level_errors": errors}),
+                                       "level_errors": "tables"}),
                               ("bot", {"bearings_only": True})):
                 tr = rpf_track(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles, **kw)
                 err = tr.position_error_m(sim)
@@ -248,11 +245,10 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
         sim = simulate_batch(sc, origin, np.random.default_rng([seed, 0]), **draws, k_provider=truth)
         late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
         for name, tab in tables.items():
-            errors = LevelErrors.of_tables(tab, ic, [0], source_sd_db=tab.classes[ic].noise_sd_db)
             errs = {"ml": ml_errors(tab, sim, ic, MLParams())[0],
                     "rpf": rpf_track(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles,
                                      config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                     level_errors=errors).position_error_m(sim)}
+                                     level_errors="tables").position_error_m(sim)}
             for method, err in errs.items():
                 pooled.setdefault(f"{method} {name}", []).append(err[:, late])
                 rmse = np.sqrt(np.nanmean(err ** 2, axis=0))

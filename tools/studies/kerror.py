@@ -51,7 +51,6 @@ from envdata.errors import InputError
 from envdata.files import atomic_paths
 from tools.studies.calibration import class_draws
 from tools.studies.trackerrors import LEVEL_SD_DB, ml_track, rpf_config, rpf_track
-from tracker.levels import LevelErrors
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -148,13 +147,11 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
             minutes = (sim.t_s - sim.t_s[0]) / 60.0
             late = minutes >= LATE_MIN
             for name, tab in tables.items():
-                target = tab.classes[ic]
-                level_errors = LevelErrors.of_tables(tab, ic, [band], source_sd_db=target.noise_sd_db)
                 gen = np.random.default_rng([seed, int(member), SDS.index(name)])
                 runs_of = {"ml": ml_track(tab, sim, ic),
                            "rpf": rpf_track(tab, sim, ic, band, gen, n_particles,
                                             config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                            level_errors=level_errors, at_observer=False)}
+                                            level_errors="tables", at_observer=False)}
                 for method, tr in runs_of.items():
                     errors[(method, name)].append(tr.position_error_m(sim))
                     tracked_cal.setdefault((method, name), []).append((tr, sim, late))

@@ -40,7 +40,6 @@ from envdata.radials import area_radials
 from envdata.ssp import SoundSpeedProfile
 from tools.studies.calibration import class_draws
 from tools.studies.trackerrors import LEVEL_SD_DB, ml_track, rpf_config, rpf_track
-from tracker.levels import LevelErrors
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -119,12 +118,10 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
     errors, calibration = {}, {}
     for name, tab in tables.items():
         ic = tab.class_index(sc.target_class)
-        target = tab.classes[ic]
-        level_errors = LevelErrors.of_tables(tab, ic, [band], source_sd_db=target.noise_sd_db)
         tracked = {"ml": ml_track(tab, sim, ic),
                    "rpf": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name)]), n_particles,
                                     config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                    level_errors=level_errors),
+                                    level_errors="tables"),
                    "bot": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name), 9]),
                                     n_particles, bearings_only=True)}
         for method, tr in tracked.items():

@@ -11,6 +11,7 @@ import numpy as np
 from acoustics.grid.face import Tables
 from envdata.classes import SourceLevelModel
 from tools.studies.calibration import interval_calibration, wrap_deg
+from tracker.levels import LevelErrors, track_bearing_deg
 from tracker.mltma import MLBatch, MLParams
 from tracker.rpf import RpfConfig, run_batch
 from tracker.rpf.track import cycle_profiles
@@ -106,11 +107,15 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
     est = {k: np.empty((e, t)) for k in keys}
     for run in range(e):  # each run its own measured bearings, so its own K profiles
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run], *where)
+        errors = level_errors
+        if isinstance(level_errors, str):
+            errors = LevelErrors.of_tables(tables, cls_index, [band], source_sd_db=target.noise_sd_db,
+                                           bearing_deg=track_bearing_deg(sim.bearing_deg[run]))
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         level_db_meas=None if bearings_only else sim.level_db[run, :, band][None],
                         k_profiles=profiles, cfg=cfg, rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
-                        p0_sd_db=target.noise_sd_db, summaries=True, level_errors=level_errors,
+                        p0_sd_db=target.noise_sd_db, summaries=True, level_errors=errors,
                         displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])
         mean, sds = res.mean[0], res.extra["sd"][0]
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]

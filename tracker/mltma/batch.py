@@ -98,6 +98,15 @@ class MLBatch:
         k0 = [e.cycle_sd_db(self.n_bands) for e in self.k_errors]
         self.k_common_sd_db = np.array([float(k0[c][0]) for c in self.class_index])   # (B,) at the origin
         self.k_band_sd_db = np.array([float(k0[c][1]) for c in self.class_index])     # (B,)
+        # a study's model by bearing (`Tables.k_error_model`): each class's errors on every radial,
+        # each row's read at its bearing every cycle
+        self.k_errors_by_bearing = None
+        self._k_parts = {}  # their sds per observer distance from the tables' origin (rounded to 1 m)
+        radials = self.tables.bearing_axis_deg
+        if self.tables.k_error_measured is not None and radials is not None:
+            self.k_errors_by_bearing = (np.asarray(radials, dtype=float), [
+                [LevelErrors.of_tables(self.tables, ic, bearing_deg=float(b)) for b in radials]
+                for ic in range(len(self.tables.classes))])
         # eq. 21 quadrature (offsets_db, weights) over P0 and K(r) errors, per grid class
         self.level_offsets = [offset_nodes(c.noise_sd_db, float(k[0]), self.params.offsets_n)
                               for c, k in zip(self.tables.classes, k0)]
@@ -146,11 +155,21 @@ class MLBatch:
         d = self.tables.distance_from_origin_m(obs_x_m, obs_y_m)
         return 0.0 if d is None else float(d)
 
-    def _k_error_sds(self, away_m: float):
+    def _k_error_sds(self, away_m: float, brg):
         """Each row's K error at this cycle: eq. 21's nodes over P0 and the part common to the bands
         (None where it is the class's at the origin), and each band's own sd along the range axis
-        for eq. 20's weights (None where no row has one), (B, M, R), dB."""
-        if away_m > 0.0:
+        for eq. 20's weights (None where no row has one), (B, M, R), dB. Where the tables carry a
+        study's model by bearing, each row's at its bearing ``brg`` (B,), linear between radials."""
+        if self.k_errors_by_bearing is not None:
+            radials, per_class = self.k_errors_by_bearing
+            key = round(away_m, 0)
+            if key not in self._k_parts:
+                self._k_parts[key] = np.array([[e.cycle_sd_db(self.n_bands, away_m) for e in row]
+                                               for row in per_class])                        # (C, N, 2)
+            parts = self._k_parts[key]
+            common, band = (self._at_bearing(radials, parts[self.class_index, :, j], brg) for j in (0, 1))
+            nodes = offset_nodes_per_row(self.noise_sd_db, common, self.params.offsets_n)
+        elif away_m > 0.0:
             parts = [e.cycle_sd_db(self.n_bands, away_m) for e in self.k_errors]
             common = np.array([float(parts[c][0]) for c in self.class_index])
             band = np.array([float(parts[c][1]) for c in self.class_index])
@@ -160,6 +179,16 @@ class MLBatch:
         k_sd = None if not band.any() else np.broadcast_to(
             band[:, None, None], (self.n_rows, self.n_bands, self.range_axis_m.size))
         return nodes, k_sd
+
+    @staticmethod
+    def _at_bearing(radials, values, brg):
+        """Each row's value (B, N) on the radials, read at its bearing (B,) linearly, across 0/360."""
+        b = np.mod(np.nan_to_num(np.asarray(brg, dtype=float), nan=0.0), 360.0)
+        ext = np.concatenate([radials, [radials[0] + 360.0]])
+        j = np.clip(np.searchsorted(ext, b, side="right") - 1, 0, radials.size - 1)
+        w = (b - ext[j]) / (ext[j + 1] - ext[j])
+        rows = np.arange(len(b))
+        return (1.0 - w) * values[rows, j] + w * values[rows, (j + 1) % radials.size]
 
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
                obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
@@ -205,7 +234,7 @@ class MLBatch:
             self.k_top_db[n % len(self.k_top_db)] = self._k_rows(k_db, np.maximum(top, 0))
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
-        nodes, k_sd = self._k_error_sds(self._away_m(obs_x_m, obs_y_m))
+        nodes, k_sd = self._k_error_sds(self._away_m(obs_x_m, obs_y_m), brg)
         r_level, r_level_sd = level_ranges_m(
             level, detected, sd_w, self.p0_db, self.class_index, k_db,
             self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd,

@@ -87,7 +87,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     from envdata.classes import SourceLevelModel
     from tracker.depth.bank import depth_hypotheses_m, weigh_tracks
     from tracker.errors import MeasurementFileError
-    from tracker.levels import MEASUREMENT_SD_DB, LevelErrors
+    from tracker.levels import MEASUREMENT_SD_DB, LevelErrors, track_bearing_deg
 
     m = measurements
     chosen = method
@@ -153,7 +153,8 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                                         f"model {str(model)!r} but no noise_mean_db")
                 p0, p0_sd = target.noise_mean_db, target.noise_sd_db
             if integrate_errors:
-                errors = LevelErrors.of_tables(tables, ic, [ib], source_sd_db=target.noise_sd_db)
+                errors = LevelErrors.of_tables(tables, ic, [ib], source_sd_db=target.noise_sd_db,
+                                               bearing_deg=track_bearing_deg(np.degrees(bearings[rows])))
             if not depth_unknown:
                 profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         label = name if spl or cls_name else "any"

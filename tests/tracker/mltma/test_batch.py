@@ -50,3 +50,31 @@ def test_eq21_widens_with_the_observers_distance_from_where_the_tables_were_comp
     # a flat area's tables hold everywhere: nothing changes with the observer's position
     flat = open_tables(tiny_grid)
     assert _first_cycle(flat, 0.0) == _first_cycle(flat, 6000.0)
+
+
+@pytest.mark.bellhop
+def test_eq21_reads_a_studys_model_at_each_rows_bearing(tiny_radial_tables):
+    # a study's model with a small offset on the radial at 0 deg and a large one at 120 deg: two
+    # rows with the same levels, one on each radial, get eq. 21 sds in that order
+    import xarray as xr
+
+    from acoustics.grid.dataset import with_k_error_model
+
+    t = tiny_radial_tables
+    c, m, n = len(t.classes), len(t.bands), t.bearing_axis_deg.size
+    off = np.broadcast_to(np.array([0.5, 6.0, 3.0]), (c, m, n)).copy()               # 0, 120, 240 deg
+    coords = {"class": t.dataset["class"].values, "band": t.dataset["band"].values, "bearing": t.bearing_axis_deg}
+    model = xr.Dataset({"k_offset_sd_db": (("class", "band", "bearing"), off),
+                        "k_residual_sd_db": (("class", "band", "bearing"), np.zeros((c, m, n))),
+                        "k_residual_length_m": (("class",), np.full(c, 500.0)),
+                        "k_offset_band_correlation": (("class",), np.ones(c))}, coords=coords)
+    tables = open_tables(with_k_error_model(t.dataset, model, "test"))
+    ic = tables.class_index("SHIP")
+    j = tables.range_m.size // 2
+    lev = []
+    for b in (0.0, 120.0):
+        k = tables.k_db(None, bearing_deg=np.array([b]))[ic][:, 0]
+        lev.append(tables.classes[ic].noise_mean_db + tables.area.sonar.receiver_gain_db + k[:, j])
+    out = MLBatch(tables, [ic, ic], 1).update(0.0, 0.0, 0.0, 0.0, 2.0, np.array([0.0, 120.0]), 0.5,
+                                              np.array(lev), np.full((2, m), 30.0))
+    assert out["r_level_sd_m"][0] < out["r_level_sd_m"][1]
