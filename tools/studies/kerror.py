@@ -6,9 +6,9 @@ sea's. Here the sea is one of those members: each Monte Carlo run draws a member
 the target's levels with that member's K (the K error then has the study's structure: an offset
 the member keeps along range, a residual that changes along it), the other errors as usual (the
 target's speed and P0 drawn from its class, eq. 11 levels, eq. 2 bearings). The members are
-split in two halves; the K error model is measured on one half (`acoustics.sensitivity.errormodel`)
-and the runs' seas are drawn from the other, then the halves swap: the trackers are judged on
-seas their error model was not measured on. The same measurements are tracked with the nominal
+split in `FOLDS` groups; for each, the K error model is measured on the others
+(`acoustics.sensitivity.errormodel`) and its share of the runs' seas is drawn from it: the
+trackers are judged on seas their error model was not measured on. The same measurements are tracked with the nominal
 tables and:
 
 - ``model``: the study's model (offset and residual per class, band and bearing, the residual's
@@ -75,7 +75,11 @@ def member_tables(nominal: Tables, study: Study, member: int) -> Tables:
     return open_tables(ds, name=f"{nominal.source} (member {member})")
 
 
-def _half(study: Study, members) -> Study:
+#: The members' groups: each one's seas tracked with the model of the others.
+FOLDS = 4
+
+
+def _subset(study: Study, members) -> Study:
     """The study with only the given members."""
     idx = np.asarray(members, dtype=int)
     return replace(study, dataset=study.dataset.isel(member=idx), k_db=study.k_db[idx],
@@ -116,27 +120,29 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
                                                   if n in nominal.dataset.data_vars]), name=str(grid))
     study_k = open_study(study)
     if study_k.members < 4:
-        raise InputError(f"{study}: the kerror study splits the members in two halves: it needs at least 4, "
+        raise InputError(f"{study}: the kerror study splits the members in {FOLDS} groups: it needs at least 4, "
                          f"got {study_k.members}")
     sc = load_scenario(SCENARIO)
     ic = base.class_index(sc.target_class)
     band = 0  # FB1, the band heard farthest
-    halves = (np.arange(0, study_k.members, 2), np.arange(1, study_k.members, 2))
+    groups = [np.arange(g, study_k.members, FOLDS) for g in range(FOLDS)]
+    folds = [(np.setdiff1d(np.arange(study_k.members), seas), seas) for seas in groups]
+    per_fold = [runs // FOLDS + (1 if g < runs % FOLDS else 0) for g in range(FOLDS)]
     rng = np.random.default_rng(seed)
     errors = {(m, s): [] for m in METHODS for s in SDS}
     errors[("bot", "-")] = []
     tracked_cal = {}
     scalars, drawn = [], np.zeros(study_k.members, dtype=int)
     minutes = None
-    for fold, (fit, seas) in enumerate((halves, halves[::-1])):
-        fitted = _half(study_k, fit)
+    for fold, (fit, seas) in enumerate(folds):
+        fitted = _subset(study_k, fit)
         scalar_db = k_error_by_class(summarize(fitted))[sc.target_class]
         scalars.append(scalar_db)
         fitted_model = with_k_error_model(base.dataset, k_error_model(fitted), f"members {fit.tolist()}")
         one_number = with_k_error_model(base.dataset, _scalar_model(base, scalar_db), "one number")
         tables = {"model": open_tables(fitted_model, name=f"{grid} (model of members {fit.tolist()})").as_everywhere(),
                   "scalar": open_tables(one_number, name=f"{grid} (one number)").as_everywhere()}
-        members = seas[rng.integers(0, seas.size, runs // 2 if fold == 0 else runs - runs // 2)]
+        members = seas[rng.integers(0, seas.size, per_fold[fold])]
         for member in np.unique(members):
             n = int(np.sum(members == member))
             drawn[member] += n
@@ -170,10 +176,10 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
                   for lo, hi in zip(TIME_BINS_MIN[:-1], TIME_BINS_MIN[1:])} for key, err in by_key.items()}
     summary = {"scenario": sc.name, "area": base.area.name, "runs": runs, "seed": seed, "n_particles": n_particles,
                "class": sc.target_class, "band": base.band_names[band], "study": str(study), "grid": str(grid),
-               "study_members": study_k.members, "halves": [h.tolist() for h in halves],
-               "members_drawn": drawn.tolist(), "scalar_k_error_sd_db_by_half": [round(v, 3) for v in scalars],
+               "study_members": study_k.members, "folds": [seas.tolist() for _, seas in folds],
+               "members_drawn": drawn.tolist(), "scalar_k_error_sd_db_by_fold": [round(v, 3) for v in scalars],
                "level_sd_db": LEVEL_SD_DB, "late_min": LATE_MIN,
-               "model_by_half": [_model_summary(k_error_model(_half(study_k, h)), ic, band) for h in halves],
+               "model_by_fold": [_model_summary(k_error_model(_subset(study_k, fit)), ic, band) for fit, _ in folds],
                "rmse_m": {key: {f"{t:g}": float(np.interp(t, minutes, frame[f"{key}_rmse_m"])) for t in REPORT_MIN}
                           for key in keys},
                "mean_rmse_after_5min_m": {key: _rms(err[:, minutes >= 5.0]) for key, err in by_key.items()},
@@ -214,7 +220,7 @@ def _pooled_calibration(parts) -> dict:
 
 
 def _model_summary(model, ic: int, band: int) -> dict:
-    """One half's model of the target's class in the band, medians over the bearings."""
+    """One fold's model of the target's class in the band, medians over the bearings."""
     def med(name):
         v = np.asarray(model[name].isel({"class": ic}).values, dtype=float)
         v = v[band] if v.ndim >= 1 and name in ("k_offset_sd_db", "k_residual_sd_db") else v
