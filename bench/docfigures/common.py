@@ -58,14 +58,20 @@ def calibration_rows(calibration: dict, names, head: str = "tracker") -> list[tu
     of its result file, `tools.studies.calibration`): per (key, label) of ``names``, the 90 %
     interval's coverage of range, course and speed, and range's median |error| / sd and mean
     (error / sd)^2 (calibrated: 90 %, 0.67, 1)."""
-    rows = [(head, "range: 90 % interval holds the truth", "median \\|error\\| / sd", "mean (error / sd)^2",
+    return calibration_head(head) + [calibration_row(label, calibration[key]) for key, label in names]
+
+
+def calibration_head(head: str) -> list[tuple]:
+    """The head of a calibration table (`calibration_rows`)."""
+    return [(head, "range: 90 % interval holds the truth", "median \\|error\\| / sd", "mean (error / sd)^2",
              "course: 90 % holds", "speed: 90 % holds"), ("---",) * 6]
-    for key, label in names:
-        c = calibration[key]
-        r = c["range"]
-        rows.append((label, f"{100 * r['coverage_90']:.0f} %", f"{r['median_abs_z']:.2f}", _nees(r["mean_sq_z"]),
-                     f"{100 * c['course']['coverage_90']:.0f} %", f"{100 * c['speed']['coverage_90']:.0f} %"))
-    return rows
+
+
+def calibration_row(label: str, c: dict) -> tuple:
+    """One tracker's row of a calibration table from its ``{range, course, speed}`` figures."""
+    r = c["range"]
+    return (label, f"{100 * r['coverage_90']:.0f} %", f"{r['median_abs_z']:.2f}", _nees(r["mean_sq_z"]),
+            f"{100 * c['course']['coverage_90']:.0f} %", f"{100 * c['speed']['coverage_90']:.0f} %")
 
 
 def _nees(value: float) -> str:

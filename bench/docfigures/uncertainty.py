@@ -1,0 +1,82 @@
+"""docs/uncertainty.md (and the study pages that show the same blocks): how each study's trackers'
+stated sds hold against the truth after its first 10 minutes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from bench.docfigures.common import (
+    calibration_head,
+    calibration_row,
+    calibration_rows,
+    caption,
+    load_result,
+    markdown_table,
+)
+
+PAGE = "docs/uncertainty.md"
+
+SHELF = (("ml_bearing", "ML analysis, bearing-dependent grid"),
+         ("rpf_bearing", "particle filter, bearing-dependent grid"),
+         ("bot_bearing", "bearings-only filter"),
+         ("ml_isotropic", "ML analysis, origin's column (the shortcut)"),
+         ("rpf_isotropic", "particle filter, origin's column (the shortcut)"))
+KERROR = (("ml_model", "ML analysis, the study's model"), ("ml_scalar", "ML analysis, one number"),
+          ("rpf_model", "particle filter, the study's model"), ("rpf_scalar", "particle filter, one number"),
+          ("bot", "bearings-only filter"))
+FOLLOW = tuple((f"{m}_{t}_bellhop", f"{label}, {where}") for m, label in
+               (("ml", "ML analysis"), ("rpf", "particle filter"), ("bot", "bearings-only filter"))
+               for t, where in (("origin", "origin table"), ("atlas-10km", "10 km atlas"), ("atlas-5km", "5 km atlas")))
+IDM = {"bot": "bearings only", "spl": "bearings + SPL", "spl_vp": "bearings + SPL, variance-preserving",
+       "spl_sl": "bearings + SPL, source-level state"}
+
+
+def _study(root: Path, file: str, names, head: str = "tracker") -> str:
+    """One study's calibration table from its result file."""
+    d = load_result(root, file)
+    return markdown_table(calibration_rows(d["calibration_after_late_min"], names, head)) + "\n" + caption(d, file)
+
+
+def calibration_shelf(root: Path) -> str:
+    return _study(root, "shelf/shelf.json", SHELF)
+
+
+def calibration_kerror(root: Path) -> str:
+    return _study(root, "kerror/kerror.json", KERROR)
+
+
+def calibration_follow(root: Path) -> str:
+    return _study(root, "atlas-tracking/follow.json", FOLLOW, "tracker, tables (BELLHOP's levels)")
+
+
+def calibration_gm(root: Path) -> str:
+    rows, files = calibration_head("scenario, cycles after 10 min"), []
+    for folder in ("gm-tv-30km", "gm-tv-110km", "gm-nps"):
+        d = load_result(root, f"{folder}/summary.json")
+        rows += [calibration_row(f"{folder}, {part.replace('_', ' ')}", c)
+                 for part, c in d["calibration_after_late_min"].items()]
+        files.append(caption(d, f"{folder}/summary.json"))
+    return markdown_table(rows) + "\n" + "".join(files)
+
+
+def calibration_idm(root: Path) -> str:
+    rows, files = calibration_head("scenario, filter"), []
+    for scenario in ("idm-static", "idm-maneuvering"):
+        d = load_result(root, f"idm/{scenario}.json")
+        rows += [calibration_row(f"{scenario}, {IDM.get(key, key)}", c)
+                 for key, c in d["calibration_after_late_min"].items()]
+        files.append(caption(d, f"idm/{scenario}.json"))
+    return markdown_table(rows) + "\n" + "".join(files)
+
+
+def calibration_depth(root: Path) -> str:
+    d = load_result(root, "depth/depth.json")
+    rows = [("tracker, depth", "range: 90 % interval holds the truth", "median \\|error\\| / sd"), ("---",) * 3]
+    rows += [(key.replace("_", ", "), f"{100 * c['coverage_90']:.0f} %", f"{c['median_abs_z']:.2f}")
+             for key, c in d["range_calibration_after_late_min"].items()]
+    return markdown_table(rows) + "\n" + caption(d, "depth/depth.json")
+
+
+TABLES = {"calibration-shelf": calibration_shelf, "calibration-kerror": calibration_kerror,
+          "calibration-follow": calibration_follow, "calibration-gm": calibration_gm,
+          "calibration-idm": calibration_idm, "calibration-depth": calibration_depth}
