@@ -85,10 +85,12 @@ def run_track(args) -> Report:
         depth = (f", depth {r.depth_m:.0f} m" + (f" (sd {r.depth_sd_m:.0f} m)"
                                                   if np.isfinite(r.depth_sd_m) else "")
                  if np.isfinite(r.depth_m) else "")
-        lines.append(f"  {r['class']}: range {r.range_m / 1000:.2f} km, course "
-                     f"{r.course_deg:.1f} deg, speed {r.speed_mps:.2f} m/s (tack {r.tack}){depth}")
-        data["final"][r["class"]] = {k: float(r[k]) for k in ("range_m", "course_deg",
-                                                               "speed_mps", "depth_m", "depth_sd_m")}
+        lines.append(f"  {r['class']}: range {r.range_m / 1000:.2f} km{_pm(r.range_sd_m / 1000, '.2f', 'km')}, "
+                     f"course {r.course_deg:.1f} deg{_pm(r.course_sd_deg, '.1f', 'deg')}, speed "
+                     f"{r.speed_mps:.2f} m/s{_pm(r.speed_sd_mps, '.2f', 'm/s')} (tack {r.tack}){depth}")
+        data["final"][r["class"]] = {k: float(r[k]) for k in ("range_m", "course_deg", "speed_mps", "range_sd_m",
+                                                               "course_sd_deg", "speed_sd_mps", "depth_m",
+                                                               "depth_sd_m")}
     for choice in df.attrs.get("depth", []):
         posterior = (f"depth {choice.median_m:.0f} m, 90 % in {choice.interval_m[0]:.0f}-"
                      f"{choice.interval_m[1]:.0f} m, P(<= 15 m) {choice.surface_probability:.2f}, "
@@ -107,3 +109,8 @@ def run_track(args) -> Report:
             "interval_m": list(choice.interval_m), "surface_probability": choice.surface_probability,
             "submerged_probability": choice.submerged_probability}
     return Report("\n".join(lines), data)
+
+
+def _pm(sd: float, fmt: str, unit: str) -> str:
+    """The 90 % interval's half-width beside an estimate (1.645 sd: docs/uncertainty.md), or none."""
+    return f" +- {1.6448536 * sd:{fmt}} {unit} (90 %)" if math.isfinite(sd) else ""
