@@ -75,23 +75,28 @@ def observer_in_water(tables, distance_m: float, quarter_deg: float) -> bool:
 
 #: A line whose offset exceeds this is another acoustic regime, not the tables a little off: an
 #: observer moved up onto the shelf, its level from the basin tens of dB below what the slope's
-#: tables give. It is reported and left out of the fit (the growth the trackers allow is that of
-#: tables read where the water is like their origin's; docs/uncertainty.md says so).
+#: tables give. The fit is made with every line (``all``: the error the trackers must allow for
+#: wherever an observer takes tables of one position) and without these (``same_regime``).
 REGIME_CHANGE_DB = 20.0
 
 
 def fit(found: list[dict], step_m: float) -> dict:
-    """The model's numbers from the lines (module docstring)."""
-    rows, apart = [], []
+    """The model's numbers from the lines (module docstring): fitted with every line and with the
+    lines of the tables' own regime (`REGIME_CHANGE_DB`)."""
+    usable = [line for line in found if np.isfinite(line["diff_db"]).all(axis=1).sum() >= 8]  # not over land
+    same = [line for line in usable
+            if np.abs(np.nanmean(line["diff_db"][np.isfinite(line["diff_db"]).all(axis=1)], axis=0)).max()
+            <= REGIME_CHANGE_DB]
+    return {"all": _fit(usable, step_m), "same_regime": _fit(same, step_m),
+            "other_regime_lines": [{k: line[k] for k in ("distance_m", "quarter_deg", "bearing_deg")}
+                                   for line in usable if line not in same]}
+
+
+def _fit(found: list[dict], step_m: float) -> dict:
+    rows = []
     for line in found:
         diff = line["diff_db"]
         ok = np.isfinite(diff).all(axis=1)
-        if ok.sum() < 8:   # a line mostly over land: nothing to read
-            continue
-        if np.abs(np.nanmean(diff[ok], axis=0)).max() > REGIME_CHANGE_DB:
-            apart.append({**{k: line[k] for k in ("distance_m", "quarter_deg", "bearing_deg")},
-                          "offset_db": [round(float(v), 1) for v in np.nanmean(diff[ok], axis=0)]})
-            continue
         mean = np.nanmean(diff[ok], axis=0)                                             # (M,)
         resid = diff - mean
         rows.append({**{k: line[k] for k in ("distance_m", "quarter_deg", "bearing_deg")},
@@ -117,7 +122,7 @@ def fit(found: list[dict], step_m: float) -> dict:
         r.pop("resid")
     return {"residual_sd_db_at_origin": round(base, 3), "residual_growth_db_per_km": round(residual_growth, 3),
             "offset_growth_db_per_km": round(offset_growth, 3), "residual_length_m": round(length, 1),
-            "lines": rows, "other_regime_lines": apart}
+            "lines": rows}
 
 
 def main(argv=None) -> int:
@@ -141,9 +146,11 @@ def main(argv=None) -> int:
         ic = tables.class_index(name)
         result = fit(lines(tables, provider, ic), RANGES_M[1] - RANGES_M[0])
         by_class[name] = result
-        for key in ("residual_sd_db_at_origin", "residual_growth_db_per_km", "offset_growth_db_per_km",
-                    "residual_length_m"):
-            session.say(f"{name}_{key}", result[key], "dB" if "sd_db" in key else ("dB/km" if "growth" in key else "m"))
+        for part in ("all", "same_regime"):
+            for key in ("residual_sd_db_at_origin", "residual_growth_db_per_km", "offset_growth_db_per_km",
+                        "residual_length_m"):
+                unit = "dB" if "sd_db" in key else ("dB/km" if "growth" in key else "m")
+                session.say(f"{name}_{part}_{key}", result[part][key], unit)
     session.write(classes=by_class, distances_m=list(DISTANCES_M), quarters_deg=list(QUARTERS_DEG),
                   bearings_deg=list(BEARINGS_DEG), ranges_m=[RANGES_M[0], RANGES_M[-1], RANGES_M[1] - RANGES_M[0]],
                   truth_runs=provider.stats.runs, truth_runs_cached=provider.stats.cached)
