@@ -18,9 +18,11 @@ next. Its parts, per class and band:
 
 An area file's one ``k_error_sd_db`` per class is the offset (what G&M's dK means); a
 sensitivity study (``tmakit sensitivity --into``) measures every part from its members. The
-tables' own fine error and the growth away from their origin are measured against BELLHOP run
-from the target (`TABLE_RESIDUAL_SD_DB` and the growths below; docs/depth.md), and hold for
-every set of tables until a check of their own replaces them.
+tables' own residual and the growth away from their origin are measured against BELLHOP run from
+the target on geometries none of the studies use (``python -m bench.kerror_check``,
+docs/results/kerror-check.json: the shelf-break area, a surface ship at 8 m, observers at the
+origin and 3 and 6 km toward the four quarters, targets every 250 m on three bearings), and hold
+for every set of tables until a check of their own replaces them.
 """
 
 from __future__ import annotations
@@ -31,20 +33,21 @@ from dataclasses import dataclass
 import numpy as np
 
 #: The tables' own residual against BELLHOP run from the target, where nothing else differs
-#: (observer at the tables' origin), common to the bands, dB: the depth study's check
-#: (docs/results/depth/depth.json ``tables_vs_bellhop_from_target_db.fit.fine_sd_db``, shelf-break,
-#: targets at 3-60 m and 3-20 km).
-TABLE_RESIDUAL_SD_DB = 1.94
-#: Its correlation length along the target's path relative to the observer, m: the shelf-tv
-#: transport's path, the origin's tables against BELLHOP along it (relative move 45 m per
-#: cycle; correlation 0.62 after 360 m, 0.44 after 540 m, 0.12 after 900 m).
-TABLE_RESIDUAL_LENGTH_M = 600.0
+#: (observer at the tables' origin), dB: kerror-check.json ``classes.TV.all.residual_sd_db_at_origin``
+#: (2.13 dB; the depth study's check of a submarine at 3-60 m found 1.94 dB, docs/depth.md).
+TABLE_RESIDUAL_SD_DB = 2.13
+#: Its correlation length along the target's path relative to the observer, m: the same file's
+#: ``same_regime.residual_length_m`` (1147 m; with the lines of an observer moved onto the shelf,
+#: whose tens of dB dominate the pooled correlation, 2640 m).
+TABLE_RESIDUAL_LENGTH_M = 1150.0
 #: How the tables' residual grows with the observer's distance from where they were computed,
-#: dB/km: the same check with the observer 2.5 and 5 km away (``fit.fine_growth_db_per_km``).
-TABLE_RESIDUAL_GROWTH_DB_PER_KM = 1.37
-#: How the offset grows with that distance, dB/km (``fit.offset_growth_db_per_km``: each depth's
-#: mean error less the origin's on the same bearing).
-TABLE_OFFSET_GROWTH_DB_PER_KM = 1.33
+#: dB/km: the same file's ``all.residual_growth_db_per_km``: every line, an observer moved up onto
+#: the shelf included (0.69 dB/km without those; the growth is far from uniform: tables of one
+#: position hold where the water is like their origin's, and an atlas follows the observer).
+TABLE_RESIDUAL_GROWTH_DB_PER_KM = 2.46
+#: How the offset grows with that distance, dB/km (``all.offset_growth_db_per_km``: each line's
+#: mean error less the origin's on the same bearing; 0.43 dB/km without the shelf's lines).
+TABLE_OFFSET_GROWTH_DB_PER_KM = 3.10
 #: A grid's measured model (``tmakit sensitivity --into``, `acoustics.sensitivity.errormodel`;
 #: docs/formats.md): each variable's dimensions without and with bearings.
 MODEL_VARS = {"k_offset_sd_db": (("class", "band"), ("class", "band", "bearing")),

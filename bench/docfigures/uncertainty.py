@@ -77,6 +77,19 @@ def calibration_depth(root: Path) -> str:
     return markdown_table(rows) + "\n" + caption(d, "depth/depth.json")
 
 
-TABLES = {"calibration-shelf": calibration_shelf, "calibration-kerror": calibration_kerror,
-          "calibration-follow": calibration_follow, "calibration-gm": calibration_gm,
-          "calibration-idm": calibration_idm, "calibration-depth": calibration_depth}
+def kerror_check(root: Path) -> str:
+    d = load_result(root, "kerror-check.json")
+    rows = [("fit, surface ship (TV, 8 m)", "residual at the origin", "its growth", "the offset's growth",
+             "the residual's correlation length"), ("---",) * 5]
+    for part, label in (("all", "every line (the model's)"),
+                        ("same_regime", "without an observer moved onto the shelf")):
+        f = d["classes"]["TV"][part]
+        rows.append((label, f"{f['residual_sd_db_at_origin']:.2f} dB", f"{f['residual_growth_db_per_km']:.2f} dB/km",
+                     f"{f['offset_growth_db_per_km']:.2f} dB/km", f"{f['residual_length_m']:.0f} m"))
+    return markdown_table(rows) + "\n" + caption(d, "kerror-check.json")
+
+
+TABLES = {"kerror-check": kerror_check, "calibration-shelf": calibration_shelf,
+          "calibration-kerror": calibration_kerror, "calibration-follow": calibration_follow,
+          "calibration-gm": calibration_gm, "calibration-idm": calibration_idm,
+          "calibration-depth": calibration_depth}
