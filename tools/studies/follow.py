@@ -36,7 +36,7 @@ from acoustics.grid.opentables import open_tables
 from envdata.areafile import load_area
 from envdata.files import atomic_paths
 from tools.studies.calibration import class_draws
-from tools.studies.trackerrors import LEVEL_SD_DB, ml_errors, ml_track, rpf_config, rpf_track
+from tools.studies.trackerrors import FILTER_PARTICLES, LEVEL_SD_DB, ml_errors, ml_track, rpf_config, rpf_track
 from tracker.mltma import MLParams
 from tracker.scenario import load_scenario
 from tracker.simulate import TruePaths, simulate_batch, tables_k
@@ -135,7 +135,8 @@ def build_tables(out: Path, workers: int) -> dict[str, Path]:
     return {k: Path(v) for k, v in files.items()}
 
 
-def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000) -> dict:
+def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
+        n_particles: int = FILTER_PARTICLES) -> dict:
     """The study: write ``follow_rmse.csv``, ``follow.json`` and ``follow_rmse.png`` (all or none)."""
     start = time.perf_counter()
     out = Path(out_dir)
@@ -209,7 +210,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
 
 
 def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int = 2,
-                n_particles: int = 2000) -> dict:
+                n_particles: int = FILTER_PARTICLES) -> dict:
     """How the atlas's blend between positions serves the trackers (docs/atlas-tracking.md): on
     BELLHOP's levels along the true paths, for each seed a batch of ``runs`` runs tracked by the
     ML analysis (default tests) and the particle filter with the origin table and with each atlas

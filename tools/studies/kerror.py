@@ -50,7 +50,7 @@ from acoustics.sensitivity.summaries import k_error_by_class, summarize
 from envdata.errors import InputError
 from envdata.files import atomic_paths
 from tools.studies.calibration import class_draws
-from tools.studies.trackerrors import LEVEL_SD_DB, ml_track, rpf_config, rpf_track
+from tools.studies.trackerrors import FILTER_PARTICLES, LEVEL_SD_DB, ml_track, rpf_config, rpf_track
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -109,7 +109,7 @@ def k_error_model_like(nominal: Tables):
 
 
 def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int = 48, seed: int = 0,
-        n_particles: int = 2000) -> dict:
+        n_particles: int = FILTER_PARTICLES) -> dict:
     """The study (see the module); returns its summary and writes its three files."""
     start = time.perf_counter()
     out = Path(out_dir)

@@ -39,7 +39,7 @@ from envdata.files import atomic_paths
 from envdata.radials import area_radials
 from envdata.ssp import SoundSpeedProfile
 from tools.studies.calibration import class_draws
-from tools.studies.trackerrors import LEVEL_SD_DB, ml_track, rpf_config, rpf_track
+from tools.studies.trackerrors import FILTER_PARTICLES, LEVEL_SD_DB, ml_track, rpf_config, rpf_track
 from tracker.scenario import load_scenario
 from tracker.simulate import simulate_batch
 
@@ -82,7 +82,7 @@ def origin_area(area: Area) -> Area:
     return parse_area(doc, f"{area.name}-origin")
 
 
-def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = 2000,
+def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = FILTER_PARTICLES,
         progress: bool = False, truth: str = "bellhop") -> dict:
     """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs (levels
     from ``truth``: BELLHOP along the true paths, its runs kept in ``out_dir/grids/truth-runs``, or
