@@ -37,10 +37,13 @@ def test_the_study_through_the_command_line(tmp_path, capsys):
     flat = acoustics.open_tables(out / "grids" / "shelf-break-origin-bellhop.nc")
     assert bearing.bearing_axis_deg is not None and flat.bearing_axis_deg is None  # radials, one profile
     errors = summary["mean_rmse_after_5min_m"]
-    # the shortcut misplaces the transport by kilometres: the slope and the basin change K
-    # by tens of dB from what one column over a flat bottom gives (these 3 runs: 7.8 km against
-    # 2.7 km, 2.9x)
-    assert errors["ml_isotropic"] > 2.0 * errors["ml_bearing"]
+    # the shortcut misplaces the transport: the slope and the basin change K by tens of dB from
+    # what one column over a flat bottom gives.  Since the trackers carry the tables' K error
+    # (a persistent offset integrated out, the residual growing off the origin) they lean on the
+    # bearings where the levels disagree, so the ML analysis loses less than it did (these 3 runs
+    # at 12499da: 2.33 against 1.71 km, 1.36x, was 2.9x with the class's 1.5 dB alone; bound 1.2x
+    # set after measuring, margin 0.16) and the particle filter still 2.7x (3.95 against 1.49 km)
+    assert errors["ml_isotropic"] > 1.2 * errors["ml_bearing"]
     assert errors["rpf_isotropic"] > 2.0 * errors["rpf_bearing"]
     assert np.isfinite(list(errors.values())).all()
     # every tracker's stated sds are checked against the truth after the first minutes
