@@ -1,10 +1,10 @@
-"""The figures quoted from result files: every file in docs/results carries its provenance, and
-every generated table in README and docs/ is what its file gives (``python -m bench.docfigures``)."""
+"""The figures quoted from result files: every generated table in README and docs/ is what its file
+gives, and every figure quoted in prose is what it gives (``python -m bench.docfigures``); the result
+files' provenance is tests/test_provenance.py's."""
 
 from __future__ import annotations
 
 import json
-import re
 import shutil
 import subprocess
 import sys
@@ -14,7 +14,6 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 RESULTS = REPO / "docs" / "results"
-PROVENANCE_KEYS = {"command", "commit", "tree_clean", "date", "load_average", "machine", "versions"}
 
 
 def _docfigures(*args: str) -> subprocess.CompletedProcess:
@@ -60,40 +59,6 @@ def test_a_figure_quoted_in_prose_that_differs_from_its_file_is_found(tmp_path):
     # and a rewrite leaves the prose to its author
     _docfigures("--root", str(tmp_path))
     assert wrong in readme.read_text()
-
-
-def _result_files():
-    """The result files: every JSON under docs/results but the tables a study builds beside its
-    results (docs/results/STUDY/grids/, ignored by git: the follow study's atlases hold zarr.json)."""
-    return sorted(p for p in RESULTS.rglob("*.json") if "grids" not in p.relative_to(RESULTS).parts[1:2])
-
-
-def _strings(x):
-    """Every string value in a JSON document."""
-    if isinstance(x, dict):
-        return [s for v in x.values() for s in _strings(v)]
-    if isinstance(x, list):
-        return [s for v in x for s in _strings(v)]
-    return [x] if isinstance(x, str) else []
-
-
-@pytest.mark.parametrize("path", _result_files(), ids=lambda p: str(p.relative_to(RESULTS)))
-def test_every_result_file_says_how_it_was_made(path):
-    data = json.loads(path.read_text())
-    prov = data.get("provenance") if isinstance(data, dict) else None
-    assert isinstance(prov, dict), f"{path}: no provenance"
-    assert PROVENANCE_KEYS <= set(prov), f"{path}: provenance lacks {sorted(PROVENANCE_KEYS - set(prov))}"
-    assert prov["command"], f"{path}: no command"
-    # typed from the repository's root on any machine: no absolute path (bench.harness.portable)
-    assert not re.search(r"(^|\s)/\S", prov["command"]), f"{path}: a machine path in {prov['command']!r}"
-    # nor anywhere else in the file (an executable's path: bench.harness.portable_path)
-    machine_paths = [v for v in _strings(data) if re.match(r"/(work|home|root|tmp|usr|opt)/", v)]
-    assert not machine_paths, f"{path}: machine paths {machine_paths[:3]}"
-    if prov.get("rerun_pending"):
-        assert prov.get("reason"), f"{path}: marked to be made again without a reason"
-    else:  # made by the harness: all of it
-        assert prov["commit"] and prov["date"] and prov["versions"] and prov["machine"]["cores"]
-        assert prov["load_average"]["before"] and prov["load_average"]["after"]
 
 
 def test_every_page_module_registers_and_a_table_defined_twice_is_refused():
