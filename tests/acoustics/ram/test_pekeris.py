@@ -12,8 +12,7 @@ interference pattern (mode 1-2 beating is 1-2 km long here) and drops the fine f
 Tolerance: median |dTL| <= 1 dB and 90th percentile <= 3 dB (the agreement asked of a model
 beside BELLHOP, as for the arlpy cross-checks), and the signed median within 1 dB; measured in
 docs/results/ram-checks.json (``python -m bench.crosscheck.ram_checks``, which runs the same
-case): nearly all of it a level offset, the 100 m bottom on a grid point of RAM's depth grid
-(docs/models.md, "Checks").
+case): nearly all of it a level offset (docs/models.md, "Checks").
 """
 
 from __future__ import annotations
