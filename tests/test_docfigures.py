@@ -90,3 +90,28 @@ def test_the_command_refuses_a_table_defined_twice(tmp_path):
     assert done.returncode == 2, done.stdout + done.stderr
     assert done.stderr.strip() == ("error: docfigures: table 'stonesoup' is defined twice, in "
                                    "bench.docfigures.stonesoup and bench.docfigures.zz_planted")
+
+
+def test_every_page_has_a_module_that_says_what_its_prose_quotes():
+    # README and every docs/ page: a module of bench/docfigures/ names it and lists the figures
+    # its prose quotes (an empty list says why in the module)
+    from bench.docfigures import page_modules
+    from bench.docfigures.engine import pages
+
+    modules = {m.PAGE: m for m in page_modules()}
+    missing = [str(p.relative_to(REPO)) for p in pages(REPO) if str(p.relative_to(REPO)) not in modules]
+    assert not missing, f"pages without a bench/docfigures module: {missing}"
+    assert all(hasattr(m, "QUOTES") for m in modules.values()), [n for n, m in modules.items() if not hasattr(m, "QUOTES")]
+
+
+def test_a_figure_computed_from_its_file_is_checked_too(tmp_path):
+    # a quote may compute its figure (docs/models.md: RAM's wall time over BELLHOP's, the least of
+    # a file's cases): the page's ratio changed in a copy is found, named by the function
+    readme = _copied_pages(tmp_path)
+    models = tmp_path / "docs" / "models.md"
+    text = models.read_text()
+    assert "and 75 to 200 times its wall time" in " ".join(text.split())
+    models.write_text(text.replace("and 75 to", "and 57 to"))
+    done = _docfigures("--check", "--root", str(tmp_path))
+    assert done.returncode == 1 and "models-areas.json _least_wall_ratio ('and 75 to')" in done.stdout, done.stdout
+    assert readme.exists()

@@ -179,7 +179,8 @@ QUOTES = (
     ("ram-checks.json", ("ram15", "max_abs_db"), "/ {:.3f} dB |"),
     *(("ram-checks.json", ("pekeris", "by_freq_hz", f, "default", key), fmt) for f, key, fmt in (
         ("100", "median_db", "| {:.2f} /"), ("100", "p90_db", "/ {:.2f} dB,"), ("250", "median_db", ", {:.2f} /"),
-        ("250", "p90_db", "/ {:.2f} dB |"), ("100", "median_db", "median {:.2f} /"), ("250", "median_db", "/ {:.2f} dB, p90"),
+        ("250", "p90_db", "/ {:.2f} dB |"), ("100", "median_db", "median {:.2f} /"),
+        ("250", "median_db", "/ {:.2f} dB, p90"),
         ("100", "p90_db", "p90 {:.2f} /"), ("250", "p90_db", "/ {:.2f} dB, signed"),
         ("100", "signed_median_db", "signed {:+.2f} /"), ("250", "signed_median_db", "/ {:+.2f} dB |"))),
     *(("ram-checks.json", ("pekeris", "by_freq_hz", f, "lambda_over_20", key), fmt) for f, key, fmt in (
