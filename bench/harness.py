@@ -191,6 +191,22 @@ def bench_grid(area: str) -> str:
     return str(build_grid_file(area, REPO / "out" / "bench" / f"{area}-bellhop.nc", workers=2).file)
 
 
+def raw_bellhop_seconds(runs, exe) -> float:
+    """Sum of the wall times of bellhop.exe itself on the runs' files (the .env and the files
+    beside it, such as a source pattern's .sbp), one at a time: what a build's BELLHOP time is
+    measured against."""
+    total = 0.0
+    for run in runs:
+        with tempfile.TemporaryDirectory() as tmp:
+            (Path(tmp) / "raw.env").write_text(run.env)
+            for suffix, text in run.files:
+                (Path(tmp) / f"raw.{suffix}").write_text(text)
+            start = time.perf_counter()
+            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
+            total += time.perf_counter() - start
+    return total
+
+
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:
     """Run ``tmakit ARGS --json`` in a child process: wall time (s), peak resident size of the
     largest process it waited for (MiB), and its JSON report."""

@@ -24,18 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from acoustics.ram import RamSettings, ram_tl_db
+from bench.crosscheck import ram_cases as cases
 from bench.crosscheck.pekeris import pekeris_tl_db
-from bench.crosscheck.ram_cases import (
-    PEKERIS,
-    PEKERIS_SOURCE_DEPTH_M,
-    RAM15_DEPTH_M,
-    RAM15_FREQ_HZ,
-    pekeris_environment,
-    ram15_case,
-    ram15_reference_path,
-    range_average_tl_db,
-    write_study_file,
-)
 
 OUT = Path("docs/results/ram-checks.json")
 PEKERIS_DEPTHS_M = np.arange(5.0, 100.0, 5.0)
@@ -46,25 +36,25 @@ PEKERIS_FREQS_HZ = (100.0, 250.0)
 
 def ram15_difference() -> np.ndarray:
     """|TL_RAM - TL_Fortran RAM| of RAM 1.5's test case at the reference line's 100 ranges, dB."""
-    ref = np.loadtxt(ram15_reference_path())
+    ref = np.loadtxt(cases.ram15_reference_path())
     if ref.shape != (100, 2):
         raise ValueError(f"tl_ref.line: expected 100 ranges of (range, TL), got shape {ref.shape}")
-    env, settings = ram15_case()
-    tl = ram_tl_db(env, RAM15_FREQ_HZ, [RAM15_DEPTH_M], ref[:, 0], settings)[0]
+    env, settings = cases.ram15_case()
+    tl = ram_tl_db(env, cases.RAM15_FREQ_HZ, [cases.RAM15_DEPTH_M], ref[:, 0], settings)[0]
     return np.abs(tl - ref[:, 1])
 
 
 def pekeris_difference(freq_hz: float, depth_step_per_wavelength: float | None = None) -> np.ndarray:
     """TL_RAM - TL_modes on the Pekeris waveguide after the 210 m running mean, (depth, range), dB;
     RAM with its default settings, or with the depth step ``wavelength / depth_step_per_wavelength``."""
-    env = pekeris_environment()
+    env = cases.pekeris_environment()
     settings = RamSettings.for_environment(env, freq_hz)
     if depth_step_per_wavelength is not None:
-        wavelength_m = PEKERIS["c1_mps"] / freq_hz
+        wavelength_m = cases.PEKERIS["c1_mps"] / freq_hz
         settings = dataclasses.replace(settings, depth_step_m=wavelength_m / depth_step_per_wavelength)
     tl = ram_tl_db(env, freq_hz, PEKERIS_DEPTHS_M, PEKERIS_RANGES_M, settings)
-    exact = pekeris_tl_db(freq_hz, PEKERIS_SOURCE_DEPTH_M, PEKERIS_DEPTHS_M, PEKERIS_RANGES_M, **PEKERIS)
-    return range_average_tl_db(tl, PEKERIS_WINDOW) - range_average_tl_db(exact, PEKERIS_WINDOW)
+    exact = pekeris_tl_db(freq_hz, cases.PEKERIS_SOURCE_DEPTH_M, PEKERIS_DEPTHS_M, PEKERIS_RANGES_M, **cases.PEKERIS)
+    return cases.range_average_tl_db(tl, PEKERIS_WINDOW) - cases.range_average_tl_db(exact, PEKERIS_WINDOW)
 
 
 def _pekeris_stats(diff: np.ndarray, settings: RamSettings) -> dict:
@@ -80,8 +70,8 @@ def main(argv=None) -> int:
     ram15 = ram15_difference()
     pekeris = {}
     for f in PEKERIS_FREQS_HZ:
-        default = RamSettings.for_environment(pekeris_environment(), f)
-        lam20 = dataclasses.replace(default, depth_step_m=PEKERIS["c1_mps"] / f / 20.0)
+        default = RamSettings.for_environment(cases.pekeris_environment(), f)
+        lam20 = dataclasses.replace(default, depth_step_m=cases.PEKERIS["c1_mps"] / f / 20.0)
         pekeris[f"{f:g}"] = {"default": _pekeris_stats(pekeris_difference(f), default),
                              "lambda_over_20": _pekeris_stats(pekeris_difference(f, 20.0), lam20)}
     doc = {"what": "RAM against RAM 1.5's Fortran TL line and the Pekeris waveguide's trapped-mode sum",
@@ -90,7 +80,7 @@ def main(argv=None) -> int:
            "pekeris": {"depths_m": [float(PEKERIS_DEPTHS_M[0]), float(PEKERIS_DEPTHS_M[-1]), 5.0],
                        "ranges_m": [float(PEKERIS_RANGES_M[0]), float(PEKERIS_RANGES_M[-1]), 10.0],
                        "window_receivers": PEKERIS_WINDOW, "by_freq_hz": pekeris}}
-    write_study_file(args.out, doc)
+    cases.write_study_file(args.out, doc)
     print(f"RAM 1.5 mean {doc['ram15']['mean_abs_db']} dB, max {doc['ram15']['max_abs_db']} dB; Pekeris "
           + ", ".join(f"{f} Hz {v['default']['median_db']} / {v['default']['p90_db']} dB" for f, v in pekeris.items())
           + f"; wrote {args.out}")

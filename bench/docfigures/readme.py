@@ -144,11 +144,10 @@ QUOTES = (
     ("gm.json", ("figures", "ml_cycle_latency_3_classes_240_bearings", "value"),
      "3 class hypotheses and 240 bearings {:.1f} ms"),
     ("gm.json", ("figures", "gm_experiment_1331_runs_2_workers", "value"), "the 1331-run G&M experiment {:.0f} s"),
-    ("sensitivity.json", ("figures", "speedup_2_vs_1_workers", "value"), "is {:.2f}x faster on 2 local workers"),
+    *(("sensitivity.json", ("figures", key, "value"), fmt) for key, fmt in (
+        ("speedup_2_vs_1_workers", "is {:.2f}x faster on 2 local workers"), ("repeats", "{:d} interleaved\nrepeats"),
+        ("overhead_1_worker_wall_over_bellhop_sum", "{:.1f} % overhead over\nthe BELLHOP time on 1 worker"),
+        ("overhead_2_workers_wall_x2_over_bellhop_sum", "and {:.1f} % on 2"))),
     ("sensitivity.json", ("provenance", "load_average", "before", 0), "at load average {:.1f}-"),
     ("sensitivity.json", ("provenance", "load_average", "after", 0), "-{:.1f}; 3 interleaved"),
-    ("sensitivity.json", ("figures", "repeats", "value"), "{:d} interleaved\nrepeats"),
-    ("sensitivity.json", ("figures", "overhead_1_worker_wall_over_bellhop_sum", "value"),
-     "{:.1f} % overhead over\nthe BELLHOP time on 1 worker"),
-    ("sensitivity.json", ("figures", "overhead_2_workers_wall_x2_over_bellhop_sum", "value"), "and {:.1f} % on 2"),
 )
