@@ -59,7 +59,20 @@ def machine_paths(strings) -> list[str]:
 
 
 def is_ancestor(commit: str, repo: Path = REPO) -> bool:
-    """Whether ``commit`` is in the history of ``repo``'s HEAD (an unknown commit is not)."""
+    """Whether ``commit`` is in the history of ``repo``'s HEAD (an unknown commit is not).
+
+    Raises
+    ------
+    RuntimeError
+        ``repo`` is no git checkout, or a shallow one (its history cut: nothing can be told).
+    """
+    shallow = subprocess.run(["git", "rev-parse", "--is-shallow-repository"], cwd=repo, capture_output=True,
+                             text=True, timeout=30)
+    if shallow.returncode != 0:
+        raise RuntimeError(f"{repo} is not a git checkout: a result file's commit cannot be checked")
+    if shallow.stdout.strip() == "true":
+        raise RuntimeError(f"{repo} is a shallow clone: a result file's commit cannot be checked "
+                           f"(git fetch --unshallow)")
     done = subprocess.run(["git", "merge-base", "--is-ancestor", commit, "HEAD"], cwd=repo,
                           capture_output=True, text=True, timeout=30)
     return done.returncode == 0

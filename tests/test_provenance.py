@@ -109,3 +109,13 @@ def test_a_path_in_a_table_beside_the_files_is_refused(tmp_path, history):
     assert problems(table, repo) == []
     table.write_text("run,grid\n0,out/grids/a.nc\n1,/home/user/grids/a.nc\n")
     assert problems(table, repo) == ["machine paths: ['1,/home/user/grids/a.nc']"]
+
+
+def test_a_shallow_clone_cannot_tell_and_says_so(tmp_path, history):
+    # a clone whose history is cut cannot tell an old commit from a lost one: an error, not a pass
+    repo, first, _ = history
+    shallow = tmp_path / "shallow"
+    subprocess.run(["git", "clone", "-q", "--depth", "1", f"file://{repo}", str(shallow)], check=True,
+                   capture_output=True, timeout=60)
+    with pytest.raises(RuntimeError, match=r"is a shallow clone: a result file's commit cannot be checked"):
+        problems(_planted(tmp_path, provenance={"commit": first}), shallow)
