@@ -148,6 +148,7 @@ QUOTES = (
     *(("gm.json", ("figures", key, "value"), fmt) for key, fmt in (
         ("ml_cycle_latency_3_classes_240_bearings", "3 class hypotheses and 240 bearings {:.1f} ms"),
         ("gm_experiment_1331_runs_2_workers", "the 1331-run G&M experiment {:.0f} s"))),
+    *_load_span("gm.json", "at load average {:.1f}-", "-{:.1f}\non the 2 cores"),
     *(("sensitivity.json", ("figures", key, "value"), fmt) for key, fmt in (
         ("speedup_2_vs_1_workers", "is {:.2f}x faster on 2 local workers"), ("repeats", "{:d} interleaved\nrepeats"),
         ("overhead_1_worker_wall_over_bellhop_sum", "{:.1f} % overhead over\nthe BELLHOP time on 1 worker"),
