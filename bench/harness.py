@@ -50,11 +50,14 @@ def load_average() -> list[float]:
 
 
 def git_state() -> tuple[str | None, bool | None]:
-    """The short commit of the checkout and whether its tracked files are as committed."""
+    """The short commit of the checkout and whether its tracked files are as committed, the result
+    files apart: a benchmark that follows another in one checkout (``make bench``) finds the first
+    one's file written in docs/results, which changes no code it measures."""
     try:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
                                 text=True, timeout=10).stdout.strip() or None
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
+                                ":(exclude)docs/results"], cwd=REPO,
                                capture_output=True, text=True, timeout=30).stdout.strip()
     except OSError:
         return None, None
