@@ -15,7 +15,9 @@ from envdata.lazyexports import lazy_exports
 
 __getattr__, __dir__, __all__ = lazy_exports(__name__, {
     "acoustics.absorption": ["thorp_db_per_km"],
-    "acoustics.builder.flat": ["BuildStats", "Model", "build_grid", "expected_source_hash"],
+    "acoustics.builder.bandruns": ["BuildStats", "Model"],
+    "acoustics.builder.buildgrid": ["build_grid"],
+    "acoustics.builder.flat": ["expected_source_hash"],
     "acoustics.builder.gridfile": ["build_grid_file"],
     "acoustics.builder.kobserver": ["build_k"],
     "acoustics.builder.plan": ["plan_runs"],

@@ -11,16 +11,14 @@ from __future__ import annotations
 
 import dataclasses
 import os
-import subprocess
 import tempfile
-import time
 from pathlib import Path
 
 import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.plan import plan_runs, receiver_depths_m
 from acoustics.kcurve import band_frequencies_hz
-from bench.harness import Session, cli_with_rusage, median
+from bench.harness import Session, cli_with_rusage, median, raw_bellhop_seconds
 
 session = Session("grids")
 
@@ -28,21 +26,6 @@ REPO = Path(__file__).resolve().parents[1]
 REPEATS = 3  # timings interleaved and repeated; the figures are medians
 
 
-
-
-def raw_bellhop_seconds(runs, exe: Path) -> float:
-    """Sum of the wall times of bellhop.exe itself on the runs' files (the .env and the files
-    beside it, such as a source pattern's .sbp), one at a time."""
-    total = 0.0
-    for run in runs:
-        with tempfile.TemporaryDirectory() as tmp:
-            (Path(tmp) / "raw.env").write_text(run.env)
-            for suffix, text in run.files:
-                (Path(tmp) / f"raw.{suffix}").write_text(text)
-            start = time.perf_counter()
-            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
-            total += time.perf_counter() - start
-    return total
 
 
 def main() -> None:

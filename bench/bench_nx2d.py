@@ -22,7 +22,7 @@ import acoustics
 import envdata
 from acoustics.bellhop.exe import find_bellhop, find_bellhop3d
 from acoustics.bellhop.shdfile import tl_from_pressure
-from acoustics.builder.flat import BuildStats
+from acoustics.builder.bandruns import BuildStats
 from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial_runs
 from acoustics.builder.runs import execute_runs
 from acoustics.nx2d.box3d import box_positions

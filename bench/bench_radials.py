@@ -38,7 +38,7 @@ import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.radial import depth_axis_m, plan_radial_image_runs, plan_radial_runs
 from acoustics.surface import SURFACE_ROW_M
-from bench.harness import REPO, Session, cli_with_rusage
+from bench.harness import REPO, Session, cli_with_rusage, raw_bellhop_seconds
 from envdata.radials import area_radials
 
 
@@ -52,20 +52,6 @@ def raw_runs(area: envdata.Area):
     runs, _ = plan_radial_runs(area, radials, receivers)
     image_runs, _ = plan_radial_image_runs(area, radials, receivers)
     return runs + image_runs
-
-
-def raw_bellhop_seconds(runs, exe: Path) -> float:
-    """Sum of the wall times of bellhop.exe itself on the runs' files, one at a time."""
-    total = 0.0
-    for run in runs:
-        with tempfile.TemporaryDirectory() as tmp:
-            (Path(tmp) / "raw.env").write_text(run.env)
-            for suffix, text in run.files:
-                (Path(tmp) / f"raw.{suffix}").write_text(text)
-            start = time.perf_counter()
-            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
-            total += time.perf_counter() - start
-    return total
 
 
 def raw_bellhop_wall_two_at_a_time(runs, exe: Path) -> float:

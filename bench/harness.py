@@ -50,11 +50,14 @@ def load_average() -> list[float]:
 
 
 def git_state() -> tuple[str | None, bool | None]:
-    """The short commit of the checkout and whether its tracked files are as committed."""
+    """The short commit of the checkout and whether its tracked files are as committed, the result
+    files apart: a benchmark that follows another in one checkout (``make bench``) finds the first
+    one's file written in docs/results, which changes no code it measures."""
     try:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
                                 text=True, timeout=10).stdout.strip() or None
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
+                                ":(exclude)docs/results"], cwd=REPO,
                                capture_output=True, text=True, timeout=30).stdout.strip()
     except OSError:
         return None, None
@@ -189,6 +192,22 @@ def bench_grid(area: str) -> str:
     from acoustics.builder.gridfile import build_grid_file
 
     return str(build_grid_file(area, REPO / "out" / "bench" / f"{area}-bellhop.nc", workers=2).file)
+
+
+def raw_bellhop_seconds(runs, exe) -> float:
+    """Sum of the wall times of bellhop.exe itself on the runs' files (the .env and the files
+    beside it, such as a source pattern's .sbp), one at a time: what a build's BELLHOP time is
+    measured against."""
+    total = 0.0
+    for run in runs:
+        with tempfile.TemporaryDirectory() as tmp:
+            (Path(tmp) / "raw.env").write_text(run.env)
+            for suffix, text in run.files:
+                (Path(tmp) / f"raw.{suffix}").write_text(text)
+            start = time.perf_counter()
+            subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
+            total += time.perf_counter() - start
+    return total
 
 
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:

@@ -54,7 +54,20 @@ EXTENSION_STEP_M = 100.0
 
 
 @dataclass(frozen=True, eq=False)
-class Radial:
+class Section:
+    """The path and the bottom along one radial, before its sound speed (`Radial` adds it; the
+    fields are `Radial`'s)."""
+
+    bearing_deg: float
+    range_m: np.ndarray
+    lat_deg: np.ndarray
+    lon_deg: np.ndarray
+    bottom_depth_m: np.ndarray
+    land_range_m: float | None
+
+
+@dataclass(frozen=True, eq=False)
+class Radial(Section):
     """The environment along one radial from the origin: bottom and sound-speed section.
 
     Attributes
@@ -83,12 +96,6 @@ class Radial:
         latitude), the deepest valid T and S continued down; m/s.
     """
 
-    bearing_deg: float
-    range_m: np.ndarray
-    lat_deg: np.ndarray
-    lon_deg: np.ndarray
-    bottom_depth_m: np.ndarray
-    land_range_m: float | None
     ssp_range_m: np.ndarray
     ssp_depth_m: np.ndarray
     speed_mps: np.ndarray
@@ -205,16 +212,6 @@ def geodesic_points(lat0_deg: float, lon0_deg: float, bearing_deg: float, range_
     return np.atleast_1d(np.asarray(lat, dtype=float)), np.atleast_1d(np.asarray(lon, dtype=float))
 
 
-@dataclass(frozen=True, eq=False)
-class _Section:
-    bearing_deg: float
-    range_m: np.ndarray
-    lat_deg: np.ndarray
-    lon_deg: np.ndarray
-    bottom_depth_m: np.ndarray
-    land_range_m: float | None
-
-
 def _sample_ranges(behind_m: float, end_m: float, step_m: float) -> np.ndarray:
     """Ranges from -behind_m to end_m through 0, about step_m apart, at most MAX_SAMPLES."""
     step = max(step_m, (behind_m + end_m) / (MAX_SAMPLES - 3))
@@ -235,7 +232,7 @@ def _changed_water(area: Area, change: FieldChange, ts_field, lat, lon):
 
 
 def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
-                     bearings: tuple[float, ...], change: FieldChange | None = None) -> list[_Section]:
+                     bearings: tuple[float, ...], change: FieldChange | None = None) -> list[Section]:
     origin = area.origin
     end_m = area.grid.range_max_m
     if bathy is None:
@@ -243,7 +240,7 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
         out = []
         for bearing in bearings:
             lat, lon = geodesic_points(origin.lat_deg, origin.lon_deg, bearing, ranges)
-            out.append(_Section(bearing_deg=float(bearing), range_m=ranges, lat_deg=lat, lon_deg=lon,
+            out.append(Section(bearing_deg=float(bearing), range_m=ranges, lat_deg=lat, lon_deg=lon,
                                 bottom_depth_m=np.full(ranges.shape, area.water.depth_m), land_range_m=None))
         return out
 
@@ -312,7 +309,7 @@ def _bottom_sections(area: Area, bathy: BathymetryFile | None, behind_m: float,
             sl, so = geodesic_points(origin.lat_deg, origin.lon_deg, bearing, [back[1]])
             r, depth = np.insert(r, 0, back[1]), np.insert(depth, 0, SHORE_DEPTH_M)
             sec_lat, sec_lon = np.insert(sec_lat, 0, sl), np.insert(sec_lon, 0, so)
-        out.append(_Section(bearing_deg=float(bearing), range_m=r, lat_deg=sec_lat, lon_deg=sec_lon,
+        out.append(Section(bearing_deg=float(bearing), range_m=r, lat_deg=sec_lat, lon_deg=sec_lon,
                             bottom_depth_m=depth, land_range_m=land))
     return out
 
@@ -365,7 +362,7 @@ def _no_data_edge(lat0_deg: float, lon0_deg: float, bearing_deg: float, wet_m: f
     return 0.5 * (wet_m + dry_m)  # strictly between the last wet sample and the first dry one
 
 
-def _column_positions(area: Area, section: _Section, clim: ClimatologyFiles | None):
+def _column_positions(area: Area, section: Section, clim: ClimatologyFiles | None):
     """Ranges and positions of a radial's sound-speed columns."""
     first, end = float(section.range_m[0]), float(section.range_m[-1])
     if clim is None:
@@ -441,7 +438,7 @@ def section_depths(levels_m, max_depth_m: float, extend: bool) -> np.ndarray:
     return np.append(z, float(max_depth_m))
 
 
-def _speed_section(area: Area, section: _Section, ranges, lat, lon, ts_field, clim, water_lat, water_lon):
+def _speed_section(area: Area, section: Section, ranges, lat, lon, ts_field, clim, water_lat, water_lon):
     max_depth = float(np.max(section.bottom_depth_m))
     one = one_profile(area, max_depth, f", {max_depth:.1f} m, of the radial at bearing {section.bearing_deg:g} deg")
     if one is not None:

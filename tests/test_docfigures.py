@@ -1,10 +1,10 @@
-"""The figures quoted from result files: every file in docs/results carries its provenance, and
-every generated table in README and docs/ is what its file gives (``python -m bench.docfigures``)."""
+"""The figures quoted from result files: every generated table in README and docs/ is what its file
+gives, and every figure quoted in prose is what it gives (``python -m bench.docfigures``); the result
+files' provenance is tests/test_provenance.py's."""
 
 from __future__ import annotations
 
 import json
-import re
 import shutil
 import subprocess
 import sys
@@ -14,7 +14,6 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 RESULTS = REPO / "docs" / "results"
-PROVENANCE_KEYS = {"command", "commit", "tree_clean", "date", "load_average", "machine", "versions"}
 
 
 def _docfigures(*args: str) -> subprocess.CompletedProcess:
@@ -62,40 +61,6 @@ def test_a_figure_quoted_in_prose_that_differs_from_its_file_is_found(tmp_path):
     assert wrong in readme.read_text()
 
 
-def _result_files():
-    """The result files: every JSON under docs/results but the tables a study builds beside its
-    results (docs/results/STUDY/grids/, ignored by git: the follow study's atlases hold zarr.json)."""
-    return sorted(p for p in RESULTS.rglob("*.json") if "grids" not in p.relative_to(RESULTS).parts[1:2])
-
-
-def _strings(x):
-    """Every string value in a JSON document."""
-    if isinstance(x, dict):
-        return [s for v in x.values() for s in _strings(v)]
-    if isinstance(x, list):
-        return [s for v in x for s in _strings(v)]
-    return [x] if isinstance(x, str) else []
-
-
-@pytest.mark.parametrize("path", _result_files(), ids=lambda p: str(p.relative_to(RESULTS)))
-def test_every_result_file_says_how_it_was_made(path):
-    data = json.loads(path.read_text())
-    prov = data.get("provenance") if isinstance(data, dict) else None
-    assert isinstance(prov, dict), f"{path}: no provenance"
-    assert PROVENANCE_KEYS <= set(prov), f"{path}: provenance lacks {sorted(PROVENANCE_KEYS - set(prov))}"
-    assert prov["command"], f"{path}: no command"
-    # typed from the repository's root on any machine: no absolute path (bench.harness.portable)
-    assert not re.search(r"(^|\s)/\S", prov["command"]), f"{path}: a machine path in {prov['command']!r}"
-    # nor anywhere else in the file (an executable's path: bench.harness.portable_path)
-    machine_paths = [v for v in _strings(data) if re.match(r"/(work|home|root|tmp|usr|opt)/", v)]
-    assert not machine_paths, f"{path}: machine paths {machine_paths[:3]}"
-    if prov.get("rerun_pending"):
-        assert prov.get("reason"), f"{path}: marked to be made again without a reason"
-    else:  # made by the harness: all of it
-        assert prov["commit"] and prov["date"] and prov["versions"] and prov["machine"]["cores"]
-        assert prov["load_average"]["before"] and prov["load_average"]["after"]
-
-
 def test_every_page_module_registers_and_a_table_defined_twice_is_refused():
     # the pages' modules of bench/docfigures/ register their blocks; two defining one name are
     # refused (the registry does not guess which a page means), and the command says so in one line
@@ -125,3 +90,28 @@ def test_the_command_refuses_a_table_defined_twice(tmp_path):
     assert done.returncode == 2, done.stdout + done.stderr
     assert done.stderr.strip() == ("error: docfigures: table 'stonesoup' is defined twice, in "
                                    "bench.docfigures.stonesoup and bench.docfigures.zz_planted")
+
+
+def test_every_page_has_a_module_that_says_what_its_prose_quotes():
+    # README and every docs/ page: a module of bench/docfigures/ names it and lists the figures
+    # its prose quotes (an empty list says why in the module)
+    from bench.docfigures import page_modules
+    from bench.docfigures.engine import pages
+
+    modules = {m.PAGE: m for m in page_modules()}
+    missing = [str(p.relative_to(REPO)) for p in pages(REPO) if str(p.relative_to(REPO)) not in modules]
+    assert not missing, f"pages without a bench/docfigures module: {missing}"
+    assert all(hasattr(m, "QUOTES") for m in modules.values()), [n for n, m in modules.items() if not hasattr(m, "QUOTES")]
+
+
+def test_a_figure_computed_from_its_file_is_checked_too(tmp_path):
+    # a quote may compute its figure (docs/models.md: RAM's wall time over BELLHOP's, the least of
+    # a file's cases): the page's ratio changed in a copy is found, named by the function
+    readme = _copied_pages(tmp_path)
+    models = tmp_path / "docs" / "models.md"
+    text = models.read_text()
+    assert "and 75 to 200 times its wall time" in " ".join(text.split())
+    models.write_text(text.replace("and 75 to", "and 57 to"))
+    done = _docfigures("--check", "--root", str(tmp_path))
+    assert done.returncode == 1 and "models-areas.json _least_wall_ratio ('and 75 to')" in done.stdout, done.stdout
+    assert readme.exists()

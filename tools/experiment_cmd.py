@@ -77,6 +77,11 @@ def _self_built_study_runs(args, study, default_runs: int, bytes_per_run_cycle: 
     return runs
 
 
+#: The studies that build their own tables and report a summary: their default runs, the memory
+#: a run needs per cycle (bytes) and what they build, for `_self_built_study_runs`' checks.
+_SELF_BUILT = {"depth": (24, 8.0 * 60, "its own grid"), "shelf": (100, 8.0 * 40, "its own two grids")}
+
+
 def run_experiment(args) -> Report:
     if args.workers < 1:
         raise InputError(f"--workers: must be >= 1, got {args.workers}")
@@ -85,11 +90,12 @@ def run_experiment(args) -> Report:
         raise InputError(f"--study: only the kerror study reads a sensitivity study, not {args.study}")
     if args.study == "kerror":
         return _run_kerror(args)
-    if args.study == "depth":
-        from tools.studies import depth
+    if args.study in _SELF_BUILT:
+        import importlib
 
-        runs = _self_built_study_runs(args, depth, 24, 8.0 * 60, "its own grid")
-        res = depth.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
+        study = importlib.import_module(f"tools.studies.{args.study}")
+        runs = _self_built_study_runs(args, study, *_SELF_BUILT[args.study])
+        res = study.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
                         progress=want_progress(args), truth=args.truth or "bellhop")
         return Report(res["summary"], res)
     if args.study == "follow":
@@ -100,13 +106,6 @@ def run_experiment(args) -> Report:
         text = (f"follow study: {runs} runs of {res['scenario']}; mean position RMSE after 10 min, m:\n" +
                 "\n".join(f"  {k:>28}: {v:8.0f}" for k, v in res["mean_rmse_after_10min_m"].items()))
         return Report(text, res)
-    if args.study == "shelf":
-        from tools.studies import shelf
-
-        runs = _self_built_study_runs(args, shelf, 100, 8.0 * 40, "its own two grids")
-        res = shelf.run(runs=runs, out_dir=args.out, seed=args.seed, workers=args.workers,
-                        progress=want_progress(args), truth=args.truth or "bellhop")
-        return Report(res["summary"], res)
     if args.study == "idm":
         from tools.studies import idm as idm_experiment
 

@@ -39,7 +39,6 @@ from acoustics.builder.modelchoice import (
 )
 from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import plan_runs, receiver_depths_m, source_speed_mps
-from acoustics.builder.radial import build_radial_grid
 from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
 from acoustics.grid.dataset import flat_dataset
@@ -136,39 +135,10 @@ def expected_source_hash(area: Area, model: Model | str = Model.BELLHOP) -> str:
     return grid_source_hash(area, model, find_bellhop().sha256 if model.runs_bellhop else None)
 
 
-def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,
-               scheduler: str | None = None, cache_dir: str | Path | None = None,
-               progress: bool = False, stats: BuildStats | None = None) -> xr.Dataset:
-    """Compute the grid dataset (docs/formats.md "Grid without bearings") for ``area``.
-
-    Parameters
-    ----------
-    area : Area
-        The sea area.
-    model : {"bellhop", "urick", "ram", "auto"}
-        BELLHOP beam tracing, the Urick formula alone (TL = spherical spreading + absorption),
-        the RAM parabolic equation (each band the intensity average of coherent runs), or RAM
-        below a crossover frequency and BELLHOP above (``acoustics.builder.modelchoice``).
-    workers : int
-        BELLHOP or RAM runs at once (ignored with ``scheduler``).
-    scheduler : str, optional
-        Address of a Dask distributed scheduler to run the BELLHOP jobs on.
-    cache_dir : path, optional
-        Folder for finished runs, so that an interrupted build resumes; it is removed by the
-        caller once the grid is safely written.
-    progress : bool
-        Show a progress bar on stderr.
-    stats : BuildStats, optional
-        Filled with run counts and timings.
-    """
-    model = Model(model)
-    if area.is_bearing_dependent:
-        return build_radial_grid(area, model=model, workers=workers, scheduler=scheduler,
-                                 cache_dir=cache_dir, progress=progress, stats=stats)
-    stats = stats if stats is not None else BuildStats()
-    if model.runs_ram:
-        return _build_with_ram(area, model, workers=workers, scheduler=scheduler, cache_dir=cache_dir,
-                               progress=progress, stats=stats)
+def build_flat_grid(area: Area, model: Model, *, workers: int, scheduler: str | None,
+                    cache_dir: str | Path | None, progress: bool, stats: BuildStats) -> xr.Dataset:
+    """The grid of an area without ``[origin]`` with BELLHOP or the Urick formula alone
+    (``acoustics.builder.buildgrid.build_grid`` says what each parameter is)."""
     check_memory(grid_size_bytes(area), f"the grid of area {area.name}")
     depth = area.depth_m()
     # TL from the observer in the semicoherent mode: near-surface rows, and the 0 m row holding
@@ -226,7 +196,7 @@ def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int =
                         tl_obs=tl_obs)
 
 
-def _build_with_ram(area: Area, model: Model, *, workers: int, scheduler: str | None,
+def build_flat_ram_grid(area: Area, model: Model, *, workers: int, scheduler: str | None,
                     cache_dir: str | Path | None, progress: bool, stats: BuildStats) -> xr.Dataset:
     """The flat grid with RAM runs (``ram``, ``auto``): one RAM run per (class source depth,
     frequency), BELLHOP's share (``auto``) as usual, each band from ``modelchoice``."""

@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import envdata
-from acoustics.builder.bandruns import incoherent_surface_notes
-from acoustics.builder.flat import BuildStats, Model, build_grid, expected_source_hash
+from acoustics.builder.bandruns import BuildStats, Model, incoherent_surface_notes
+from acoustics.builder.buildgrid import build_grid
+from acoustics.builder.flat import expected_source_hash
 from acoustics.errors import GridFileError
 from acoustics.grid.io import write_grid
 from acoustics.grid.opentables import open_tables

@@ -23,7 +23,6 @@ run per radial instead of one per target position.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,7 +54,7 @@ from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import run_spec
 from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
-from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.grid.dataset import radial_dataset
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
 from acoustics.surface import SURFACE_ROW_M, with_surface_rows
@@ -254,7 +253,11 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     arrays = radial_tables(area, model=model, workers=workers, scheduler=scheduler, cache_dir=cache_dir,
                            progress=progress, stats=stats, radials=radials, depth_m=depth_m, change=change,
                            exe=exe)
-    ds = _dataset(area, model, arrays, digest, inputs)
+    ds = radial_dataset(area, model, digest, arrays.exe_info, bearing_deg=arrays.bearing_deg, depth_m=arrays.depth_m,
+                        range_m=arrays.range_m, tl_db=arrays.tl_db, k_db=arrays.k_db, k_urick_db=arrays.k_urick_db,
+                        bottom_depth_m=arrays.bottom_depth_m, beta_db_per_km=arrays.beta_db_per_km,
+                        ray_step_m=area.propagation.step_m if area.propagation.step_m is not None else DEFAULT_STEP_M,
+                        input_files=inputs)
     return with_ram_attrs(ds, model) if model.runs_ram else ds
 
 
@@ -399,55 +402,3 @@ def radial_k_db(area: Area, *, change: FieldChange | None = None, workers: int =
                 kk = spectral_term_db(cls, band) - band_tl(ic, ib)[row[cls.depth_m]]
                 k[ic, ib, j] = np.where(cls.depth_m < bottom[j], kk, np.nan)
     return k, bottom
-
-
-def _dataset(area: Area, model: Model, arrays: RadialArrays, digest: str, input_files: dict) -> xr.Dataset:
-    depth, rng, k, k_urick = arrays.depth_m, arrays.range_m, arrays.k_db, arrays.k_urick_db
-    coords = grid_coords(area, depth, rng)
-    coords["bearing"] = ("bearing", arrays.bearing_deg,
-                         {"units": "degree", "long_name": "bearing from the origin, clockwise from "
-                                                         "true north"})
-    coords["range"] = ("range", rng, {"units": "m", "long_name": "range from the origin along the "
-                                                                 "radial (geodesic)"})
-    coords["depth"] = ("depth", depth, {"units": "m", "standard_name": "depth", "positive": "down",
-                                        "axis": "Z", "long_name": "depth of the point the observer "
-                                                                  "looks at"})
-    prop = area.propagation
-    dims5 = ("class", "band", "bearing", "depth", "range")
-    dims4 = ("class", "band", "bearing", "range")
-    dims3 = ("class", "band", "range")
-    data_vars = {
-        "tl_db": (dims5, arrays.tl_db, {"units": "dB", "long_name": "band transmission loss between the "
-                                                          "observer and a point at depth",
-                              "reference": "1 m from the source", "fixed_end": "observer",
-                              "comment": "BELLHOP from the observer at the origin (reciprocity); "
-                                         "intensity average over the band weighted by the class "
-                                         f"spectrum; shadows capped at {prop.tl_max_db:g} dB; NaN "
-                                         "below the bottom and beyond land"}),
-        "k_db": (dims4, k, {"units": "dB", "long_name": "transfer characteristic K(r) of a target of "
-                                                        "the class along the bearing",
-                            "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
-                            "model": str(model)}),
-        "k_urick_db": (dims3, k_urick, {"units": "dB",
-                                        "long_name": "transfer characteristic K(r), Urick approximate formula",
-                                        "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
-        "anomaly_db": (dims4, k - k_urick[:, :, None, :],
-                       {"units": "dB", "long_name": "propagation anomaly 10 lg A implied by the model",
-                        "reference": "K(r) minus the Urick K(r) with A = 1"}),
-        "bottom_depth_m": (("bearing", "range"), arrays.bottom_depth_m,
-                           {"units": "m", "long_name": "water depth along the radial", "positive": "down",
-                            "comment": "bathymetry sampled bilinearly along WGS84 geodesics; NaN beyond land"}),
-        "beta_db_per_km": (("band",), arrays.beta_db_per_km, {"units": "dB km-1",
-                                             "long_name": "volume attenuation at the band centre"}),
-    }
-    attrs = grid_attrs(area, model, digest, arrays.exe_info, water_depth_m=float(depth[-1]),
-                       ssp_interpolation="Q")
-    attrs.update({
-        "title": f"tmakit bearing-dependent propagation grid for area {area.name}",
-        "origin_lat_deg": float(area.origin.lat_deg), "origin_lon_deg": float(area.origin.lon_deg),
-        "radials": "WGS84 geodesics from the origin (pyproj); bathymetry and climatology sampled "
-                   "bilinearly; sound speed by TEOS-10 (gsw)",
-        "ray_step_m": float(prop.step_m if prop.step_m is not None else DEFAULT_STEP_M),
-        "input_files": json.dumps(input_files, sort_keys=True),
-    })
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)

@@ -1,10 +1,10 @@
 """The grid dataset (docs/formats.md "Grid file"): its coordinates, variables and attributes, CF-1.8.
 
 ``flat_dataset`` makes the grid of an area without ``[origin]`` (``tl_db(class, band, depth,
-range)`` from the class's depth); ``acoustics.builder.radial`` makes the bearing-dependent one from
-the same coordinates and attributes (``grid_coords``, ``grid_attrs``); ``with_k_error_model``
-writes K's error model a study measured into a grid (``tmakit sensitivity --into``),
-``with_k_error_sd`` the format-2 map of one sd by range.
+range)`` from the class's depth); ``radial_dataset`` the bearing-dependent one (a built grid's, an
+atlas's table at one position) from the same coordinates and attributes (``grid_coords``,
+``grid_attrs``); ``with_k_error_model`` writes K's error model a study measured into a grid
+(``tmakit sensitivity --into``), ``with_k_error_sd`` the format-2 map of one sd by range.
 """
 
 from __future__ import annotations
@@ -121,6 +121,60 @@ def flat_dataset(area, model, depth, rng, tl, k, k_urick, beta, digest, exe_info
     attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=area.water.depth_m,
                        ssp_interpolation=area.water.ssp.interpolation)
     return xr.Dataset(data_vars, coords=grid_coords(area, depth, rng), attrs=attrs)
+
+
+def radial_dataset(area: Area, model: str, digest: str, exe_info: dict | None, *, bearing_deg, depth_m, range_m,
+                   tl_db, k_db, k_urick_db, bottom_depth_m, beta_db_per_km, ray_step_m: float | None = None,
+                   input_files: dict | None = None) -> xr.Dataset:
+    """The grid of an area with ``[origin]``: TL between the observer at the origin and a point at
+    depth along each radial (``fixed_end = "observer"``, docs/formats.md "Grid with bearings").
+
+    ``tl_db`` is (class, band, bearing, depth, range), ``k_db`` (class, band, bearing, range),
+    ``k_urick_db`` (class, band, range), ``bottom_depth_m`` (bearing, range); ``ray_step_m`` and
+    ``input_files`` (the data files' digests) are recorded when given.
+    """
+    coords = grid_coords(area, depth_m, range_m)
+    coords["bearing"] = ("bearing", bearing_deg, {"units": "degree", "long_name": "bearing from the origin, "
+                                                                                  "clockwise from true north"})
+    coords["range"] = ("range", range_m, {"units": "m", "long_name": "range from the origin along the "
+                                                                     "radial (geodesic)"})
+    coords["depth"] = ("depth", depth_m, {"units": "m", "standard_name": "depth", "positive": "down", "axis": "Z",
+                                          "long_name": "depth of the point the observer looks at"})
+    dims4 = ("class", "band", "bearing", "range")
+    data_vars = {
+        "tl_db": (("class", "band", "bearing", "depth", "range"), tl_db, {
+            "units": "dB", "long_name": "band transmission loss between the observer and a point at depth",
+            "reference": "1 m from the source", "fixed_end": "observer",
+            "comment": "BELLHOP from the observer at the origin (reciprocity); intensity average over the band "
+                       "weighted by the class spectrum; shadows capped at "
+                       f"{area.propagation.tl_max_db:g} dB; NaN below the bottom and beyond land"}),
+        "k_db": (dims4, k_db, {"units": "dB", "long_name": "transfer characteristic K(r) of a target of the "
+                                                          "class along the bearing",
+                               "reference": "band level W = P0 + K(r) + H (Grinenkov & Mashoshin eq. 12)",
+                               "model": str(model)}),
+        "k_urick_db": (("class", "band", "range"), k_urick_db, {
+            "units": "dB", "long_name": "transfer characteristic K(r), Urick approximate formula",
+            "reference": "Grinenkov & Mashoshin eq. 13 with A = 1"}),
+        "anomaly_db": (dims4, k_db - k_urick_db[:, :, None, :], {
+            "units": "dB", "long_name": "propagation anomaly 10 lg A implied by the model",
+            "reference": "K(r) minus the Urick K(r) with A = 1"}),
+        "bottom_depth_m": (("bearing", "range"), bottom_depth_m, {
+            "units": "m", "long_name": "water depth along the radial", "positive": "down",
+            "comment": "bathymetry sampled bilinearly along WGS84 geodesics; NaN beyond land"}),
+        "beta_db_per_km": (("band",), beta_db_per_km, {"units": "dB km-1",
+                                                       "long_name": "volume attenuation at the band centre"}),
+    }
+    attrs = grid_attrs(area, model, digest, exe_info, water_depth_m=float(depth_m[-1]), ssp_interpolation="Q")
+    attrs.update({
+        "title": f"tmakit bearing-dependent propagation grid for area {area.name}",
+        "origin_lat_deg": float(area.origin.lat_deg), "origin_lon_deg": float(area.origin.lon_deg),
+        "radials": "WGS84 geodesics from the origin (pyproj); bathymetry and climatology sampled "
+                   "bilinearly; sound speed by TEOS-10 (gsw)"})
+    if ray_step_m is not None:
+        attrs["ray_step_m"] = float(ray_step_m)
+    if input_files is not None:
+        attrs["input_files"] = json.dumps(input_files, sort_keys=True)
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
 def with_k_error_sd(ds: xr.Dataset, sd_db: np.ndarray, comment: str, source: str = "<grid>") -> xr.Dataset:

@@ -217,6 +217,25 @@ class Tables(ABC):
         return str(self.dataset.attrs.get("model", ""))
 
     @property
+    def area_name(self) -> str:
+        """The area as the tables name it (the figures' titles)."""
+        return str(self.dataset.attrs.get("area", self.area.name))
+
+    @property
+    def k_urick_grid_db(self) -> np.ndarray | None:
+        """K(r) by the Urick formula (eq. 13), shaped like ``k_grid_db``, dB; None where the
+        tables hold none."""
+        ds = self.dataset
+        return ds["k_urick_db"].transpose(*ds["k_db"].dims).values if "k_urick_db" in ds else None
+
+    @property
+    def input_files(self) -> str | None:
+        """What the tables record of the files they were computed from, the grid's
+        ``input_files`` text (JSON: {role: {name, sha256}}); None where nothing is recorded."""
+        text = self.dataset.attrs.get("input_files")
+        return None if text is None else str(text)
+
+    @property
     def bearing_axis_deg(self) -> np.ndarray | None:
         """The radials' bearings, deg (None: K does not depend on bearing)."""
         return None

@@ -48,7 +48,7 @@ class BathymetryChoice:
 
 def recorded_inputs(tables: RadialTables) -> dict[str, dict[str, str]]:
     """The grid's ``input_files`` record ({role: {"name", "sha256"}}); {} when it has none."""
-    text = tables.dataset.attrs.get("input_files")
+    text = tables.input_files
     if text is None:
         return {}
     try:

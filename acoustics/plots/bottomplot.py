@@ -27,7 +27,6 @@ def bottom_figure(tables: RadialTables) -> Figure:
     import matplotlib
     from matplotlib.colors import ListedColormap, Normalize
 
-    ds = tables.dataset
     bearings = tables.bearing_deg
     r_km = tables.range_m / 1000.0
     bottom = tables.bottom_depth_m
@@ -78,8 +77,8 @@ def bottom_figure(tables: RadialTables) -> Figure:
     ax2.set_title("water depth by radial, each row one radial (tan: land beyond the coast)", fontsize=9.5)
     fig.colorbar(mesh, ax=ax2, pad=0.01, label="water depth, m")
     radials = "radial" if bearings.size == 1 else "radials"
-    fig.suptitle(f"area {ds.attrs['area']}: the bottom (bottom_depth_m) along the {bearings.size} {radials} "
-                 f"from {origin_label(ds)}", fontsize=10.5)
+    fig.suptitle(f"area {tables.area_name}: the bottom (bottom_depth_m) along the {bearings.size} {radials} "
+                 f"from {origin_label(tables)}", fontsize=10.5)
     return fig
 
 

@@ -45,7 +45,6 @@ def depth_k_figure(tables: Tables, *, cls_name: str | None = None, band: str | N
     GridFileError
         A flat grid built without ``tl_obs_db`` (no K at other target depths).
     """
-    ds = tables.dataset
     cls_name = tables.class_names[0] if cls_name is None else cls_name
     band = tables.band_names[0] if band is None else band
     check_plot_options(tables, cls_name=cls_name, band=band, bearing_deg=bearing_deg)
@@ -69,7 +68,7 @@ def depth_k_figure(tables: Tables, *, cls_name: str | None = None, band: str | N
     mesh = ax.pcolormesh(r_km, depth, k, shading="nearest", cmap="jet", vmin=vmin, vmax=vmax,
                          rasterized=True)
     mesh.set_gid("depth:k")
-    fig.colorbar(mesh, ax=ax, pad=0.01, label=f"K, dB ({band_label(ds, band)})")
+    fig.colorbar(mesh, ax=ax, pad=0.01, label=f"K, dB ({band_label(tables, band)})")
     line = ax.axhline(cls.depth_m, color="magenta", lw=1.4, ls="--",
                       label=f"class {cls_name}'s table depth {cls.depth_m:g} m (its own K(r))")
     line.set_gid("depth:table")
@@ -91,8 +90,8 @@ def depth_k_figure(tables: Tables, *, cls_name: str | None = None, band: str | N
     ax.set_xlabel("range from the observer, km" + ("" if on is None else f" along {on:g}{DEG}"))
     ax.legend(fontsize=8, loc="lower right", framealpha=0.9)
     ax.set_title(f"K with the target at any depth (S - TL from the observer), class "
-                 f"{class_label(ds, cls_name)}, {band_label(ds, band)}; {where}", fontsize=9.5)
-    fig.suptitle(f"area {ds.attrs['area']}: K against target depth and range", fontsize=10.5)
+                 f"{class_label(tables, cls_name)}, {band_label(tables, band)}; {where}", fontsize=9.5)
+    fig.suptitle(f"area {tables.area_name}: K against target depth and range", fontsize=10.5)
     return fig
 
 

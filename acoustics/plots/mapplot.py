@@ -78,7 +78,6 @@ def map_figure(tables: RadialTables, *, what: What | str = What.K, classes: list
     repeats the first), ``origin``.
     """
     what = What(what)
-    ds = tables.dataset
     classes = list(tables.class_names) if classes is None else list(classes)
     band = tables.band_names[0] if band is None else band
     check_plot_options(tables, band=band)
@@ -92,13 +91,13 @@ def map_figure(tables: RadialTables, *, what: What | str = What.K, classes: list
     nrows = math.ceil(n_panels / ncols)
     fig = new_figure(figsize=(4.7 * ncols + 0.4, 5.2 * nrows + 1.2), layout="constrained")
     axes = [fig.add_subplot(nrows, ncols, i + 1, projection="polar") for i in range(len(classes))]
-    where = (f"area {ds.attrs['area']}, origin {origin_label(ds)}, observer at "
-             f"{float(ds.attrs['observer_depth_m']):g} m\nbearing clockwise from true north, range in km; "
+    where = (f"area {tables.area_name}, origin {origin_label(tables)}, observer at "
+             f"{tables.observer_depth_m:g} m\nbearing clockwise from true north, range in km; "
              f"between the radials (dotted) linear in bearing; contours: the grid's bottom_depth_m")
     outlines: dict[str, np.ndarray] = {}
     if what is What.K:
         _k_panels(tables, fig, axes, classes, band, bearings, bottom, r_km)
-        fig.suptitle(f"Transfer characteristic K(r) in band {band_label(ds, band)} per class\nblank: no K "
+        fig.suptitle(f"Transfer characteristic K(r) in band {band_label(tables, band)} per class\nblank: no K "
                      f"(the class deeper than the water there); tan: land\n{where}", fontsize=9.5)
     else:
         terms = _detection_panels(tables, fig, axes, classes, bearings, bottom, r_km, outlines)
@@ -112,7 +111,6 @@ def map_figure(tables: RadialTables, *, what: What | str = What.K, classes: list
 
 
 def _k_panels(tables, fig, axes, classes, band, bearings, bottom, r_km) -> None:
-    ds = tables.dataset
     ib = tables.band_index(band)
     k_all = tables.k_grid_db[:, ib]
     finite = k_all[np.isfinite(k_all)]
@@ -124,17 +122,16 @@ def _k_panels(tables, fig, axes, classes, band, bearings, bottom, r_km) -> None:
                              vmin=vmin, vmax=vmax, zorder=0, rasterized=True)
         mesh.set_gid(f"k:{c}")
         polar_setting(tables, ax, bearings, bottom, r_km)
-        ax.set_title(f"class {class_label(ds, c)}", fontsize=9.5)
+        ax.set_title(f"class {class_label(tables, c)}", fontsize=9.5)
     fig.colorbar(mesh, ax=axes, orientation="horizontal", shrink=0.6, aspect=45,
-                 label=f"K(r), dB, in band {band_label(ds, band)} (band level W = P0 + K(r) + H)")
+                 label=f"K(r), dB, in band {band_label(tables, band)} (band level W = P0 + K(r) + H)")
 
 
 def _detection_panels(tables, fig, axes, classes, bearings, bottom, r_km, outlines):
     import matplotlib
 
-    ds = tables.dataset
     colors = matplotlib.colormaps["tab10"]
-    band_names = [str(b) for b in ds["band"].values]
+    band_names = tables.band_names
     theta = np.radians(np.append(bearings, bearings[0] + 360.0))  # closed outlines
     terms = None
     for ax, c in zip(axes, classes):
@@ -148,11 +145,11 @@ def _detection_panels(tables, fig, axes, classes, bearings, bottom, r_km, outlin
         for i, b in enumerate(band_names):
             km = np.append(dm.band_range_m[i], dm.band_range_m[i][0]) / 1000.0
             line, = ax.plot(theta, km, color=colors(i), lw=max(2.0 - 0.5 * i, 0.8), zorder=5,
-                            ls=("-", "--", ":", "-.")[i % 4], label=band_label(ds, b))
+                            ls=("-", "--", ":", "-.")[i % 4], label=band_label(tables, b))
             line.set_gid(f"detection:{c}:{b}")
         outlines[c] = dm.range_m
         polar_setting(tables, ax, bearings, bottom, r_km)
-        ax.set_title(f"class {class_label(ds, c)}, {dm.terms.level_label}\n{_span(dm.range_m)}", fontsize=9.5)
+        ax.set_title(f"class {class_label(tables, c)}, {dm.terms.level_label}\n{_span(dm.range_m)}", fontsize=9.5)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8,
                title="detected out to (the outer circle is the grid's last range)", title_fontsize=8)

@@ -41,19 +41,19 @@ def section_figure(tables: RadialTables, *, bearing_deg: float, cls_name: str | 
     """
     import matplotlib
 
-    ds = tables.dataset
     cls_name = tables.class_names[0] if cls_name is None else cls_name
     band = tables.band_names[0] if band is None else band
     check_plot_options(tables, cls_name=cls_name, band=band, bearing_deg=bearing_deg)
-    radial = ds.isel(bearing=tables.nearest_radial(bearing_deg))
-    on = float(radial["bearing"])
-    r_km = ds["range"].values / 1000.0
-    depth = ds["depth"].values
-    tl = radial["tl_db"].sel({"class": cls_name, "band": band}).transpose("depth", "range").values
-    bottom = radial["bottom_depth_m"].values
-    k = radial["k_db"].sel({"class": cls_name}).transpose("band", "range").values       # (M, R)
-    obs = float(ds.attrs["observer_depth_m"])
-    src = float(ds["source_depth_m"].sel({"class": cls_name}))
+    j = tables.nearest_radial(bearing_deg)
+    ic, ib = tables.class_index(cls_name), tables.band_index(band)
+    on = float(tables.bearing_deg[j])
+    r_km = tables.range_m / 1000.0
+    depth = tables.depth_m
+    tl = tables.observer_tl_db()[ic, ib, j]                                            # (D, R)
+    bottom = tables.bottom_depth_m[j]
+    k = tables.k_grid_db[ic, :, j]                                                     # (M, R)
+    obs = tables.observer_depth_m
+    src = tables.classes[ic].depth_m
     fig = new_figure(figsize=(12.0, 8.2), layout="constrained")
     ax, ax_k = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1]})
     finite = tl[np.isfinite(tl)]
@@ -80,13 +80,13 @@ def section_figure(tables: RadialTables, *, bearing_deg: float, cls_name: str | 
     ax.legend(fontsize=8, loc="lower right", framealpha=0.9)
     asked = (f"the radial {on:g}{DEG}" if on == bearing_deg
              else f"the radial {on:g}{DEG}, the nearest to {bearing_deg:g}{DEG}")
-    ax.set_title(f"TL between the observer and a point at depth on {asked}; class {class_label(ds, cls_name)}, "
-                 f"{band_label(ds, band)}", fontsize=9.5)
+    ax.set_title(f"TL between the observer and a point at depth on {asked}; class {class_label(tables, cls_name)}, "
+                 f"{band_label(tables, band)}", fontsize=9.5)
     terms = class_terms(tables, cls_name)
     need = terms.k_needed_db()
     colors = matplotlib.colormaps["tab10"]
-    for i, b in enumerate(ds["band"].values):
-        line, = ax_k.plot(r_km, k[i], color=colors(i), lw=1.2, label=f"K(r) {band_label(ds, str(b))}")
+    for i, b in enumerate(tables.band_names):
+        line, = ax_k.plot(r_km, k[i], color=colors(i), lw=1.2, label=f"K(r) {band_label(tables, b)}")
         line.set_gid(f"section:k:{b}")
         ax_k.axhline(need[i], color=colors(i), lw=0.9, ls="--")
     ax_k.plot([], [], color="0.3", ls="--", lw=0.9,
@@ -97,6 +97,6 @@ def section_figure(tables: RadialTables, *, bearing_deg: float, cls_name: str | 
     ax_k.legend(fontsize=7.5, ncol=2, loc="upper right", framealpha=0.9)
     ax_k.set_title(f"transfer characteristic on the radial, class {cls_name} at {src:g} m "
                    f"(blank: no K, the class deeper than the water or beyond land)", fontsize=9)
-    fig.suptitle(f"area {ds.attrs['area']}: section along {on:g}{DEG} from {origin_label(ds)}, "
+    fig.suptitle(f"area {tables.area_name}: section along {on:g}{DEG} from {origin_label(tables)}, "
                  f"observer at {obs:g} m", fontsize=10.5)
     return fig

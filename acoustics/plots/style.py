@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import xarray as xr
 
 from acoustics.grid.face import Tables
 from envdata.errors import InputError
@@ -46,21 +45,20 @@ def check_plot_options(tables: Tables, *, cls_name: str | None = None, band: str
                              f"clockwise from true north")
 
 
-def band_label(ds: xr.Dataset, band: str) -> str:
+def band_label(tables: Tables, band: str) -> str:
     """``FB1 (100-300 Hz)``, or ``F1 (250 Hz)`` for one frequency."""
-    sel = ds.sel(band=band)
-    lo, hi = float(sel["band_low_hz"]), float(sel["band_high_hz"])
-    return f"{band} ({lo:g} Hz)" if lo == hi else f"{band} ({lo:g}-{hi:g} Hz)"
+    b = tables.bands[tables.band_index(band)]
+    return f"{band} ({b.low_hz:g} Hz)" if b.low_hz == b.high_hz else f"{band} ({b.low_hz:g}-{b.high_hz:g} Hz)"
 
 
-def class_label(ds: xr.Dataset, cls_name: str) -> str:
+def class_label(tables: Tables, cls_name: str) -> str:
     """``NPS (at 200 m)``: the class and the depth its tables are for."""
-    return f"{cls_name} (at {float(ds['source_depth_m'].sel({'class': cls_name})):g} m)"
+    return f"{cls_name} (at {tables.classes[tables.class_index(cls_name)].depth_m:g} m)"
 
 
-def origin_label(ds: xr.Dataset) -> str:
-    """``43.000°N 5.000°E``."""
-    return f"{float(ds.attrs['origin_lat_deg']):.3f}{DEG}N {float(ds.attrs['origin_lon_deg']):.3f}{DEG}E"
+def origin_label(tables) -> str:
+    """``43.000°N 5.000°E``: the origin of bearing-dependent tables."""
+    return f"{tables.origin_lat_deg:.3f}{DEG}N {tables.origin_lon_deg:.3f}{DEG}E"
 
 
 def contour_levels(depth_m: np.ndarray) -> list[float]:

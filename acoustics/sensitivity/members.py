@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from acoustics.builder.bandruns import BuildStats
-from acoustics.builder.flat import build_grid
+from acoustics.builder.buildgrid import build_grid
 from acoustics.builder.kobserver import k_at_observer_db
 from acoustics.builder.radial import build_radial_grid, radial_k_db
 from acoustics.grid.lookup import tl_at_depths

@@ -20,8 +20,9 @@ value the page no longer holds (a prose sentence is the author's; the check keep
   the quote check and the command;
 - ``common``: reading a result file and its figures, the caption, the Markdown table;
 - one module per page, each with its ``PAGE``, its tables' renderers in ``TABLES`` and its
-  ``QUOTES``: ``readme``, ``models``, ``gm``, ``idm``, ``shelf``, ``atlas_tracking``,
-  ``sensitivity``, ``depth``, ``surface_compare``, ``stonesoup``, ``nx2d``.
+  ``QUOTES`` (a quote's keys may end in a function of the value, for a figure the page derives:
+  a ratio, the least of a file's cases); every page of README and docs/ has one
+  (tests/test_docfigures.py), and one whose prose quotes nothing says why.
 """
 
 from bench.docfigures.engine import RegistryError, main, page_modules, registry

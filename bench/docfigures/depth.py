@@ -148,4 +148,6 @@ QUOTES = (
     ("depth.json", ("figures", "rpf_depth_state_throughput_ratio", "value"), "a ratio\nof **{:.2f}**"),
     ("depth.json", ("figures", "depth_likelihood_range_scale_cost_ratio", "value"), "a ratio of {:.1f}"),
     ("depth.json", ("figures", "track_depth_posterior_cpu_s_whole_water_column", "value"), "it costs {:.1f} s of CPU"),
+    ("depth/depth.json", ("depth_estimates", "ml_posterior", "all", "median_width_m"),
+     "the ML analysis's median {:.0f} m over"),
 )

@@ -35,7 +35,8 @@ BLOCK = re.compile(r"(<!-- docfigures (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- 
 #: The package's modules that are not a page's.
 NOT_PAGES = ("common", "engine", "__main__")
 
-Quote = tuple[str, str, tuple[str | int, ...], str]
+#: (page, result file, keys into it: a key or a function of the value so far, how the page prints it).
+Quote = tuple[str, str, tuple[str | int | Callable, ...], str]
 
 
 class RegistryError(ValueError):
@@ -73,11 +74,12 @@ def stale_quotes(root: Path, quotes: Iterable[Quote]) -> list[str]:
     for page, file, keys, fmt in quotes:
         text = texts.setdefault(page, (root / page).read_text())
         value = load_result(root, file)
-        for key in keys:
-            value = value[key]
+        for key in keys:  # a key, or a function of what the keys before it found (a ratio, a minimum)
+            value = key(value) if callable(key) else value[key]
         printed = fmt.format(value)
         if " ".join(printed.split()) not in " ".join(text.split()):  # line breaks in prose are free
-            out.append(f"{page}: {file} {'.'.join(map(str, keys))} ({printed!r})")
+            named = ".".join(getattr(k, "__name__", str(k)) for k in keys)
+            out.append(f"{page}: {file} {named} ({printed!r})")
     return out
 
 

@@ -53,3 +53,12 @@ def manoeuvres(root: Path) -> str:
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"gm-experiments": gm_experiments, "manoeuvres": manoeuvres}
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = (
+    ("gm.json", ("provenance", "load_average", "before", 0), "load average {:.1f}; commit"),
+    ("gm.json", ("provenance", "commit"), "commit {}): one cycle"),
+    ("gm.json", ("figures", "ml_cycle_latency_3_classes_240_bearings", "value"), "one cycle **{:.1f} ms**"),
+    ("gm.json", ("figures", "ml_class_cycles_per_second", "value"), "({:.0f} class-cycles/s;"),
+    ("gm.json", ("figures", "gm_experiment_1331_runs_2_workers", "value"), "the 1331-run experiment **{:.0f} s**"),
+)

@@ -140,6 +140,50 @@ def models_bench(root: Path) -> str:
     return markdown_table(rows) + "\n" + caption(d, "models.json")
 
 
+def _wall_ratios(d: dict) -> list[float]:
+    """RAM's wall time over BELLHOP's, each case of a models-study file."""
+    return [c["ram"]["wall_s"] / c["bellhop"]["wall_s"] for c in d["cases"]]
+
+
+def _least_wall_ratio(d: dict) -> float:
+    return min(_wall_ratios(d))
+
+
+def _greatest_wall_ratio(d: dict) -> float:
+    return max(_wall_ratios(d))
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
           "ram-crossover": ram_crossover, "models-bench": models_bench}
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = (
+    ("models.json", ("figures", "ram_w2_over_bellhop_w2", "value"), "costs {:.2g} times BELLHOP's build"),
+    ("models-areas.json", (_least_wall_ratio,), "and {:.0f} to"),
+    ("models-areas.json", (_greatest_wall_ratio,), "to {:.0f} times its wall time"),
+    ("ram-crossover.json", (_least_wall_ratio,), "(the crossover's {:.0f}x;"),
+    ("ram-crossover.json", ("cases", 0, "ram", "runs"), "the {:d} RAM runs took"),
+    ("ram-crossover.json", ("cases", 0, "ram", "run_seconds"), "took {:.0f} s of run time"),
+    ("ram-crossover.json", ("cases", 0, "ram", "wall_s"), "({:.0f} s wall on 2 workers)"),
+    ("ram-crossover.json", ("cases", 0, "bellhop", "runs"), "the {:d} BELLHOP runs"),
+    ("ram-crossover.json", ("cases", 0, "bellhop", "run_seconds"), "BELLHOP runs {:.1f} s"),
+    ("models.json", ("figures", "ram_speedup_2_vs_1", "value"), "2 workers gave {:.2f}x"),
+    ("models.json", ("figures", "bellhop_w2_wall", "value"), "BELLHOP's build is {:.1f} s"),
+    ("models.json", ("figures", "ram_w2_over_bellhop_w2", "value"), "is {:.1f} times BELLHOP's build"),
+    ("models.json", ("provenance", "load_average", "before", 0), "the load average was {:.1f} at the"),
+    ("models.json", ("provenance", "load_average", "after", 0), "and {:.1f} at the end"),
+    ("ram-checks.json", ("ram15", "mean_abs_db"), "mean {:.4f} dB,"),
+    ("ram-checks.json", ("ram15", "max_abs_db"), "max {:.3f} dB |"),
+    ("ram-checks.json", ("ram15", "mean_abs_db"), "| {:.4f} /"),
+    ("ram-checks.json", ("ram15", "max_abs_db"), "/ {:.3f} dB |"),
+    *(("ram-checks.json", ("pekeris", "by_freq_hz", f, "default", key), fmt) for f, key, fmt in (
+        ("100", "median_db", "| {:.2f} /"), ("100", "p90_db", "/ {:.2f} dB,"), ("250", "median_db", ", {:.2f} /"),
+        ("250", "p90_db", "/ {:.2f} dB |"), ("100", "median_db", "median {:.2f} /"),
+        ("250", "median_db", "/ {:.2f} dB, p90"),
+        ("100", "p90_db", "p90 {:.2f} /"), ("250", "p90_db", "/ {:.2f} dB, signed"),
+        ("100", "signed_median_db", "signed {:+.2f} /"), ("250", "signed_median_db", "/ {:+.2f} dB |"))),
+    *(("ram-checks.json", ("pekeris", "by_freq_hz", f, "lambda_over_20", key), fmt) for f, key, fmt in (
+        ("100", "median_db", "(median {:.2f} /"), ("250", "median_db", "/ {:.2f} dB, signed"),
+        ("100", "signed_median_db", "signed {:+.2f} /"), ("250", "signed_median_db", "/ {:+.2f} dB), so"))),
+)

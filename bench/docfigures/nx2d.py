@@ -70,3 +70,32 @@ def nx2d_attribution(root: Path) -> str:
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"nx2d-times": nx2d_times, "nx2d-bearings": nx2d_bearings, "nx2d-attribution": nx2d_attribution}
+
+_SB = ("areas", "shelf-break", "times_s")
+_FLAT = ("areas", "shelf-break-flat", "times_s")
+
+
+def _nanometres(x: float) -> float:
+    return x * 1e9
+
+
+def _cross_stretch(x: float) -> str:
+    """The stretch across the radials less 1, as the page prints it (3.7e-6)."""
+    mantissa, exponent = f"{x - 1.0:.1e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = (
+    ("nx2d.json", ("geometry", "aeqd_max_offset_m", _nanometres), "**{:.1f} nm**"),
+    ("nx2d.json", ("geometry", "aeqd_max_offset_m"), "({:.1e} m)"),
+    ("nx2d.json", ("geometry", "flat_earth_max_offset_m"), "**{:.0f} m** off at 30 km"),
+    ("nx2d.json", ("geometry", "aeqd_cross_radial_scale", _cross_stretch), "= 1 + {} at 30 km"),
+    ("nx2d.json", (*_SB, "nx2d_workers1", "sample_s", "median"), "box took {:.2f} s"),
+    ("nx2d.json", (*_SB, "nx2d_workers1", "write_s", "median"), "writing its inputs {:.2f} s"),
+    ("nx2d.json", (*_SB, "nx2d_workers2_groups2", "write_s", "median"), "6 runs take {:.2f} s to write"),
+    ("nx2d.json", (*_FLAT, "nx2d_workers1", "bellhop_s", "median"), "took {:.1f} s (flat)"),
+    ("nx2d.json", (*_SB, "nx2d_workers1", "bellhop_s", "median"), "and {:.1f} s (shelf-break)"),
+    ("nx2d.json", (*_FLAT, "2d_workers1", "bellhop_s", "median"), "against {:.1f} s"),
+    ("nx2d.json", (*_SB, "2d_workers1", "bellhop_s", "median"), "and {:.1f} s for the 2-D build"),
+)

@@ -112,6 +112,12 @@ def radials(root: Path) -> str:
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"grids": grids, "accuracy": accuracy, "startup": startup, "radials": radials}
 
+def _load_span(file: str, before: str, after: str) -> tuple:
+    """The quotes of a file's load average at the start and at the end (their 1-minute values)."""
+    return tuple((file, ("provenance", "load_average", when, 0), fmt) for when, fmt in (("before", before),
+                                                                                       ("after", after)))
+
+
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
     *(("gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
@@ -130,15 +136,22 @@ QUOTES = (
     ("icechunk.json", ("median_seconds_per_table", "icechunk"), "cost {:.3f} s"),
     ("icechunk.json", ("median_seconds_per_table", "zarr"), "against {:.3f} s for the atlas's"),
     ("icechunk.json", ("icechunk_over_zarr",), "({:.2f}x)"),
-    ("rpf.json", ("figures", "idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", "value"),
-     "bearings + SPL) {:.0f} s at"),
-    ("rpf.json", ("figures", "idm_static_1000runs_peak_memory_largest_process", "value"), "{:.2f} GiB peak"),
-    ("rpf.json", ("provenance", "load_average", "before", 0), "measured at load average {:.1f}-"),
-    ("rpf.json", ("provenance", "load_average", "after", 0), "-{:.1f});"),
-    ("stonesoup.json", ("figures", "speedup_one_filter_vs_stonesoup", "value"),
-     "side by side in one run: {:.0f}x for one filter"),
-    ("stonesoup.json", ("figures", "speedup_batched_vs_stonesoup", "value"), "{:.0f}x batched on one thread"),
-    ("stonesoup.json", ("figures", "speedup_batched_2_threads_vs_stonesoup", "value"), "and {:.0f}x on two"),
-    ("stonesoup.json", ("provenance", "load_average", "before", 0), "at load average {:.1f}-"),
-    ("stonesoup.json", ("provenance", "load_average", "after", 0), "-{:.1f} the second thread"),
+    *(("rpf.json", ("figures", key, "value"), fmt) for key, fmt in (
+        ("idm_static_1000runs_151cycles_n5000_bot_and_spl_wall", "bearings + SPL) {:.0f} s at"),
+        ("idm_static_1000runs_peak_memory_largest_process", "{:.2f} GiB peak"))),
+    *_load_span("rpf.json", "measured at load average {:.1f}-", "-{:.1f});"),
+    *(("stonesoup.json", ("figures", key, "value"), fmt) for key, fmt in (
+        ("speedup_one_filter_vs_stonesoup", "side by side in one run: {:.0f}x for one filter"),
+        ("speedup_batched_vs_stonesoup", "{:.0f}x batched on one thread"),
+        ("speedup_batched_2_threads_vs_stonesoup", "and {:.0f}x on two"))),
+    *_load_span("stonesoup.json", "at load average {:.1f}-", "-{:.1f} the second thread"),
+    *(("gm.json", ("figures", key, "value"), fmt) for key, fmt in (
+        ("ml_cycle_latency_3_classes_240_bearings", "3 class hypotheses and 240 bearings {:.1f} ms"),
+        ("gm_experiment_1331_runs_2_workers", "the 1331-run G&M experiment {:.0f} s"))),
+    *_load_span("gm.json", "at load average {:.1f}-", "-{:.1f}\non the 2 cores"),
+    *(("sensitivity.json", ("figures", key, "value"), fmt) for key, fmt in (
+        ("speedup_2_vs_1_workers", "is {:.2f}x faster on 2 local workers"), ("repeats", "{:d} interleaved\nrepeats"),
+        ("overhead_1_worker_wall_over_bellhop_sum", "{:.1f} % overhead over\nthe BELLHOP time on 1 worker"),
+        ("overhead_2_workers_wall_x2_over_bellhop_sum", "and {:.1f} % on 2"))),
+    *_load_span("sensitivity.json", "at load average {:.1f}-", "-{:.1f}; 3 interleaved"),
 )

@@ -112,3 +112,31 @@ def kerror_rmse(root: Path) -> str:
 TABLES = {"sensitivity-sets": sensitivity_sets, "sensitivity-ranges": sensitivity_ranges,
           "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity, "kerror-sd": kerror_sd,
           "kerror-rmse": kerror_rmse}
+
+def _percent(x: float) -> float:
+    return 100.0 * x
+
+
+def _ships_span(d: dict) -> tuple[float, float]:
+    """The ships' (SW, TV) constant-offset sd, dB: their least and greatest."""
+    v = [d["figures"][f"k_error_sd_db_{c}"]["value"] for c in ("SW", "TV")]
+    return min(v), max(v)
+
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = (
+    *(("sensitivity-shelf.json", keys, fmt) for keys, fmt in (
+        (("provenance", "commit"), "commit\n{},"),
+        (("figures", "repeats", "value"), "{:d} interleaved repeats"),
+        (("figures", "study_1_worker_wall", "value"), "take {:.0f} s on 1 worker"),
+        (("figures", "overhead_1_worker_wall_over_bellhop_sum", "value", _percent), "{:.1f} % over their BELLHOP time"),
+        (("figures", "study_2_workers_wall", "value"), "{:.0f} s, "),
+        (("figures", "overhead_2_workers_wall_over_half_bellhop_sum", "value", _percent),
+         "{:.1f} % over half their BELLHOP time"),
+        (("figures", "speedup_2_vs_1_workers", "value"), "is {:.2f}x, not the 1.8x asked"),
+        (("figures", "study_1_worker_bellhop_sum", "value"), "rose\nfrom {:.0f} s"),
+        (("figures", "study_2_workers_bellhop_sum", "value"), "to {:.0f} s when two ran at once"),
+        ((_ships_span,), "is now {0[0]:.1f}-{0[1]:.1f} dB"),
+        (("figures", "k_error_sd_db_NPS", "value"), "the submarine's {:.1f} dB"),
+    )),
+)

@@ -31,3 +31,14 @@ def shelf_dk(root: Path) -> str:
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"shelf-rmse": shelf_rmse, "shelf-dk": shelf_dk}
+
+
+def _tens(x: float) -> int:
+    """Seconds rounded to ten, as "about 40 s"."""
+    return int(round(x, -1))
+
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = (
+    ("shelf/shelf.json", ("seconds", _tens), "It takes about {:d} s on\n2 cores"),
+)

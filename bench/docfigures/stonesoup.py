@@ -58,3 +58,8 @@ def stonesoup_speed(root: Path) -> str:
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"stonesoup": stonesoup, "stonesoup-speed": stonesoup_speed}
+
+#: Figures the page quotes in prose: none outside its two tables (the prose's 8x and 2x are the
+#: test's particle multiple and bound, which tests/tracker/stonesoup/test_stonesoup.py checks
+#: against the file).
+QUOTES: tuple = ()

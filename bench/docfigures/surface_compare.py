@@ -25,3 +25,27 @@ def surface_compare(root: Path) -> str:
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface-compare": surface_compare}
+
+
+def _quieter(x: float) -> float:
+    """A signed dK as the prose says it: how much quieter (dB, positive)."""
+    return -x
+
+
+def _k(area: str, key: str, what: str = "k_signed_median_db") -> tuple:
+    return ("areas", area, "by_class_band", key, what)
+
+
+#: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
+QUOTES = tuple(("surface-compare.json", keys, fmt) for keys, fmt in (
+    ((*_k("ocean-deep", "SW FB1"), _quieter), "SW is {:.1f} dB quieter (median"),
+    ((*_k("ocean-deep", "TV FB1"), _quieter), "is {:.1f} dB quieter. In FB2"),
+    (_k("ocean-deep", "SW FB2"), "heard louder, by {:.1f} and"),
+    (_k("ocean-deep", "TV FB2"), "and {:.1f} dB. In FB3"),
+    ((*_k("ocean-deep", "SW FB3"), abs), "In FB3 SW moves {:.1f} dB"),
+    ((*_k("shelf-break", "SW FB1"), _quieter), "SW {:.1f} dB quieter than before"),
+    ((*_k("shelf-break", "TV FB1"), _quieter), "TV {:.1f} dB;\nby range"),
+    (_k("shelf-break-atlas", "SW FB1"), "SW {:.1f} dB and"),
+    (_k("shelf-break-atlas", "TV FB1"), "TV {:.1f} dB in FB1"),
+    ((*_k("munk-1000", "ship F50"), _quieter), "K would be {:.1f} dB lower"),
+))

@@ -144,8 +144,9 @@ def test_the_simulator_hears_the_tables_where_the_observer_is(atlas_dir):
                      bearing_deg=sim.bearing_true_deg[0], range_m=sim.range_m[0])
     # W = P0 + K + dK + H (eq. 12) with dK = 0, H = 0: K from the tables around each cycle's observer
     np.testing.assert_allclose(sim.level_true_db[0, :, 0], sim.noise_db[0] + k, rtol=0, atol=1e-4)
-    # and not the origin's tables alone: the slope changes K along the path (0.8 dB at most here:
-    # the positions whose water is nearest the observer's weigh most, the origin's among them)
+    # and not the origin's tables alone: the slope changes K along the path (0.8 dB at most here,
+    # measured at c19b75a: the positions whose water is nearest the observer's weigh most, the
+    # origin's among them; over 1 dB before that, README "The house")
     k0 = tables.k_at(0, sim.range_m[0], bearing_deg=sim.bearing_true_deg[0])[:, 0]
     assert np.nanmax(np.abs(k0 - k)) > 0.5
 

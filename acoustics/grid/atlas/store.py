@@ -21,12 +21,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 from acoustics.grid.atlas.format import AtlasFileError, check_format, chunk_exists, is_atlas_attrs, read_attrs
 from acoustics.grid.atlas.weights import WATER_DEPTH_RATIO, lattice_weights, listed_weights, water_weights
 from acoustics.grid.checked import checked_tables
-from acoustics.grid.dataset import grid_attrs, grid_coords
+from acoustics.grid.dataset import radial_dataset
 from acoustics.grid.lookup import axis_cells, bearing_weights
 from acoustics.grid.radialtables import RadialTables
 from envdata.area import Area
@@ -152,23 +151,11 @@ class AtlasStore:
         m = self.month_index(month)
         tl, k, bottom = self.slab(m, origin)
         area_t = table_area(self.area, int(month), self.lat_deg[origin], self.lon_deg[origin])
-        coords = grid_coords(area_t, self.depth_m, self.range_m)
-        coords["bearing"] = ("bearing", self.bearing_deg, {"units": "degree"})
-        dims5 = ("class", "band", "bearing", "depth", "range")
-        dims4 = ("class", "band", "bearing", "range")
-        ds = xr.Dataset({
-            "tl_db": (dims5, tl, {"units": "dB", "fixed_end": "observer"}),
-            "k_db": (dims4, k, {"units": "dB"}),
-            "k_urick_db": (("class", "band", "range"), self.k_urick_db, {"units": "dB"}),
-            "anomaly_db": (dims4, k - self.k_urick_db[:, :, None, :], {"units": "dB"}),
-            "bottom_depth_m": (("bearing", "range"), bottom, {"units": "m"}),
-            "beta_db_per_km": (("band",), self.beta_db_per_km, {"units": "dB km-1"}),
-        }, coords=coords)
-        attrs = grid_attrs(area_t, self.attrs.get("model", "bellhop"), self.attrs.get("source_hash", ""), None,
-                           water_depth_m=float(self.depth_m[-1]), ssp_interpolation="Q")
-        attrs.update(origin_lat_deg=float(self.lat_deg[origin]), origin_lon_deg=float(self.lon_deg[origin]),
-                     title=f"table of month {month}, position {origin} of the atlas {self.path.name}")
-        ds.attrs.update(attrs)
+        ds = radial_dataset(area_t, self.attrs.get("model", "bellhop"), self.attrs.get("source_hash", ""), None,
+                            bearing_deg=self.bearing_deg, depth_m=self.depth_m, range_m=self.range_m, tl_db=tl,
+                            k_db=k, k_urick_db=self.k_urick_db, bottom_depth_m=bottom,
+                            beta_db_per_km=self.beta_db_per_km)
+        ds.attrs["title"] = f"table of month {month}, position {origin} of the atlas {self.path.name}"
         return checked_tables(ds, f"{self.path}[month={month}, origin={origin}]", area=area_t)
 
     def weights(self, lat_deg, lon_deg) -> tuple[np.ndarray, np.ndarray]:

@@ -1,4 +1,4 @@
-"""The Pekeris waveguide's exact field as a sum of its trapped normal modes (test reference).
+"""The Pekeris waveguide's exact field as a sum of its trapped normal modes (the RAM checks' reference).
 
 Isovelocity water (speed c1, density rho1) of depth D over a fluid half-space (c2 > c1, rho2),
 pressure-release surface, no loss. A trapped mode is sin(kz z) in the water and
