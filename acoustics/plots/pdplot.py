@@ -46,7 +46,7 @@ PD_CMAP = "cividis"
 
 
 def row_label(tables: Tables, row: str) -> str:
-    return "any band" if row == ANY_BAND else f"band {band_label(tables.dataset, row)}"
+    return "any band" if row == ANY_BAND else f"band {band_label(tables, row)}"
 
 
 def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: list[str] | None = None,
@@ -61,7 +61,6 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
     classes = list(tables.class_names) if classes is None else list(classes)
     for c in classes:
         check_plot_options(tables, cls_name=c)
-    ds = tables.dataset
     bearings = map_bearings(tables.bearing_deg)
     r_km = tables.range_m / 1000.0
     n_panels = len(classes) + (bathymetry is not None)
@@ -74,7 +73,7 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
         pm, mesh = pd_panel(ax, tables, c, row, override=override)
         outlines[c] = pm.ranges_m[0.5][pm.row(row)]
         summaries[c] = pd_map(tables, c, tables.bearing_deg, override=override)
-        ax.set_title(f"class {class_label(ds, c)}, {pm.terms.level_label}, {sigma_text(pm)}\n"
+        ax.set_title(f"class {class_label(tables, c)}, {pm.terms.level_label}, {sigma_text(pm)}\n"
                      f"{_span(pm, pm.row(row))}", fontsize=9)
     fig.colorbar(mesh, ax=axes, orientation="horizontal", shrink=0.6, aspect=45, pad=0.02,
                  label=f"P_D in {row_label(tables, row)}, one look of {pm.terms.integration_time_s:g} s")
@@ -85,8 +84,8 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
                title_fontsize=7.5)
     fig.suptitle(f"Probability of detection P_D = \u03a6(SE / \u03c3), {row_label(tables, row)}, the target at "
                  f"its class's mean level\n\u03c3: {pm.sigma.source}; SE = K(r) - K needed for "
-                 f"Q \u2265 {pm.terms.threshold:g}\narea {ds.attrs['area']}, origin {origin_label(ds)}, observer at "
-                 f"{float(ds.attrs['observer_depth_m']):g} m; bearing clockwise from true north; tan: land",
+                 f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, observer at "
+                 f"{tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land",
                  fontsize=9)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
@@ -167,7 +166,7 @@ def pd_curves_figure(tables: Tables, *, classes: list[str] | None = None,
         for level in PD_LEVELS:
             ax.axhline(level, color="0.5", lw=0.7, ls=LEVEL_STYLE[level]["ls"])
         past = [row for i, row in enumerate(pm.rows) if pm.beyond[0.1][i, 0]]
-        ax.set_title(f"class {class_label(tables.dataset, c)}, {pm.terms.level_label}, {sigma_text(pm)}"
+        ax.set_title(f"class {class_label(tables, c)}, {pm.terms.level_label}, {sigma_text(pm)}"
                      + (f"\nbeyond the table (P_D \u2265 0.1 at {r_km[-1]:g} km): {', '.join(past)}" if past else ""),
                      fontsize=9, color=BEYOND_COLOR if past else "k")
         ax.set_xlim(0.0, r_km[-1])

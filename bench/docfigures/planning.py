@@ -126,6 +126,11 @@ def planning_atlas(root: Path) -> str:
     return note + markdown_table(rows) + "\n" + caption(d, FILE)
 
 
+#: The page's prose quotes no figure of its own: the numbers it discusses are the blocks' (each made
+#: from docs/results/planning.json); its sentences about them are read against the blocks whenever
+#: the file is made again.
+QUOTES = ()
+
 #: The blocks of the page: name -> the function that makes it.
 TABLES = {"planning-areas": planning_areas, "planning-reach": planning_reach, "planning-track": planning_track,
           "planning-extension": planning_extension, "planning-atlas": planning_atlas}

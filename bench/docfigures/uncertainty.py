@@ -16,6 +16,10 @@ from bench.docfigures.common import (
 
 PAGE = "docs/uncertainty.md"
 
+#: The page's figures are its blocks (each study's calibration table, the K-error fit): its prose
+#: quotes none of its own.
+QUOTES = ()
+
 SHELF = (("ml_bearing", "ML analysis, bearing-dependent grid"),
          ("rpf_bearing", "particle filter, bearing-dependent grid"),
          ("bot_bearing", "bearings-only filter"),
