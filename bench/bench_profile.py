@@ -29,9 +29,11 @@ import argparse
 import contextlib
 import dataclasses
 import json
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections import defaultdict
@@ -178,17 +180,36 @@ mod = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(mod)
 with tempfile.TemporaryDirectory() as tmp:
     profile, wall, runs = mod.BUILDS[{build!r}](Path(tmp), {workers})
+    if {keep!r} and (Path(tmp) / "shelf-break.nc").exists():
+        (Path(tmp) / "shelf-break.nc").replace({keep!r})
 print(json.dumps({{"wall": wall, "process": time.perf_counter() - start, "runs": runs,
                   "seconds": dict(profile.seconds), "counts": dict(profile.counts)}}))
 """
 
 
-def one_build(checkout: Path, build: str, workers: int) -> dict:
+def one_build(checkout: Path, build: str, workers: int, keep: str = "") -> dict:
     """One build in a fresh interpreter started in ``checkout`` (its code first on the path), as a
-    command runs it: start-up (imports, numba's cache) included in ``process``."""
-    code = ONE.format(path=str(Path(__file__).resolve()), build=build, workers=workers)
+    command runs it: start-up (imports, numba's cache) included in ``process``; the grid file
+    kept as ``keep`` when given."""
+    code = ONE.format(path=str(Path(__file__).resolve()), build=build, workers=workers, keep=keep)
     out = subprocess.run([sys.executable, "-c", code], cwd=checkout, check=True, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def compare_grids(a: Path, b: Path) -> dict:
+    """The largest |difference| of the two shelf-break grids' TL and K where both are finite, and
+    whether their NaN cells are the same, dB."""
+    import numpy as np
+    import xarray as xr
+
+    out = {}
+    with xr.open_dataset(a) as ga, xr.open_dataset(b) as gb:
+        for name in ("tl_db", "k_db"):
+            x, y = ga[name].values, gb[name].values
+            both = np.isfinite(x) & np.isfinite(y)
+            out[f"{name} max |difference|"] = float(np.max(np.abs(x - y)[both]))
+            out[f"{name} same NaN cells"] = bool(np.array_equal(np.isfinite(x), np.isfinite(y)))
+    return out
 
 
 def summary(done: list[dict]) -> dict:
@@ -216,8 +237,12 @@ def main(argv=None) -> int:
     for checkout in sides.values():  # warm: numba's caches, the data files in the page cache
         one_build(checkout, "atlas table", args.workers)
     done: dict[tuple[str, str], list[dict]] = {(s, b): [] for s in sides for b in BUILDS}
-    session.interleave({f"{s} {b}": (lambda s=s, b=b: done[(s, b)].append(one_build(sides[s], b, args.workers)))
-                        for s, b in done}, args.repeats)
+    kept = Path(tempfile.mkdtemp(prefix="tmakit-profile-"))
+    session.interleave({f"{s} {b}": (lambda s=s, b=b: done[(s, b)].append(
+        one_build(sides[s], b, args.workers, str(kept / f"{s}.nc"))))
+        for s, b in done}, args.repeats)
+    same = compare_grids(kept / "now.nc", kept / "before.nc") if args.before else None
+    shutil.rmtree(kept, ignore_errors=True)
     startup = {s: [] for s in sides}
     for _ in range(args.repeats):
         for s, checkout in sides.items():
@@ -234,7 +259,11 @@ def main(argv=None) -> int:
                 session.say(f"{side}: {b}: {cat}", value, "s")
         session.say(f"{side}: start-up (imports of a build command)", out[side]["startup_s"], "s",
                     runs=startup[side])
-    session.write(repeats=args.repeats, workers=args.workers, before_commit=args.before_commit, profiles=out)
+    if same is not None:
+        for name, value in same.items():
+            session.say(f"now against before: {name}", value, "" if isinstance(value, bool) else "dB")
+    session.write(repeats=args.repeats, workers=args.workers, before_commit=args.before_commit, profiles=out,
+                  now_against_before=same)
     return 0
 
 
