@@ -9,6 +9,7 @@ the same builds of another checkout (the code before a change) in the same turns
 
 - the shelf-break grid file (12 radials x 3 bands to 30 km, its resume folder, the netCDF), as
   ``tmakit grids build shelf-break`` makes it;
+- ocean-deep's flat grid file (10 runs from the class depths to 120 km), the fixed cost's case;
 - one atlas table of shelf-break-atlas (its first position and month, the atlas's own depth
   axis), as ``tmakit atlas build`` makes it: the plan (the data boxes read once), the store's
   template, the table's radials and runs, its chunks and ``done`` flag.
@@ -75,13 +76,17 @@ class Profile:
 def instrumented(profile: Profile):
     """The builder's functions wrapped to feed ``profile``; put back on leaving."""
     from acoustics.bellhop import runner
-    from acoustics.builder import atlas, executor, gridfile, radial, runs
+    from acoustics.builder import atlas, executor, flat, gridfile, radial, runs
 
     saved = []
 
     def patch(obj, name, new):
         saved.append((obj, name, getattr(obj, name)))
         setattr(obj, name, new)
+
+    def timed(obj, name, category):  # a function the checkout has (the code moves between releases)
+        if hasattr(obj, name):
+            patch(obj, name, profile.timed(category, getattr(obj, name)))
 
     patch(runner, "read_shd", profile.timed("reading .shd", runner.read_shd))
     patch(runner, "read_arr", profile.timed("reading .arr", runner.read_arr))
@@ -116,10 +121,14 @@ def instrumented(profile: Profile):
             profile.add("tables assembly", time.perf_counter() - start)
 
     patch(radial, "iter_runs", timed_iter_runs)
+    if hasattr(flat, "iter_runs"):
+        patch(flat, "iter_runs", timed_iter_runs)
     for module in (radial, atlas):
         patch(module, "area_radials", profile.timed("planning (radials, runs)", module.area_radials))
     for name in ("plan_radial_runs", "plan_radial_image_runs"):
         patch(radial, name, profile.timed("planning (radials, runs)", getattr(radial, name)))
+    timed(flat, "plan_runs", "planning (radials, runs)")
+    timed(flat, "flat_dataset", "dataset or store")
     patch(atlas, "plan_atlas", profile.timed("planning (radials, runs)", atlas.plan_atlas))
     patch(radial, "_dataset", profile.timed("dataset or store", radial._dataset))
     patch(gridfile, "write_grid", profile.timed("dataset or store", gridfile.write_grid))
@@ -145,15 +154,19 @@ def atlas_table_area():
     return dataclasses.replace(area, atlas=spec)
 
 
-def build_grid_file(folder: Path, workers: int) -> tuple[Profile, float, int]:
+def build_grid_file(folder: Path, workers: int, area: str = "shelf-break") -> tuple[Profile, float, int]:
     from acoustics.builder.gridfile import build_grid_file as build
 
     profile = Profile()
     with instrumented(profile):
         start = time.perf_counter()
-        result = build("shelf-break", folder / "shelf-break.nc", workers=workers, force=True)
+        result = build(area, folder / f"{area}.nc", workers=workers, force=True)
         wall = time.perf_counter() - start
     return profile, wall, result.runs
+
+
+def build_flat_grid_file(folder: Path, workers: int) -> tuple[Profile, float, int]:
+    return build_grid_file(folder, workers, "ocean-deep")
 
 
 def build_atlas_table(folder: Path, workers: int) -> tuple[Profile, float, int]:
@@ -168,7 +181,8 @@ def build_atlas_table(folder: Path, workers: int) -> tuple[Profile, float, int]:
     return profile, wall, result["runs"]
 
 
-BUILDS = {"shelf-break grid": build_grid_file, "atlas table": build_atlas_table}
+BUILDS = {"shelf-break grid": build_grid_file, "atlas table": build_atlas_table,
+          "ocean-deep grid": build_flat_grid_file}
 
 #: What a fresh interpreter runs for one build: this file's functions on the checkout it starts in.
 ONE = """
