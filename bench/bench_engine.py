@@ -3,11 +3,11 @@ tmakit's own runs: time per run and the tables they make.
 
 ``python -m bench.bench_engine [--repeats N] [--radials I J ...]`` writes ``docs/results/engine.json``.
 The runs are shelf-break's own (its build's .env, .bty and .ssp texts) on a few radials: each
-radial's three band runs (1500 beams, TL field) and its surface arrivals run (6000 beams,
-near-surface receivers). ``bellhop.exe`` runs each as the build does (one process a run; wall
-and CPU time from the process's resource use); pelagic runs them all in one process of
-.venv-kraken (``bench/crosscheck/pelagic_bellhop.py``: tmakit never imports it), its time per
-run measured around its ``load(...).run()``. The two are interleaved, ``--repeats`` times.
+radial's field run (1500 beams, TL, its receivers down to the radial's deepest bottom) and its
+surface arrivals run (6000 beams, near-surface receivers). ``bellhop.exe`` runs each as the
+build does (one process a run; wall and CPU time from the process's resource use); pelagic runs
+them all in one process of .venv-kraken (``bench/crosscheck/pelagic_bellhop.py``: tmakit never
+imports it), its time per run measured around its ``load(...).run()``. The two are interleaved, ``--repeats`` times.
 
 Accuracy: the band TL each engine's runs make (the build's own reduction: the band average of
 the class's spectrum for the field runs, ``acoustics.builder.surfaceimage`` for the arrivals'
@@ -33,9 +33,11 @@ from acoustics.bellhop.arrfile import Arrivals, read_arr
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.shdfile import read_shd, tl_from_pressure
 from acoustics.builder.bandruns import band_tl_from_runs
+from acoustics.builder.radial import depth_axis_m, plan_radial_image_runs, plan_radial_runs
 from acoustics.builder.surfaceimage import image_tl_db
-from bench.bench_radials import raw_runs
+from acoustics.surface import SURFACE_ROW_M
 from bench.harness import REPO, Session
+from envdata.radials import area_radials
 
 SIDE = REPO / ".venv-kraken" / "bin" / "python"
 SCRIPT = REPO / "bench" / "crosscheck" / "pelagic_bellhop.py"
@@ -44,15 +46,19 @@ TL_CUT_DB = 150.0
 
 
 def sample_runs(area, radials: list[int]):
-    """The build's runs of the radials asked for, each with its radial's index."""
-    runs = raw_runs(area)
-    n = len(area.bearings.bearing_deg)
-    per_radial = len([r for r in runs if r.image is None]) // n
+    """The build's runs of the radials asked for, each with its radial's index: the field run
+    with the receivers down to the radial's deepest bottom (pelagic refuses a receiver below the
+    water column; the build's deeper rows are NaN in the table), and the arrivals run."""
+    all_radials = area_radials(area)
+    depth = depth_axis_m(area, all_radials)
+    receivers = np.unique(np.concatenate([depth, [c.depth_m for c in area.classes], [SURFACE_ROW_M]]))
     out = []
     for j in radials:
-        fields = [r for r in runs if r.image is None][j * per_radial:(j + 1) * per_radial]
-        images = [r for r in runs if r.image is not None]
-        out += [(j, r) for r in fields] + [(j, images[j])]
+        radial = all_radials[j]
+        wet = receivers[receivers <= float(np.max(radial.bottom_depth_m))]
+        fields, _ = plan_radial_runs(area, [radial], wet)
+        images, _ = plan_radial_image_runs(area, [radial], receivers)
+        out += [(j, r) for r in fields + images]
     return out
 
 
