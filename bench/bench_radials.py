@@ -38,7 +38,7 @@ import envdata
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.radial import depth_axis_m, plan_radial_image_runs, plan_radial_runs
 from acoustics.surface import SURFACE_ROW_M
-from bench.harness import REPO, Session, cli_with_rusage, raw_bellhop_seconds
+from bench.harness import REPO, Session, cli_with_rusage, raw_bellhop_each, raw_bellhop_seconds
 from envdata.radials import area_radials
 
 
@@ -162,11 +162,12 @@ def main(argv: list[str] | None = None) -> None:
         wide = wide_area(Path(tmp), step_deg=10.0, range_max_m=50_000.0)
         wide_runs = raw_runs(envdata.load_area(wide))
         wide_build = ["grids", "build", str(wide), "--out", str(Path(tmp) / "wide.nc"), "--workers", "2", "--force"]
-        walls, raws, raws2, rss_all = [], [], [], []
+        walls, raws, raws2, rss_all, each = [], [], [], [], []
         for i in range(args.repeats):  # the larger build, where the fixed cost weighs less
             for which in ("w2", "raw", "raw2")[i % 3:] + ("w2", "raw", "raw2")[:i % 3]:
                 if which == "raw":
-                    raws.append(raw_bellhop_seconds(wide_runs, exe))
+                    each.append(raw_bellhop_each(wide_runs, exe))
+                    raws.append(sum(each[-1]))
                 elif which == "raw2":
                     raws2.append(raw_bellhop_wall_two_at_a_time(wide_runs, exe))
                 else:
@@ -187,7 +188,40 @@ def main(argv: list[str] | None = None) -> None:
         say("wide_36_radials_2_workers_over_raw_two_at_a_time", statistics.median(walls) / statistics.median(raws2),
             "")
         say("wide_36_radials_peak_rss", max(rss_all), "MiB (target < 1024)")
+        budget(session, wide_runs, each, statistics.median(walls) / statistics.median(raws2))
     session.write(repeats=args.repeats)
+
+
+#: README's western-Mediterranean atlas: about 850 000 km2 of sea at 10 km spacing (8 500
+#: positions), 12 months, each table 36 radials x 3 bands to 50 km (the wide area's).
+WESTERN_MED_POSITIONS = 8_500
+WESTERN_MED_MONTHS = 12
+#: An overnight build, h.
+OVERNIGHT_H = 12.0
+
+
+def budget(session: Session, runs, each: list[list[float]], build_over_machine: float) -> None:
+    """The western-Mediterranean atlas from the measured cost of one table's runs (the wide area
+    is one such table): per run type, the median over the repeats of each type's mean run time;
+    the build's own work as measured (2 workers against the same runs two at a time)."""
+    kinds = ["arrivals" if run.image is not None else "field" for run in runs]
+    tables = WESTERN_MED_POSITIONS * WESTERN_MED_MONTHS
+    per_table = 0.0
+    for kind in ("field", "arrivals"):
+        idx = [i for i, k in enumerate(kinds) if k == kind]
+        if not idx:
+            continue
+        mean_s = statistics.median(sum(e[i] for i in idx) / len(idx) for e in each)
+        per_table += mean_s * len(idx)
+        session.say(f"wide_36_radials_{kind}_runs_per_table", len(idx), "runs")
+        session.say(f"wide_36_radials_{kind}_run_mean_s", mean_s, "s (one run, serial)")
+    session.say("western_med_tables", tables,
+                f"tables ({WESTERN_MED_POSITIONS} positions x {WESTERN_MED_MONTHS} months)")
+    session.say("western_med_runs", tables * len(runs), "BELLHOP runs")
+    session.say("western_med_bellhop_cpu_hours", tables * per_table / 3600.0, "CPU hours of BELLHOP")
+    cpu_h = tables * per_table * build_over_machine / 3600.0
+    session.say("western_med_build_cpu_hours", cpu_h, "CPU hours with the build's own work (target <= 1000)")
+    session.say("western_med_cores_overnight", cpu_h / OVERNIGHT_H, f"cores for {OVERNIGHT_H:g} hours")
 
 
 if __name__ == "__main__":

@@ -194,11 +194,10 @@ def bench_grid(area: str) -> str:
     return str(build_grid_file(area, REPO / "out" / "bench" / f"{area}-bellhop.nc", workers=2).file)
 
 
-def raw_bellhop_seconds(runs, exe) -> float:
-    """Sum of the wall times of bellhop.exe itself on the runs' files (the .env and the files
-    beside it, such as a source pattern's .sbp), one at a time: what a build's BELLHOP time is
-    measured against."""
-    total = 0.0
+def raw_bellhop_each(runs, exe) -> list[float]:
+    """The wall time of bellhop.exe itself on each run's files (the .env and the files beside it,
+    such as a source pattern's .sbp), one at a time, s."""
+    out = []
     for run in runs:
         with tempfile.TemporaryDirectory() as tmp:
             (Path(tmp) / "raw.env").write_text(run.env)
@@ -206,8 +205,14 @@ def raw_bellhop_seconds(runs, exe) -> float:
                 (Path(tmp) / f"raw.{suffix}").write_text(text)
             start = time.perf_counter()
             subprocess.run([str(exe), "raw"], cwd=tmp, check=True, capture_output=True)
-            total += time.perf_counter() - start
-    return total
+            out.append(time.perf_counter() - start)
+    return out
+
+
+def raw_bellhop_seconds(runs, exe) -> float:
+    """Sum of the wall times of bellhop.exe itself on the runs' files, one at a time: what a
+    build's BELLHOP time is measured against."""
+    return sum(raw_bellhop_each(runs, exe))
 
 
 def cli_with_rusage(args: list[str]) -> tuple[float, float, dict]:

@@ -12,6 +12,7 @@ positive downward), and the numbers of surface and bottom reflections.
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -94,25 +95,46 @@ def read_arr(path: str | Path) -> list[Arrivals]:
     out = []
     for s in range(sz.size):
         record()  # the largest count
-        count = np.empty((rz.size, rr.size), dtype=np.int64)
-        blocks = []
-        for i in range(count.size):
-            payload = record()
-            if len(payload) != 4:
-                raise BellhopError(f"{path}: arrivals file is damaged: a count record of {len(payload)} bytes")
-            n = int(np.frombuffer(payload, "<i4", 1)[0])
-            if n < 0 or pos + n * _ARRIVAL.itemsize > len(raw):
-                raise BellhopError(f"{path}: arrivals file is truncated (receiver {i}, {n} arrivals)")
-            count.flat[i] = n
-            if n:
-                block = np.frombuffer(raw, _ARRIVAL, n, pos)
-                if np.any(block["head"] != _ARRIVAL_BYTES) or np.any(block["tail"] != _ARRIVAL_BYTES):
-                    raise BellhopError(f"{path}: arrivals file is damaged (receiver {i})")
-                blocks.append(block["value"])
-                pos += n * _ARRIVAL.itemsize
-        values = np.concatenate(blocks).astype(float) if blocks else np.zeros((0, 8))
+        count, values, pos = _arrivals_of_source(raw, pos, rz.size * rr.size, path)
+        count = count.reshape(rz.size, rr.size)
         out.append(Arrivals(freq_hz=freq, source_depth_m=float(sz[s]), receiver_depth_m=rz, range_m=rr,
                             count=count, amplitude=values[:, 0], phase_rad=np.radians(values[:, 1]),
                             delay_s=values[:, 2], delay_imag_s=values[:, 3],
                             receiver_angle_deg=values[:, 5], surface_bounces=values[:, 6]))
     return out
+
+
+_COUNT_RECORD = struct.Struct("<iii")  # byte count 4, the count, byte count 4
+
+
+def _arrivals_of_source(raw: bytes, pos: int, receivers: int, path: Path) -> tuple[np.ndarray, np.ndarray, int]:
+    """One source's receivers from byte ``pos``: their counts, every arrival's eight values
+    (float64, receiver order) and the position after them. One pass over the count records finds
+    the arrivals' blocks; the blocks are then taken out of the file's bytes at once."""
+    counts = np.empty(receivers, dtype=np.int64)
+    starts = np.empty(receivers, dtype=np.int64)
+    unpack = _COUNT_RECORD.unpack_from
+    for i in range(receivers):
+        if pos + _COUNT_RECORD.size > len(raw):
+            raise BellhopError(f"{path}: arrivals file is truncated at byte {pos}")
+        head, n, tail = unpack(raw, pos)
+        if head != 4 or tail != 4:
+            raise BellhopError(f"{path}: arrivals file is damaged: a count record of {head} bytes at byte {pos}")
+        if n < 0 or pos + _COUNT_RECORD.size + n * _ARRIVAL.itemsize > len(raw):
+            raise BellhopError(f"{path}: arrivals file is truncated (receiver {i}, {n} arrivals)")
+        starts[i], counts[i] = pos, n
+        pos += _COUNT_RECORD.size + n * _ARRIVAL.itemsize
+    if receivers == 0 or counts.sum() == 0:
+        return counts, np.zeros((0, 8)), pos
+    # the source's bytes as 4-byte words, less each count record's three: the arrivals' records
+    first = int(starts[0])
+    words = np.frombuffer(raw, "<i4", (pos - first) // 4, first)
+    keep = np.ones(words.size, dtype=bool)
+    keep[((starts - first) // 4)[:, None] + np.arange(3)] = False
+    records = words[keep].reshape(-1, _ARRIVAL.itemsize // 4)
+    bad = (records[:, 0] != _ARRIVAL_BYTES) | (records[:, -1] != _ARRIVAL_BYTES)
+    if bad.any():
+        receiver = int(np.searchsorted(np.cumsum(counts), int(np.argmax(bad)), side="right"))
+        raise BellhopError(f"{path}: arrivals file is damaged (receiver {receiver})")
+    values = np.ascontiguousarray(records[:, 1:-1]).view("<f4").astype(float)
+    return counts, values, pos

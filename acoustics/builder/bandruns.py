@@ -30,7 +30,8 @@ from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weigh
 from acoustics.surface import band_quadrature, incoherent_error_db, lloyd_factor, surface_reach_m
 from envdata.area import Area, TlMode
 
-GRID_FORMAT_VERSION = 1
+#: 2: a table from the observer runs one field run per radial for every band (``shared_run_hz``)
+GRID_FORMAT_VERSION = 2
 
 
 class Model(StrEnum):
@@ -72,6 +73,18 @@ def run_frequencies_hz(area: Area, band) -> np.ndarray:
     if uses_shortcut(area):
         return np.array([band.center_hz])
     return band_frequencies_hz(band, area.propagation.freqs_per_band)
+
+
+def shared_run_hz(area: Area) -> float:
+    """The frequency of the one field run that serves every band of a table from the observer
+    (one run per radial, no source pattern) where one run makes a band (``uses_shortcut``): the
+    centre of the middle band (of two, the lower). Incoherent beams with a bottom whose
+    attenuation is per wavelength depend on frequency only through volume absorption, so each
+    band is that run with its own absorption put back by range (``band_tl_from_runs``).
+    Measured on shelf-break's radials against a run at each band's centre (bench/bench_surface_
+    candidates.py, docs/results/surface-candidates.json)."""
+    centres = sorted(band.center_hz for band in area.bands)
+    return float(centres[(len(centres) - 1) // 2])
 
 
 def surface_acts(area: Area, band, depth_m: float, speed_mps: float) -> bool:
@@ -133,17 +146,20 @@ def run_timeout_s(area: Area, n_beams: int, n_receivers: int) -> float:
 
 
 def band_tl_from_runs(area: Area, cls, band, tl_by_freq: dict[float, np.ndarray]) -> np.ndarray:
-    """Band TL for ``cls`` from the run TL fields of one source depth, keyed by run frequency."""
+    """Band TL for ``cls`` from the run TL fields of one source depth, keyed by run frequency:
+    where one run makes a band, the run at its centre or else the one run that serves every band
+    (``shared_run_hz``)."""
     prop = area.propagation
     freqs = band_frequencies_hz(band, prop.freqs_per_band)
     weights = band_weights(cls, freqs)
     range_km = area.grid.range_m() / 1000.0
     if uses_shortcut(area):
-        # TL(f_i) = TL(f_c) + (alpha_i - alpha_c) r, so the band intensity factors into the
-        # centre intensity times a function of range alone: sum_i w_i 10^(-(alpha_i - alpha_c) r / 10)
-        fc = band.center_hz
-        base = tl_by_freq[freq_key(fc)].astype(np.float64)
-        d_alpha = absorption_db_per_km(freqs, prop.absorption) - absorption_db_per_km(fc, prop.absorption)
+        # TL(f_i) = TL(f_run) + (alpha_i - alpha_run) r, so the band intensity factors into the
+        # run's intensity times a function of range alone: sum_i w_i 10^(-(alpha_i - alpha_run) r / 10)
+        run_hz = freq_key(band.center_hz)
+        run_hz = run_hz if run_hz in tl_by_freq else freq_key(shared_run_hz(area))
+        base = tl_by_freq[run_hz].astype(np.float64)
+        d_alpha = absorption_db_per_km(freqs, prop.absorption) - absorption_db_per_km(run_hz, prop.absorption)
         gain = weights @ 10.0 ** (-np.outer(d_alpha, range_km) / 10.0)
         band_tl = base - 10.0 * np.log10(gain)
         return np.minimum(band_tl, prop.tl_max_db)

@@ -39,7 +39,9 @@ from acoustics.builder.bandruns import (
     freq_key,
     run_frequencies_hz,
     run_timeout_s,
+    shared_run_hz,
     source_hash,
+    uses_shortcut,
 )
 from acoustics.builder.imageruns import plan_image_run, with_image_rows
 from acoustics.builder.modelchoice import (
@@ -96,14 +98,16 @@ def bottom_on_grid_m(area: Area, radial: Radial) -> np.ndarray:
 
 def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray, freqs_hz=None
                      ) -> tuple[list[Run], dict[str, tuple[int, float]]]:
-    """The BELLHOP runs of every radial and run frequency (the bands', or ``freqs_hz``), and each
-    run's (radial, frequency)."""
+    """The BELLHOP runs of every radial and run frequency (the bands', or ``freqs_hz``; one run a
+    radial where one run makes a band, ``bandruns.shared_run_hz``), and each run's (radial,
+    frequency)."""
     prop = area.propagation
     rng = area.grid.range_m()
     box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
     step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
-    if freqs_hz is None:
-        freqs_hz = [f for band in area.bands for f in run_frequencies_hz(area, band)]
+    if freqs_hz is None:  # one run serves every band where one run makes a band
+        freqs_hz = [shared_run_hz(area)] if uses_shortcut(area) else \
+            [f for band in area.bands for f in run_frequencies_hz(area, band)]
     freqs = list(dict.fromkeys(freq_key(f) for f in freqs_hz))
     runs, where = [], {}
     for j, radial in enumerate(radials):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import hashlib
+import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -57,12 +58,16 @@ class RunStats:
     wall_seconds: float = 0.0
 
 
-def execute_run(run: Run, exe: str | None = None) -> tuple[np.ndarray, float]:
+def execute_run(run: Run, exe: str | None = None, slot: threading.Semaphore | None = None
+                ) -> tuple[np.ndarray, float]:
     """Run one environment; return its pressure field, complex64, (receiver depth, range) of its
     one source, or (source, receiver depth, range) of an ``all_sources`` run, and BELLHOP's time.
     In incoherent and semicoherent modes |p|^2 is the summed beam intensity. An arrivals run
-    returns its receivers' band TL instead (``image_tl_db``)."""
-    result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s)
+    returns its receivers' band TL instead (``image_tl_db``). With ``slot``, BELLHOP runs (and its
+    file is read) while the slot is held, and the arrivals are reduced after it is released: the
+    next run starts beside the reduction."""
+    with slot if slot is not None else contextlib.nullcontext():
+        result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s)
     if run.image is not None:
         return image_tl_db(result.arrivals[0], run.image), result.seconds
     pressure = result.field.pressure
@@ -84,15 +89,19 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
               stats: RunStats | None = None) -> Iterator[tuple[Run, np.ndarray]]:
     """Yield (run, pressure field) as runs finish: cached ones first, then as BELLHOP completes them.
 
-    BELLHOP runs in ``workers`` threads (or on the Dask cluster at ``scheduler``), so whatever
-    the caller does with a result overlaps the next BELLHOP run. Runs start longest first:
-    BELLHOP's cost grows with the beams, so the half-fan slices that balance the workers come last.
+    ``workers`` BELLHOP processes run at once (or the Dask cluster at ``scheduler`` runs them), so
+    whatever the caller does with a result overlaps the next BELLHOP run. On this machine each
+    worker has two threads and one BELLHOP slot: a run's arrivals are reduced (numba, without the
+    GIL) while the worker's next run already goes. Runs start longest first: BELLHOP's cost grows
+    with the beams, so the half-fan slices that balance the workers come last.
     """
     stats = stats if stats is not None else RunStats()
     longest_first = sorted({run.key: run for run in runs}.values(), key=lambda run: -run.n_beams)
     done = TaskStats()
-    tasks = run_tasks(functools.partial(execute_run, exe=exe), longest_first, key=lambda run: run.key,
-                      workers=workers, scheduler=scheduler,
+    slot = threading.BoundedSemaphore(workers) if scheduler is None and workers >= 1 else None
+    threads = 2 * workers if slot is not None and any(run.image is not None for run in longest_first) else workers
+    tasks = run_tasks(functools.partial(execute_run, exe=exe, slot=slot), longest_first, key=lambda run: run.key,
+                      workers=threads, scheduler=scheduler,
                       cache=run_cache(cache_dir) if cache_dir is not None else None,
                       progress=progress, desc="BELLHOP runs", unit="run", stats=done)
     try:

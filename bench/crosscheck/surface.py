@@ -212,13 +212,16 @@ def shelf_case(mode: str = "semicoherent") -> dict:
     return stats((tl - ref)[ok])
 
 
-def reciprocity_case(range_max_m: float = 40000.0, mode: str = "semicoherent") -> dict:
+def reciprocity_case(range_max_m: float = 40000.0, mode: str = "semicoherent", image_beams: int | None = None) -> dict:
     """ocean-deep (its bands, fan and beams): K of the SW (6 m) and TV (8 m) classes from the
     observer (one radial of the area with an origin) against the same from the targets' own
-    runs (the flat grid), per class and band."""
+    runs (the flat grid), per class and band; ``image_beams`` the surface's arrivals run's beams
+    (default the area's)."""
     doc = envdata.load_area("ocean-deep").to_dict()
     doc["grid"] = {**doc["grid"], "range_max_m": range_max_m}
     doc["propagation"] = {**doc.get("propagation", {}), "step_m": 25.0, "mode": mode}
+    if image_beams is not None:
+        doc["propagation"]["surface_image_beams"] = image_beams
     doc["classes"] = [c for c in doc["classes"] if c["depth_m"] < 50.0]
     flat = acoustics.build_grid(_area(doc, "recip-flat"), workers=2)
     radial = acoustics.build_grid(_area(doc, "recip-radial", radial=True), workers=2)

@@ -153,9 +153,77 @@ def _greatest_wall_ratio(d: dict) -> float:
     return max(_wall_ratios(d))
 
 
+def build_profile(root: Path) -> str:
+    """Where each build's time goes, now and before the change, seconds summed over threads."""
+    d = load_result(root, "build-profile.json")
+    sides = [s for s in ("now", "before") if s in d["profiles"]]
+    builds = list(d["profiles"]["now"]["builds"])
+    head = ["seconds (1 worker; medians of %d)" % d["repeats"]]
+    for b in builds:
+        head += [f"{b}, {s}" if len(sides) > 1 else b for s in sides]
+    rows = [tuple(head), ("---",) * len(head)]
+
+    def cell(side, build, key):
+        return d["profiles"][side]["builds"][build][key]
+
+    rows.append(("BELLHOP runs (field + arrivals)", *(
+        f"{cell(s, b, 'bellhop_runs')['bellhop field runs']} + {cell(s, b, 'bellhop_runs')['bellhop arrivals runs']}"
+        for b in builds for s in sides)))
+    for cat in d["profiles"]["now"]["builds"][builds[0]]["seconds"]:
+        rows.append((cat, *(f"{cell(s, b, 'seconds')[cat]:.2f}" for b in builds for s in sides)))
+    rows.append(("**the build's wall time**", *(f"**{cell(s, b, 'wall_s'):.1f}**" for b in builds for s in sides)))
+    rows.append(("the command's process, start-up included", *(f"{cell(s, b, 'process_s'):.1f}"
+                                                              for b in builds for s in sides)))
+    text = markdown_table(rows)
+    same = d.get("now_against_before")
+    if same:
+        text += (f"\nThe shelf-break grids now and before: largest |dTL| {same['tl_db max |difference|']:.3g} dB, "
+                 f"|dK| {same['k_db max |difference|']:.3g} dB where both are finite; the same NaN cells: "
+                 f"{'yes' if same['tl_db same NaN cells'] and same['k_db same NaN cells'] else 'no'}.\n")
+    return text + "\n" + caption(d, "build-profile.json")
+
+
+def surface_candidates(root: Path) -> str:
+    d = load_result(root, "surface-candidates.json")
+    rows = [("tables from the observer (shelf-break, 12 radials)", "runs", "BELLHOP CPU", "of before",
+             "K moved: median / p90, dB", "TL moved: median / p90, dB",
+             "over the incoherent build (same runs / before)"), ("---",) * 7]
+    for label, c in d["candidates"].items():
+        k = c.get("k_moved")
+        tl = c.get("tl_moved")
+        rows.append((label, f"{c['runs']}", f"{c['bellhop_cpu_s']:.1f} s", f"{c['over_before']:.2f}",
+                     f"{k['median_db']:.3f} / {k['p90_db']:.3f}" if k else "",
+                     f"{tl['median_db']:.3f} / {tl['p90_db']:.3f}" if tl else "",
+                     f"{c['over_incoherent_same_runs']:.2f}x / {c['over_incoherent_before']:.2f}x"
+                     if "over_incoherent_same_runs" in c else ""))
+    text = markdown_table(rows)
+    ref = d.get("reference_check_db") or {}
+    if ref:
+        text += ("\nK of ocean-deep's ships from the observer against their own runs (the check in `make test`, "
+                 f"worst class and band median, bound {d['reference_bound_db']:g} dB): "
+                 + ", ".join(f"{v:.2f} dB with {k} arrivals beams" for k, v in ref.items()) + ".\n")
+    return text + "\n" + caption(d, "surface-candidates.json")
+
+
+def engine(root: Path) -> str:
+    d = load_result(root, "engine.json")
+    rows = [("runs (shelf-break, bearings " + ", ".join(f"{b:g}" for b in d["bearings_deg"]) + ")",
+             "bellhop.exe: wall / CPU", "pelagic: wall / CPU", "pelagic over bellhop.exe, CPU"), ("---",) * 4]
+    for kind, r in d["runs"].items():
+        rows.append((f"{r['runs']} {kind} runs", f"{r['bellhop_exe_wall_s']:.1f} / {r['bellhop_exe_cpu_s']:.1f} s",
+                     f"{r['pelagic_wall_s']:.1f} / {r['pelagic_cpu_s']:.1f} s",
+                     f"{r['pelagic_over_bellhop_exe_cpu']:.2f}x"))
+    version = d["provenance"]["versions"].get("pelagic", "?")
+    text = markdown_table(rows) + "\n"
+    text += "; ".join(f"{name}: \\|dTL\\| median {s['median_db']:.2f} dB, p90 {s['p90_db']:.2f} dB"
+                      for name, s in d["accuracy"].items()) + f" (pelagic {version}).\n"
+    return text + "\n" + caption(d, "engine.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
-          "ram-crossover": ram_crossover, "models-bench": models_bench}
+          "ram-crossover": ram_crossover, "models-bench": models_bench, "build-profile": build_profile,
+          "surface-candidates": surface_candidates, "engine": engine}
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
