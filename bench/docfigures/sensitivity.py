@@ -102,16 +102,31 @@ def kerror_sd(root: Path) -> str:
 
 def kerror_rmse(root: Path) -> str:
     d = load_result(root, "kerror/kerror.json")
-    names = (("rpf_map", "particle filter, sd by bearing and range"), ("rpf_scalar", "particle filter, one number"),
-             ("ml_map", "ML analysis, sd by bearing and range"), ("ml_scalar", "ML analysis, one number"))
+    names = (("rpf_model", "particle filter, the study's model"), ("rpf_scalar", "particle filter, one number"),
+             ("ml_model", "ML analysis, the study's model"), ("ml_scalar", "ML analysis, one number"),
+             ("bot", "bearings-only filter (the same prior)"))
     rows = rmse_rows(d, names, ("position RMSE, km", "mean after 5 min"), "{:.2f}", 1000.0)
     return markdown_table(rows) + "\n" + caption(d, "kerror/kerror.json")
+
+
+def kerror_bins(root: Path) -> str:
+    """Each tracker's RMSE by 5-minute bin beside the bearings-only filter's, km."""
+    d = load_result(root, "kerror/kerror.json")
+    by = d["rmse_by_time_bin_m"]
+    bins = list(by["bot"])
+    rows = [("position RMSE, km, by minutes", *bins), ("---",) * (1 + len(bins))]
+    worse = d["worse_than_bearings_only_bins"]
+    for key in ("rpf_model", "rpf_scalar", "ml_model", "ml_scalar", "bot"):
+        rows.append((key.replace("_", ", "), *(f"**{by[key][b] / 1000:.2f}**" if b in worse.get(key, ())
+                                               else f"{by[key][b] / 1000:.2f}" for b in bins)))
+    return (markdown_table(rows) + "\n*In bold: a bin where the tracker is further off than the bearings-only "
+            "filter.*\n\n" + caption(d, "kerror/kerror.json"))
 
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"sensitivity-sets": sensitivity_sets, "sensitivity-ranges": sensitivity_ranges,
           "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity, "kerror-sd": kerror_sd,
-          "kerror-rmse": kerror_rmse}
+          "kerror-rmse": kerror_rmse, "kerror-bins": kerror_bins}
 
 def _percent(x: float) -> float:
     return 100.0 * x

@@ -13,7 +13,8 @@ def shelf_rmse(root: Path) -> str:
     d = load_result(root, "shelf/shelf.json")
     names = (("ml_bearing", "ML (G&M), bearing-dependent"), ("ml_isotropic", "ML (G&M), origin's column, flat"),
              ("rpf_bearing", "particle filter, bearing-dependent"),
-             ("rpf_isotropic", "particle filter, origin's column, flat"))
+             ("rpf_isotropic", "particle filter, origin's column, flat"),
+             ("bot_bearing", "bearings-only filter (the same prior)"))
     rows = rmse_rows(d, names, ("tracker, grid", "5-30 min"), "{:.0f}", 1.0)
     return markdown_table(rows) + "\n" + caption(d, "shelf/shelf.json")
 
