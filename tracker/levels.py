@@ -261,6 +261,17 @@ def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=Non
     return out.reshape(lead + (t_n,))
 
 
+def at_bearing(radials, values, brg) -> np.ndarray:
+    """Each row's value of ``values`` (B, N), given on the radials (N,) deg ascending, read at the
+    row's bearing ``brg`` (B,) linearly, across 0/360 (a NaN bearing reads the first radial)."""
+    b = np.mod(np.nan_to_num(np.asarray(brg, dtype=float), nan=0.0), 360.0)
+    ext = np.concatenate([radials, [radials[0] + 360.0]])
+    j = np.clip(np.searchsorted(ext, b, side="right") - 1, 0, radials.size - 1)
+    w = (b - ext[j]) / (ext[j + 1] - ext[j])
+    rows = np.arange(len(b))
+    return (1.0 - w) * values[rows, j] + w * values[rows, (j + 1) % radials.size]
+
+
 def track_bearing_deg(bearing_deg) -> float | None:
     """The bearing a track is on, for a model of K's error by bearing: the circular mean of its
     measured bearings, deg (None without any)."""

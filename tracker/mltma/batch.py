@@ -42,7 +42,7 @@ import numpy as np
 
 from acoustics.grid.face import Tables
 from tracker.errors import MeasurementFileError
-from tracker.levels import LevelErrors
+from tracker.levels import LevelErrors, at_bearing
 from tracker.mltma import bearing_form, gates, maneuver, measurement_sd, smoothing
 from tracker.mltma.course import course_from_relative_deg, course_speed_slope_deg_per_mps, relative_course_on_tack_deg
 from tracker.mltma.covariance import marginal_sds
@@ -167,7 +167,7 @@ class MLBatch:
                 self._k_parts[key] = np.array([[e.cycle_sd_db(self.n_bands, away_m) for e in row]
                                                for row in per_class])                        # (C, N, 2)
             parts = self._k_parts[key]
-            common, band = (self._at_bearing(radials, parts[self.class_index, :, j], brg) for j in (0, 1))
+            common, band = (at_bearing(radials, parts[self.class_index, :, j], brg) for j in (0, 1))
             nodes = offset_nodes_per_row(self.noise_sd_db, common, self.params.offsets_n)
         elif away_m > 0.0:
             parts = [e.cycle_sd_db(self.n_bands, away_m) for e in self.k_errors]
@@ -179,16 +179,6 @@ class MLBatch:
         k_sd = None if not band.any() else np.broadcast_to(
             band[:, None, None], (self.n_rows, self.n_bands, self.range_axis_m.size))
         return nodes, k_sd
-
-    @staticmethod
-    def _at_bearing(radials, values, brg):
-        """Each row's value (B, N) on the radials, read at its bearing (B,) linearly, across 0/360."""
-        b = np.mod(np.nan_to_num(np.asarray(brg, dtype=float), nan=0.0), 360.0)
-        ext = np.concatenate([radials, [radials[0] + 360.0]])
-        j = np.clip(np.searchsorted(ext, b, side="right") - 1, 0, radials.size - 1)
-        w = (b - ext[j]) / (ext[j + 1] - ext[j])
-        rows = np.arange(len(b))
-        return (1.0 - w) * values[rows, j] + w * values[rows, (j + 1) % radials.size]
 
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
                obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
