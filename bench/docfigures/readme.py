@@ -118,8 +118,24 @@ def _load_span(file: str, before: str, after: str) -> tuple:
                                                                                        ("after", after)))
 
 
+def _km(x: float) -> float:
+    return x / 1000.0
+
+
+def _percent(x: float) -> float:
+    return 100.0 * x
+
+
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
+    ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km), "closer than the one measured number\ndoes ({:.2f}"),
+    ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_scalar", _km), "against {:.2f} km after 5 min"),
+    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_model", "range", "coverage_90", _percent),
+     "hold the truth in {:.0f} % of cycles"),
+    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_scalar", "range", "coverage_90", _percent),
+     "({:.0f} % with the one\nnumber)"),
+    ("kerror/kerror.json", ("calibration_after_late_min", "ml_model", "range", "coverage_90", _percent),
+     "wider than it needs ({:.0f} %)"),
     *(("gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
         ("course_rms_deg", "| {:.1f} deg /"), ("speed_rms_mps", "/ {:.2f} m/s /"))),
     *(("atlas.json", ("speed", key), fmt) for key, fmt in (
