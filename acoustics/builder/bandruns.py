@@ -87,6 +87,15 @@ def shared_run_hz(area: Area) -> float:
     return float(centres[(len(centres) - 1) // 2])
 
 
+def field_run_frequencies_hz(area: Area) -> list[float]:
+    """The frequencies of the field runs that make every band of a table from the observer: the
+    one run that serves them all where one run makes a band (`shared_run_hz`), else every band's
+    quadrature points; each once, keyed as the runs are (`freq_key`)."""
+    freqs = [shared_run_hz(area)] if uses_shortcut(area) else \
+        [f for band in area.bands for f in run_frequencies_hz(area, band)]
+    return list(dict.fromkeys(freq_key(f) for f in freqs))
+
+
 def surface_acts(area: Area, band, depth_m: float, speed_mps: float) -> bool:
     """Whether a target end at ``depth_m`` gets the surface's interference in ``band``: the
     semicoherent mode, and the end within the surface's reach (``acoustics.surface``)."""

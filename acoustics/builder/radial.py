@@ -36,12 +36,10 @@ from acoustics.builder.bandruns import (
     BuildStats,
     Model,
     band_tl_from_runs,
+    field_run_frequencies_hz,
     freq_key,
-    run_frequencies_hz,
     run_timeout_s,
-    shared_run_hz,
     source_hash,
-    uses_shortcut,
 )
 from acoustics.builder.imageruns import plan_image_run, with_image_rows
 from acoustics.builder.modelchoice import (
@@ -105,10 +103,8 @@ def plan_radial_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray,
     rng = area.grid.range_m()
     box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
     step_m = prop.step_m if prop.step_m is not None else DEFAULT_STEP_M
-    if freqs_hz is None:  # one run serves every band where one run makes a band
-        freqs_hz = [shared_run_hz(area)] if uses_shortcut(area) else \
-            [f for band in area.bands for f in run_frequencies_hz(area, band)]
-    freqs = list(dict.fromkeys(freq_key(f) for f in freqs_hz))
+    freqs = field_run_frequencies_hz(area) if freqs_hz is None else \
+        list(dict.fromkeys(freq_key(f) for f in freqs_hz))
     runs, where = [], {}
     for j, radial in enumerate(radials):
         for f in freqs:

@@ -23,7 +23,7 @@ import numpy as np
 
 from acoustics.bellhop.exe import find_bellhop3d
 from acoustics.bellhop.runner import BASE, run_env
-from acoustics.builder.bandruns import freq_key, run_frequencies_hz, run_timeout_s
+from acoustics.builder.bandruns import field_run_frequencies_hz, run_timeout_s
 from acoustics.builder.executor import TaskStats, run_tasks
 from acoustics.builder.plan import run_spec
 from acoustics.builder.radial import BOX_MARGIN, DEFAULT_STEP_M
@@ -91,7 +91,7 @@ def plan_nx2d_runs(area: Area, env: BoxEnvironment, receivers_m, *, bearing_grou
         raise ValueError(f"bearing_groups: must be in [1, {len(bearings)}], got {bearing_groups}")
     rng = area.grid.range_m()
     receivers = tuple(float(z) for z in receivers_m)
-    freqs = list(dict.fromkeys(freq_key(f) for band in area.bands for f in run_frequencies_hz(area, band)))
+    freqs = field_run_frequencies_hz(area)  # the 2-D runs' own (one run for every band where it serves)
     groups = [tuple(int(i) for i in g) for g in np.array_split(np.arange(len(bearings)), bearing_groups)]
     out = []
     for f in freqs:

@@ -84,8 +84,8 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
                title_fontsize=7.5)
     fig.suptitle(f"Probability of detection P_D = \u03a6(SE / \u03c3), {row_label(tables, row)}, the target at "
                  f"its class's mean level\n\u03c3: {pm.sigma.source}; SE = K(r) - K needed for "
-                 f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, observer at "
-                 f"{tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land",
+                 f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, "
+                 f"observer at {tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land",
                  fontsize=9)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)

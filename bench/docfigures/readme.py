@@ -128,7 +128,8 @@ def _percent(x: float) -> float:
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
-    ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km), "closer than the one measured number\ndoes ({:.2f}"),
+    ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km),
+     "closer than the one measured number\ndoes ({:.2f}"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_scalar", _km), "against {:.2f} km after 5 min"),
     ("kerror/kerror.json", ("calibration_after_late_min", "rpf_model", "range", "coverage_90", _percent),
      "hold the truth in {:.0f} % of cycles"),
