@@ -195,7 +195,8 @@ class Tables(ABC):
 
     def distance_from_origin_m(self, x_m, y_m) -> np.ndarray | None:
         """Each observer position's distance from where the tables were computed, m (x east, y
-        north of the origin); None for tables that hold everywhere (a flat area's, an atlas's)."""
+        north of the origin); None for tables that hold everywhere (a flat area's). An atlas's
+        (`acoustics.grid.atlas.follow.FollowingTables`) is its blended positions' distances."""
         x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
         if self.observer_offset(x, y) is None:
             return None

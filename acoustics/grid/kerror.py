@@ -14,7 +14,8 @@ next. Its parts, per class and band:
   over range and bearing, and the tables' own fine error (their interference pattern a little
   off where the sea puts it);
 - for tables computed at one position (a bearing-dependent grid) read by an observer who moved
-  d km from it, both grow: sd hypot(sd, growth x d).
+  d km from it, both grow: sd hypot(sd, growth x d); an atlas's blend reads each of its
+  positions' tables away from that position, d the weighted mean of their distances.
 
 An area file's one ``k_error_sd_db`` per class is the offset (what G&M's dK means); a
 sensitivity study (``tmakit sensitivity --into``) measures every part from its members. The
@@ -43,7 +44,7 @@ TABLE_RESIDUAL_LENGTH_M = 1150.0
 #: How the tables' residual grows with the observer's distance from where they were computed,
 #: dB/km: the same file's ``all.residual_growth_db_per_km``: every line, an observer moved up onto
 #: the shelf included (0.69 dB/km without those; the growth is far from uniform: tables of one
-#: position hold where the water is like their origin's, and an atlas follows the observer).
+#: position hold where the water is like their origin's).
 TABLE_RESIDUAL_GROWTH_DB_PER_KM = 2.46
 #: How the offset grows with that distance, dB/km (``all.offset_growth_db_per_km``: each line's
 #: mean error less the origin's on the same bearing; 0.43 dB/km without the shelf's lines).
@@ -72,7 +73,8 @@ class KErrorModel:
         Its correlation length along the target's path relative to the observer, m.
     offset_growth_db_per_km, residual_growth_db_per_km : float
         Growth of the sds with the observer's distance from where the tables were computed
-        (0 for tables that hold everywhere: a flat area's, an atlas's).
+        (0 for tables that hold everywhere: a flat area's; an atlas's grow with its blended
+        positions' distance from the observer).
     source : str
         Where the numbers come from, for reports.
     """

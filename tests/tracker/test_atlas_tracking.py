@@ -93,6 +93,28 @@ def test_the_tables_at_an_observer_are_the_atlas_weighted_in_db(atlas_dir):
             k_ref[0], abs=1e-4)
 
 
+def test_an_atlas_read_between_its_positions_is_read_away_from_their_tables(atlas_dir):
+    # K's error grows with the observer's distance from where the tables it reads were computed;
+    # an atlas blends its positions' tables, each read away from its own position
+    atlas = open_store(atlas_dir / "a.zarr")
+    tables = open_tables(atlas_dir / "a.zarr")
+    o = tables.area.origin
+    px, py = lat_lon_to_local_plane(o.lat_deg, o.lon_deg, atlas.lat_deg, atlas.lon_deg)
+    assert tables.distance_from_origin_m(px[4], py[4]) == pytest.approx(0.0, abs=1.0)  # on a position
+    # between positions (a point the first test reads), each weighed by the blend: the mean of
+    # their distances by weight
+    x, y = lat_lon_to_local_plane(o.lat_deg, o.lon_deg, 42.98 + 0.06 * 0.4, 4.91 + 0.18 * 0.5)
+    idx, w = atlas.weights_at(np.array([x]), np.array([y]))
+    expect = sum(wi * np.hypot(x - px[i], y - py[i]) for i, wi in zip(idx[0], w[0]) if wi > 0) / w[0].sum()
+    got = tables.distance_from_origin_m(np.array([x, px[4]]), np.array([y, py[4]]))
+    # the face keys its tables by weights rounded to 1e-6: millimetres over kilometres
+    assert got.shape == (2,) and got[0] == pytest.approx(expect, abs=0.1) and got[0] > 100.0
+    # so the tables' own error model grows there as it does for tables of one position
+    model = tables.k_error_model(0)
+    assert tables.computed_at_one_position and model.offset_growth_db_per_km > 0.0
+    assert model.total_sd_db(float(got[0]))[0] > model.total_sd_db(0.0)[0]
+
+
 def test_one_level_profile_where_the_observer_is_is_the_blended_tables_one(atlas_dir):
     tables = open_tables(atlas_dir / "a.zarr")
     grid = open_store(atlas_dir / "a.zarr").sel(month=8, origin=4)

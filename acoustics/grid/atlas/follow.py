@@ -77,6 +77,21 @@ class FollowingTables(RadialTables):
     def observer_offset(self, x_m, y_m):
         return None  # the tables follow the observer
 
+    @property
+    def computed_at_one_position(self) -> bool:
+        return True  # each position's table, read between positions (`distance_from_origin_m`)
+
+    def distance_from_origin_m(self, x_m, y_m) -> np.ndarray:
+        """Each observer position's distance from where the tables it reads were computed, m: the
+        mean of its surrounding positions' distances from it, by their weights. The blend reads
+        each position's table away from that position, so K's error grows with that distance as
+        it does for tables of one position (`acoustics.grid.kerror`), and it is 0 on a position."""
+        x, y = np.broadcast_arrays(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
+        px, py = self.store.plane_positions()
+        out = [sum(w * float(np.hypot(xi - px[o], yi - py[o])) for o, w in ws) / max(sum(w for _, w in ws), 1e-12)
+               for ws, xi, yi in zip(self._weights_at(x.reshape(-1), y.reshape(-1)), x.reshape(-1), y.reshape(-1))]
+        return np.asarray(out).reshape(x.shape)
+
     def check_observers(self, x_m, y_m) -> None:
         self.store.weights_at(np.atleast_1d(x_m), np.atleast_1d(y_m))
 

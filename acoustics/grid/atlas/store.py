@@ -178,7 +178,7 @@ class AtlasStore:
         if self.lattice is not None:
             lat, lon = local_plane_to_lat_lon(*self._plane_origin(), x, y)
             return self._tempered(*lattice_weights(lat, lon, self.lattice, self._nodes()), x, y)
-        px, py = self._plane_positions()
+        px, py = self.plane_positions()
         return self._tempered(*listed_weights(x, y, px, py), x, y)
 
     def observer_water_depth(self, idx: np.ndarray, w: np.ndarray, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
@@ -190,7 +190,7 @@ class AtlasStore:
 
     def _water_depth(self, bottom, slot, idx, w, x_m, y_m) -> np.ndarray:
         """`observer_water_depth` from the positions' bottoms (U, N, R) and each entry's slot."""
-        px, py = self._plane_positions()
+        px, py = self.plane_positions()
         dx, dy = x_m[:, None] - px[idx], y_m[:, None] - py[idx]       # (P, K)
         j0, j1, wb = bearing_weights(self.bearing_deg, np.degrees(np.arctan2(dx, dy)))
         r0, r1, wr = axis_cells(np.asarray(self.range_m, dtype=float), np.hypot(dx, dy))
@@ -227,7 +227,7 @@ class AtlasStore:
         slot = np.clip(np.searchsorted(used, idx), 0, used.size - 1)
         return bottom, slot
 
-    def _plane_positions(self) -> tuple[np.ndarray, np.ndarray]:
+    def plane_positions(self) -> tuple[np.ndarray, np.ndarray]:
         """The positions x east and y north of the area's ``[origin]``, m (kept)."""
         key = ("plane",)
         if key not in self._kept:
