@@ -1,5 +1,5 @@
-"""docs/depth.md: the depth study (errors, estimates, hypothesis weights, level residuals, the tables
-against BELLHOP from the target)."""
+"""docs/depth.md: the depth study (errors, estimates, the intervals' widths against the prior's,
+hypothesis weights, level residuals, the tables against BELLHOP from the target)."""
 
 from __future__ import annotations
 
@@ -12,19 +12,20 @@ PAGE = "docs/depth.md"
 
 _DEPTH_ESTIMATES = (("ml_posterior", "ML analysis: posterior over its hypotheses' tracks"),
                     ("rpf_bank", "bank of particle filters at the ML's hypotheses"),
-                    ("rpf_particles", "particle filter, depth a state: the particles (mean +- 1.645 sd)"),
-                    ("rpf_track", "particle filter, depth a state: posterior along its track"),
                     ("known_motion_true_track", "the motion known: posterior along the true track"))
+#: The position-error table's columns, those the file holds (the depth-state filter's
+#: ``rpf_unknown`` is in files made before it was retired).
+_ERROR_KEYS = ("rpf_class", "rpf_true", "rpf_unknown", "rpf_bank", "ml_class", "ml_true", "ml_unknown")
 
 
 def depth_errors(root: Path) -> str:
     d = load_result(root, "depth/depth.json")
-    keys = ("rpf_class", "rpf_true", "rpf_unknown", "rpf_bank", "ml_class", "ml_true", "ml_unknown")
+    pooled = d["median_rms_error_pooled_m"]
+    keys = tuple(k for k in _ERROR_KEYS if k in pooled)
     rows = [("scenario", "true depth, m", *keys), ("---",) * (2 + len(keys))]
     for sc, by_z in d["median_rms_error_m"].items():
         for z, v in by_z.items():
             rows.append((f"`{sc}`", z, *(f"{v[k]:.0f}" for k in keys)))
-    pooled = d["median_rms_error_pooled_m"]
     rows.append(("all", "all", *(f"**{pooled[k]:.0f}**" for k in keys)))
     ratio = d["ratio_unknown_to_true_pooled"]
     by_sc = d["ratio_unknown_to_true_by_scenario"]
@@ -70,6 +71,23 @@ def depth_estimates(root: Path) -> str:
     return (markdown_table(rows) + f"\nThe 90 % interval of the final depth covers the truth in that share of runs "
             f"(target >= {100 * d['target_coverage']:.0f} %); {d['runs']} runs per scenario and depth, levels from "
             f"{d['truth']}.\n\n" + caption(d, "depth/depth.json"))
+
+
+def depth_widths(root: Path) -> str:
+    """The final 90 % intervals' median width by true depth against the prior's own interval."""
+    d = load_result(root, "depth/depth.json")
+    zs = [f"{z:g}" for z in d["true_depths_m"]]
+    lo, hi = d["prior_interval_m"]
+    rows = [("depth from", *(f"{z} m" for z in zs), "all"), ("---",) * (2 + len(zs))]
+    for key, label in _DEPTH_ESTIMATES:
+        e = d["depth_estimates"].get(key)
+        if e is None:
+            continue
+        cells = [e["by_true_depth"][z] for z in zs] + [e["all"]]
+        rows.append((label, *(f"{c['median_width_m']:.0f} m ({c['median_width_over_prior']:.2f})" for c in cells)))
+    return (markdown_table(rows) + "\nThe final 90 % interval's width, median over the runs at each true depth (in "
+            f"brackets over the prior's own 90 % interval, {lo:.1f}-{hi:.0f} m: {hi - lo:.0f} m wide, what a posterior "
+            "that learnt nothing from the levels states).\n\n" + caption(d, "depth/depth.json"))
 
 
 def depth_mismatch(root: Path) -> str:
@@ -140,14 +158,49 @@ def depth_weights(root: Path) -> str:
 
 
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
-TABLES = {"depth-errors": depth_errors, "depth-estimates": depth_estimates, "depth-weights": depth_weights,
-          "depth-mismatch": depth_mismatch, "depth-check": depth_check}
+TABLES = {"depth-errors": depth_errors, "depth-estimates": depth_estimates, "depth-widths": depth_widths,
+          "depth-weights": depth_weights, "depth-mismatch": depth_mismatch, "depth-check": depth_check}
+
+def _percent(share: float) -> float:
+    """A share as the page prints it, in per cent."""
+    return 100.0 * share
+
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
-    ("depth.json", ("figures", "rpf_depth_state_throughput_ratio", "value"), "a ratio\nof **{:.2f}**"),
+    ("depth/depth.json", ("n_particles",), "the class's P0, {:d} particles"),
+    ("depth/depth.json", ("prior_interval_m", 0), "its own 90 % interval over 2-300 m is {:.1f}-"),
+    ("depth/depth.json", ("prior_interval_m", 1), "-{:.0f} m. What is left"),
+    ("kerror-check.json", ("classes", "TV", "all", "residual_sd_db_at_origin"), "residual along the path ({:.2f} dB"),
+    ("kerror-check.json", ("classes", "TV", "all", "residual_growth_db_per_km"), "the residual by {:.2f} dB/km"),
+    ("kerror-check.json", ("classes", "TV", "all", "offset_growth_db_per_km"), "the offset by {:.2f} dB/km"),
+    ("depth.json", ("figures", "depth_likelihood_cpu_s_no_range_scale", "value"), "takes {:.3f} s of CPU without"),
+    ("depth.json", ("figures", "depth_likelihood_cpu_s_range_scale", "value"), "and {:.3f} s with it"),
     ("depth.json", ("figures", "depth_likelihood_range_scale_cost_ratio", "value"), "a ratio of {:.1f}"),
     ("depth.json", ("figures", "track_depth_posterior_cpu_s_whole_water_column", "value"), "it costs {:.1f} s of CPU"),
+    ("depth.json", ("figures", "track_depth_posterior_depths", "value"), "({:d} depths: NPS"),
+    ("depth.json", ("figures", "rpf_depth_state_throughput_ratio", "value"), "ran at {:.2f} of the fixed-depth"),
+    *(("depth/depth.json", ("depth_estimates", key, "all", "coverage_90", _percent), fmt) for key, fmt in (
+        ("ml_posterior", "covers the truth in {:.0f} %"),
+        ("rpf_bank", "the bank's in {:.0f} %"), ("known_motion_true_track", "(the motion known) in {:.0f} %"))),
+    ("depth/depth.json", ("depth_estimates", "ml_posterior", "by_true_depth", "6", "coverage_90", _percent),
+     "in {:.0f} % (ML"),
+    ("depth/depth.json", ("depth_estimates", "rpf_bank", "by_true_depth", "6", "coverage_90", _percent),
+     "{:.0f} % (bank)"),
+    ("depth/depth.json", ("depth_estimates", "rpf_bank", "surface_call", "error_rate", _percent),
+     "{:.1f} % for the bank"),
     ("depth/depth.json", ("depth_estimates", "ml_posterior", "all", "median_width_m"),
      "the ML analysis's median {:.0f} m over"),
+    ("depth/depth.json", ("ratio_unknown_to_true_pooled", "rpf_bank"), "at {:.2f}x the filter given the true depth"),
+    ("depth/depth.json", ("ratio_unknown_to_true_pooled", "ml_unknown"), "the ML analysis at {:.2f}x"),
+    ("depth/depth.json", ("ratio_nearest_hypothesis_to_true_pooled", "rpf"), "the bank would be at {:.2f}x"),
+    ("depth/depth.json", ("ratio_other_track_rule_to_true_pooled", "rpf_bank_by_weight"), "the bank is at {:.2f}x"),
+    ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_bank"), "median error, {:.0f} m"),
+    ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_class"), "class's depth, {:.0f} m"),
+    ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_true"), "the true depth, {:.0f} m"),
+    ("depth/depth.json", ("range_calibration_after_late_min", "rpf_bank", "coverage_90", _percent),
+     "the bank's {:.0f} %"),
+    *(("depth.json", ("figures", f"reciprocity_error_median_abs_db_at_{z}m", "value"), fmt)
+      for z, fmt in (("5", "{:.2f} dB at 5 m"), ("10", "{:.2f} at 10 m"), ("20", "{:.2f} at 20 m"),
+                     ("50", "{:.2f} at 50 m"), ("150", "{:.2f} at 150 m"), ("200", "{:.2f} at 200 m"))),
 )
