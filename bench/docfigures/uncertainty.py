@@ -16,9 +16,14 @@ from bench.docfigures.common import (
 
 PAGE = "docs/uncertainty.md"
 
-#: The page's figures are its blocks (each study's calibration table, the K-error fit): its prose
-#: quotes none of its own.
-QUOTES = ()
+#: Figures the page's prose quotes (the rest are its blocks): (result file, keys, how it prints).
+QUOTES = (
+    ("ab-ml36.json", ("workloads", "ml_cycle_3_classes_240_bearings_ms", "after_over_before"),
+     "takes {:.2f} times the time it took"),
+    ("ab-ml36.json", ("workloads", "rpf_one_filter_bearings_msteps_per_s", "after_over_before"),
+     "throughput on bearings is {:.2f} times"),
+    ("level-errors.json", ("figures", "rpf_level_errors_cost_ratio", "value"), "{:.2f}x\nthe white likelihood's time"),
+)
 
 SHELF = (("ml_bearing", "ML analysis, bearing-dependent grid"),
          ("rpf_bearing", "particle filter, bearing-dependent grid"),
