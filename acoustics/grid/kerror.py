@@ -33,6 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from acoustics.grid.lookup import bearing_weights
+
 #: The tables' own residual against BELLHOP run from the target, where nothing else differs
 #: (observer at the tables' origin), dB: kerror-check.json ``classes.TV.all.residual_sd_db_at_origin``
 #: (2.13 dB; the depth study's check of a submarine at 3-60 m found 1.94 dB, docs/depth.md).
@@ -170,12 +172,7 @@ class MeasuredKError:
                 with np.errstate(all="ignore"):
                     off, res = np.nanmedian(off, axis=-1), np.nanmedian(res, axis=-1)
             else:
-                b = np.asarray(self.bearing_deg, dtype=float)
-                x = float(bearing_deg) % 360.0
-                bb = np.concatenate([b, [b[0] + 360.0]])
-                j = int(np.clip(np.searchsorted(bb, x, side="right") - 1, 0, b.size - 1))
-                w = (x - bb[j]) / (bb[j + 1] - bb[j])
-                j1 = (j + 1) % b.size
+                j, j1, w = (v.item() for v in bearing_weights(self.bearing_deg, float(bearing_deg)))
                 off = (1.0 - w) * off[:, j] + w * off[:, j1]
                 res = (1.0 - w) * res[:, j] + w * res[:, j1]
         off = np.where(np.isfinite(off), off, self.fallback_offset_db[ic])
