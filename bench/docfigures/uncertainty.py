@@ -58,24 +58,26 @@ def calibration_follow(root: Path) -> str:
     return _study(root, "atlas-tracking/follow.json", FOLLOW, "tracker, tables (BELLHOP's levels)")
 
 
+def _several(root: Path, head: str, files: dict, label) -> str:
+    """One calibration table over several result files (name -> file): a row per file and entry of
+    its ``calibration_after_late_min``, labelled ``label(name, key)``; the files' captions below."""
+    rows, captions = calibration_head(head), []
+    for name, file in files.items():
+        d = load_result(root, file)
+        rows += [calibration_row(label(name, key), c) for key, c in d["calibration_after_late_min"].items()]
+        captions.append(caption(d, file))
+    return markdown_table(rows) + "\n" + "".join(captions)
+
+
 def calibration_gm(root: Path) -> str:
-    rows, files = calibration_head("scenario, cycles after 10 min"), []
-    for folder in ("gm-tv-30km", "gm-tv-110km", "gm-nps"):
-        d = load_result(root, f"{folder}/summary.json")
-        rows += [calibration_row(f"{folder}, {part.replace('_', ' ')}", c)
-                 for part, c in d["calibration_after_late_min"].items()]
-        files.append(caption(d, f"{folder}/summary.json"))
-    return markdown_table(rows) + "\n" + "".join(files)
+    return _several(root, "scenario, cycles after 10 min",
+                    {f: f"{f}/summary.json" for f in ("gm-tv-30km", "gm-tv-110km", "gm-nps")},
+                    lambda name, part: f"{name}, {part.replace('_', ' ')}")
 
 
 def calibration_idm(root: Path) -> str:
-    rows, files = calibration_head("scenario, filter"), []
-    for scenario in ("idm-static", "idm-maneuvering"):
-        d = load_result(root, f"idm/{scenario}.json")
-        rows += [calibration_row(f"{scenario}, {IDM.get(key, key)}", c)
-                 for key, c in d["calibration_after_late_min"].items()]
-        files.append(caption(d, f"idm/{scenario}.json"))
-    return markdown_table(rows) + "\n" + "".join(files)
+    return _several(root, "scenario, filter", {s: f"idm/{s}.json" for s in ("idm-static", "idm-maneuvering")},
+                    lambda name, key: f"{name}, {IDM.get(key, key)}")
 
 
 def calibration_depth(root: Path) -> str:
