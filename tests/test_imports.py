@@ -12,6 +12,7 @@ that closes a circle is caught as well as one at the top of a module.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -86,6 +87,12 @@ def _graph(mods: dict[str, Path]) -> dict[str, set[str]]:
     return graph
 
 
+@functools.cache
+def _project_graph() -> dict[str, frozenset[str]]:
+    """The tree's import graph, read once for every test of this module (the checks only read it)."""
+    return {name: frozenset(targets) for name, targets in _graph(_modules()).items()}
+
+
 def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     """Strongly connected components with more than one module (Tarjan, iterative)."""
     index, low, on_stack, stack, out = {}, {}, set(), [], []
@@ -135,7 +142,7 @@ def upward_layers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
 
 
 def test_no_layer_imports_a_higher_one():
-    assert upward_layers(_graph(_modules())) == []
+    assert upward_layers(_project_graph()) == []
 
 
 def test_the_layer_check_finds_an_upward_arrow():
@@ -157,7 +164,7 @@ def test_the_benchmarks_are_a_layer():
     # bench/ is scanned like the others (the check above then covers every arrow into it)
     mods = _modules()
     assert {"bench.harness", "bench.bench_rpf", "bench.bench_stonesoup"} <= set(mods)
-    assert not [(a, b) for a, targets in _graph(mods).items() for b in targets
+    assert not [(a, b) for a, targets in _project_graph().items() for b in targets
                 if b.startswith("bench") and not a.startswith("bench")]
 
 
@@ -181,7 +188,7 @@ def test_every_acoustics_subpackage_has_a_rank():
 
 
 def test_no_acoustics_subpackage_imports_a_higher_one():
-    assert upward_in_acoustics(_graph(_modules())) == []
+    assert upward_in_acoustics(_project_graph()) == []
 
 
 def test_the_rank_check_finds_an_upward_arrow():
@@ -214,14 +221,14 @@ def tracker_past_the_face(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
 
 
 def test_the_grid_core_the_atlas_and_the_way_in_stand_in_order():
-    assert upward_in_grid(_graph(_modules())) == []
+    assert upward_in_grid(_project_graph()) == []
     mods = _modules()
     assert {"acoustics.grid.face", "acoustics.grid.opentables", "acoustics.grid.atlas.store",
             "acoustics.grid.atlas.follow", "acoustics.grid.atlas.format"} <= set(mods)
 
 
 def test_the_tracker_reads_tables_through_the_face():
-    assert tracker_past_the_face(_graph(_modules())) == []
+    assert tracker_past_the_face(_project_graph()) == []
 
 
 def test_the_grid_and_face_checks_find_their_arrows():
@@ -256,11 +263,11 @@ def tracker_table_makers(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
 
 
 def test_the_studies_rank_below_the_commands():
-    assert upward_in_tools(_graph(_modules())) == []
+    assert upward_in_tools(_project_graph()) == []
 
 
 def test_the_tracker_never_builds_tables():
-    assert tracker_table_makers(_graph(_modules())) == []
+    assert tracker_table_makers(_project_graph()) == []
 
 
 def test_the_studies_stand_above_the_tracker():
@@ -317,7 +324,7 @@ def test_the_stone_soup_check_finds_an_importer(tmp_path):
 
 
 def test_the_import_graph_has_no_circle():
-    assert _cycles(_graph(_modules())) == []
+    assert _cycles(_project_graph()) == []
 
 
 def test_the_cycle_finder_finds_a_circle():
