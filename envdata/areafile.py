@@ -102,10 +102,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
                     shear_speed_mps=t.number("shear_speed_mps", 0.0))
     t.done()
 
-    t = TomlTable(data["noise"], "[noise]", source)
-    noise = t.wrap(Noise, spectrum_level_1khz_db=t.number("spectrum_level_1khz_db"),
-                   slope_db_per_octave=t.number("slope_db_per_octave", -5.0))
-    t.done()
+    noise = parse_noise(data["noise"], source)
 
     t = TomlTable(data["observer"], "[observer]", source)
     observer = Observer(depth_m=t.number("depth_m"))
@@ -114,13 +111,7 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
         raise AreaError(f"{source}: [water] cast: {water.cast.path!r} ends at {cast_ts.bottom_m:g} m and "
                         f"does not reach below the observer at {observer.depth_m:g} m")
 
-    t = TomlTable(data["sonar"], "[sonar]", source)
-    sonar = t.wrap(Sonar, beamwidth_deg=t.number("beamwidth_deg"),
-                   directivity_index_db=t.number("directivity_index_db"),
-                   integration_time_s=t.number("integration_time_s"),
-                   detection_threshold=t.number("detection_threshold"),
-                   receiver_gain_db=t.number("receiver_gain_db", 0.0))
-    t.done()
+    sonar = parse_sonar(data["sonar"], source)
 
     bands = []
     for i, item in enumerate(_array_of_tables(data["bands"], "[[bands]]", source)):
@@ -175,6 +166,27 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
                       classes=tuple(classes), grid=grid, propagation=propagation,
                       latitude_deg=latitude, longitude_deg=longitude, origin=origin, bearings=bearings,
                       atlas=_parse_atlas(data["atlas"], source) if "atlas" in data else None)
+
+
+def parse_noise(data: Any, source: str) -> Noise:
+    """An area file's (or a receiver file's) ``[noise]`` table."""
+    t = TomlTable(data, "[noise]", source)
+    noise = t.wrap(Noise, spectrum_level_1khz_db=t.number("spectrum_level_1khz_db"),
+                   slope_db_per_octave=t.number("slope_db_per_octave", -5.0))
+    t.done()
+    return noise
+
+
+def parse_sonar(data: Any, source: str) -> Sonar:
+    """An area file's (or a receiver file's) ``[sonar]`` table."""
+    t = TomlTable(data, "[sonar]", source)
+    sonar = t.wrap(Sonar, beamwidth_deg=t.number("beamwidth_deg"),
+                   directivity_index_db=t.number("directivity_index_db"),
+                   integration_time_s=t.number("integration_time_s"),
+                   detection_threshold=t.number("detection_threshold"),
+                   receiver_gain_db=t.number("receiver_gain_db", 0.0))
+    t.done()
+    return sonar
 
 
 def _parse_atlas(data: Any, source: str) -> AtlasSpec:

@@ -16,6 +16,10 @@ MAP_AREA = "shelf-break"
 #: Its figures, each written as MAP_AREA-NAME.png (the P_D map, any band, with MAP_AREA-pd.nc beside
 #: it: the same on latitude and longitude for a GIS).
 MAP_FIGURES = ("k", "detection", "pd", "bottom")
+#: The sonar its detection and P_D maps listen with (envdata/sonars/): the area's own, Grinenkov &
+#: Mashoshin's 42 dB array in open-ocean noise, hears every class far beyond the 30 km tables
+#: (docs/planning.md), a map that would show only the tables' edge.
+MAP_SONAR = "omni-buoy"
 
 
 def register(sub, common) -> None:
@@ -33,6 +37,7 @@ def run(args) -> Report:
     import envdata
     from acoustics.builder.gridfile import build_grid_file
     from acoustics.grid.pdmap import table_reach
+    from envdata.receiver import load_receiver
 
     check_output_dir(args.out)
     grid_path = args.out / f"{envdata.DEFAULT_AREA}-bellhop.nc"
@@ -60,7 +65,7 @@ def run(args) -> Report:
         plot_grid(tables, png, PlotRequest(cls_name=cls_name))
         plots.append(str(png))
     map_info = build_grid_file(MAP_AREA, map_grid, workers=args.workers, progress=want_progress(args))
-    map_tables = acoustics.open_tables(map_grid)
+    map_tables = acoustics.open_tables(map_grid).with_receiver(load_receiver(MAP_SONAR))
     plot_map_set(map_tables, map_pngs, grid_path=map_grid)
     plots.extend(str(p) for p in map_pngs.values())
     reach = table_reach(map_tables)
@@ -69,6 +74,7 @@ def run(args) -> Report:
     summary = (f"demo: area {envdata.DEFAULT_AREA}: grid {grid_path} ({state})\n"
                f"      area {MAP_AREA}: grid {map_grid} ({map_state})\n"
                + "\n".join(f"  plot {p}" for p in plots)
+               + f"\n  maps heard by {map_tables.sonar_label()}"
                + f"\n  where P_D falls below 0.1 on {MAP_AREA}'s tables:\n" + "\n".join(reach_lines(reach, "    ")))
     return Report(summary, {"grid": grid_file_data(info), "map_grid": grid_file_data(map_info), "plots": plots,
-                            "map_reach": reach_data(reach)})
+                            "map_sonar": MAP_SONAR, "map_reach": reach_data(reach)})

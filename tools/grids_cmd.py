@@ -70,6 +70,10 @@ def register(sub, common) -> None:
     pl.add_argument("--sigma-db", type=float, metavar="DB",
                     help="with --what pd: the level's sd in place of the class's source-level sd and K's "
                          "error sd, dB (> 0)")
+    pl.add_argument("--sonar", metavar="NAME|FILE",
+                    help="with --what detection or pd: listen with this sonar (a built-in one, e.g. "
+                         "omni-buoy, or a sonar TOML file: its [sonar] and optional [noise]) in place of "
+                         "the area's; K is the grid's")
     pl.add_argument("--bearing", type=float, metavar="DEG",
                     help="also write STEM-section.png: TL over depth and range on the radial nearest "
                          "to this bearing, deg in [0, 360) (bearing-dependent grids); with --what "
@@ -187,9 +191,15 @@ def run_plot(args) -> Report:
     from acoustics.grid.detectionsigma import SigmaOverride
     from acoustics.grid.pdmap import pd_summary
     from acoustics.plots.gridplots import PlotRequest, plot_grid, plot_paths
+    from envdata.errors import InputError
+    from envdata.receiver import load_receiver
 
     sigma = None if args.sigma_db is None else SigmaOverride(sigma_db=args.sigma_db)
     tables = acoustics.open_tables(args.file)
+    if args.sonar is not None:
+        if args.what not in (What.DETECTION.value, What.PD.value):
+            raise InputError("--sonar: only with --what detection or --what pd (K does not depend on the sonar)")
+        tables = tables.with_receiver(load_receiver(args.sonar))
     request = PlotRequest(cls_name=args.cls_name, band=args.band,
                           what=None if args.what is None else What(args.what), bearing_deg=args.bearing,
                           bathymetry=args.bathymetry, grid_path=args.file, sigma=sigma)
@@ -221,6 +231,9 @@ def run_plot(args) -> Report:
     else:
         lines = [f"wrote {args.out}"]
         data = {"file": str(args.out)}
+    if tables.sonar_name is not None:
+        lines.append(f"  {tables.sonar_label()}")
+        data["sonar"] = tables.sonar_name
     return Report("\n".join(lines), data)
 
 

@@ -37,6 +37,9 @@ def register(sub, common) -> None:
                         "K's error sd")
     t.add_argument("--look-sd-db", type=float, metavar="DB",
                    help="an sd drawn anew at every look, independently, dB (>= 0; the tables' model has none)")
+    t.add_argument("--sonar", metavar="NAME|FILE",
+                   help="listen with this sonar (built-in, e.g. omni-buoy, or a sonar TOML file) in place "
+                        "of the area's")
     t.add_argument("--out", type=Path, required=True, metavar="CSV", help="P_D and the cumulative P_D at every look")
     t.add_argument("--plot", type=Path, metavar="PNG", help="also draw them against time")
     t.add_argument("--force", action="store_true", help="replace --out and --plot even if they are not tmakit's")
@@ -82,6 +85,7 @@ def _write(outputs: list[Path], table, figure) -> None:
 def run_track(args) -> Report:
     from acoustics.grid.detectionsigma import SigmaOverride
     from acoustics.grid.opentables import open_tables
+    from envdata.receiver import load_receiver
     from tracker.pdtrack import ASSUMPTIONS, read_track_path, scenario_path, track_pd, track_pd_figure
     from tracker.scenario import load_scenario
 
@@ -90,6 +94,8 @@ def run_track(args) -> Report:
     path = scenario_path(load_scenario(args.scenario)) if args.scenario else read_track_path(args.track, args.cls_name)
     cls_name = args.cls_name or path.cls_name
     tables = open_tables(args.grid, month=args.month)
+    if args.sonar is not None:
+        tables = tables.with_receiver(load_receiver(args.sonar))
     if cls_name is None:
         raise InputError(f"{path.source}: the track names no class; say which with --class "
                          f"({', '.join(tables.class_names)})")
@@ -114,9 +120,11 @@ def run_track(args) -> Report:
     if not path.observer_given and args.track is not None:
         lines.append("  note: the file gives no observer position (obs_x_m, obs_y_m): the observer is at the origin")
     lines.append("  sigma: " + result.sigma_source)
+    lines.append("  " + tables.sonar_label())
     data = {"files": {"csv": str(outputs[0]), **({"plot": str(outputs[1])} if args.plot else {})}, "class": cls_name,
             "looks": len(table), "look_s": result.look_s, "sigma": result.sigma_source,
-            "observer_given": path.observer_given, "first_detection": result.first, "assumptions": list(ASSUMPTIONS)}
+            "observer_given": path.observer_given, "first_detection": result.first, "assumptions": list(ASSUMPTIONS),
+            "sonar": tables.sonar_name}
     return Report("\n".join(lines), data)
 
 

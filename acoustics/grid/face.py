@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
@@ -51,6 +52,9 @@ from acoustics.kcurve import spectral_term_db
 from envdata.area import Area
 from envdata.bands import Band
 from envdata.classes import TargetClass
+
+if TYPE_CHECKING:
+    from envdata.receiver import Receiver
 
 #: A bearing-dependent grid serves observers within this of its observer depth, m.
 OBSERVER_DEPTH_TOLERANCE_M = 1.0
@@ -101,6 +105,8 @@ class Tables(ABC):
         ``tmakit sensitivity --into``).
     k_error_measured : MeasuredKError or None
         K's error model a study measured (`acoustics.grid.kerror`), or None.
+    sonar_name : str or None
+        The sonar file these tables listen with (`with_receiver`); None: the area's sonar.
     """
 
     source: str
@@ -116,6 +122,7 @@ class Tables(ABC):
     target_depth_m: float | None = None
     k_error_sd_grid_db: np.ndarray | None = None
     k_error_measured: MeasuredKError | None = None
+    sonar_name: str | None = None
     _cache: dict = field(default_factory=dict, repr=False)
 
     # -- what the implementations answer -------------------------------------------------------
@@ -368,6 +375,21 @@ class Tables(ABC):
         z = float(depth_m)
         self.check_point_depth(np.array([z]))
         return replace(self, k_grid_db=k_at_target_depth(self, z), target_depth_m=z, _cache={})
+
+    def with_receiver(self, receiver: Receiver) -> Tables:
+        """The same tables heard by another sonar (``envdata.receiver``): its ``[sonar]``, and its
+        ``[noise]`` when it has one, in place of the area's. K is the propagation to the
+        observer's depth and does not change; the detection rule, P_D and the levels' SNR do."""
+        area = replace(self.area, sonar=receiver.sonar,
+                       noise=self.area.noise if receiver.noise is None else receiver.noise)
+        return replace(self, area=area, sonar_name=receiver.name, _cache={})
+
+    def sonar_label(self) -> str:
+        """One line for figures: which sonar and noise the detection rule uses."""
+        s, n = self.area.sonar, self.area.noise
+        who = "the area's sonar" if self.sonar_name is None else f"sonar {self.sonar_name}"
+        return (f"{who}: DI {s.directivity_index_db:g} dB, T {s.integration_time_s:g} s, Q \u2265 "
+                f"{s.detection_threshold:g}, sea noise {n.spectrum_level_1khz_db:g} dB re 1 \u00b5Pa\u00b2/Hz at 1 kHz")
 
     # -- the K error the trackers allow for ------------------------------------------------------
 

@@ -102,8 +102,8 @@ def map_figure(tables: RadialTables, *, what: What | str = What.K, classes: list
     else:
         terms = _detection_panels(tables, fig, axes, classes, bearings, bottom, r_km, outlines)
         fig.suptitle(f"Detection range per band, the target at its class's mean level\ndetected where "
-                     f"Q = q\u221a(\u0394f T) \u2265 {terms.threshold:g} (DI {terms.directivity_index_db:g} dB, "
-                     f"T {terms.integration_time_s:g} s, the area's sea noise); tan: land\n{where}", fontsize=9.5)
+                     f"Q = q\u221a(\u0394f T) \u2265 {terms.threshold:g}; tan: land\n{tables.sonar_label()}\n{where}",
+                     fontsize=9.5)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
         latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note)

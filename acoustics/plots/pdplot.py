@@ -85,7 +85,8 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
     fig.suptitle(f"Probability of detection P_D = \u03a6(SE / \u03c3), {row_label(tables, row)}, the target at "
                  f"its class's mean level\n\u03c3: {pm.sigma.source}; SE = K(r) - K needed for "
                  f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, "
-                 f"observer at {tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land",
+                 f"observer at {tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land\n"
+                 f"{tables.sonar_label()}",
                  fontsize=9)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
@@ -177,7 +178,8 @@ def pd_curves_figure(tables: Tables, *, classes: list[str] | None = None,
     axes[0].legend(fontsize=7.5, loc="lower left")
     fig.suptitle(f"Probability of detection P_D = \u03a6(SE / \u03c3) against range, area "
                  f"{tables.dataset.attrs['area']} (the same on every bearing)\n\u03c3: {pm.sigma.source}; "
-                 f"dotted lines: P_D 0.9, 0.5, 0.1; \u25b6: P_D still \u2265 0.1 at the table's last range",
+                 f"dotted lines: P_D 0.9, 0.5, 0.1; \u25b6: P_D still \u2265 0.1 at the table's last range\n"
+                 f"{tables.sonar_label()}",
                  fontsize=9)
     return fig, summaries
 

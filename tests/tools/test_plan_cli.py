@@ -249,3 +249,75 @@ def test_the_demo_checks_its_p_d_netcdf_before_any_work(capsys, tmp_path):
     assert line == (f"error: {out / 'shelf-break-pd.nc'}: exists and is not a tmakit netCDF file; not replaced "
                     f"(--force replaces it)")
     assert [p.name for p in out.iterdir()] == ["shelf-break-pd.nc"]
+
+
+def _sonar_file(folder: Path, name: str, *, di_db: float, noise_db: float | None, slope: float = -5.0) -> Path:
+    path = folder / f"{name}.toml"
+    noise = "" if noise_db is None else (f"[noise]\nspectrum_level_1khz_db = {noise_db!r}\n"
+                                         f"slope_db_per_octave = {slope!r}\n")
+    path.write_text(f'name = "{name}"\ndescription = "test receiver"\n\n[sonar]\nbeamwidth_deg = 10.0\n'
+                    f"directivity_index_db = {di_db!r}\nintegration_time_s = 10.0\ndetection_threshold = 5.0\n\n"
+                    + noise)
+    return path
+
+
+def test_another_sonar_in_the_same_tables_moves_only_the_detection_rule(capsys, tmp_path, tiny_radial_tables,
+                                                                        tiny_radial_grid_file):
+    """Only N - DI enters the rule (acoustics/detection.py): a sonar with 6 dB less DI in a sea 6 dB
+    quieter draws the area's own P_D map; a deaf one (DI 0 in a loud sea) brings the ship's ranges,
+    which pass the 5 km table with the area's sonar, inside it."""
+    area = tiny_radial_tables.area
+    same = _sonar_file(tmp_path, "same", di_db=area.sonar.directivity_index_db - 6.0,
+                       noise_db=area.noise.spectrum_level_1khz_db - 6.0, slope=area.noise.slope_db_per_octave)
+    # 55 dB less sensitive: measured, the ship's 0.5 ranges fall inside the table from 45 dB (the
+    # area's sonar + 25 dB of noise) to 65 dB (+45 dB) less; 55 is the middle of that span
+    deaf = _sonar_file(tmp_path, "deaf", di_db=0.0, noise_db=area.noise.spectrum_level_1khz_db + 35.0)
+    own = run_json(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "pd", "--out", tmp_path / "own.png")
+    moved = run_json(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "pd", "--sonar", same,
+                     "--out", tmp_path / "same.png")
+    assert moved["sonar"] == "same" and "sonar" not in own
+    for cls_name in ("SUB", "SHIP"):
+        assert moved["pd"][cls_name]["rows"] == own["pd"][cls_name]["rows"]
+    heard = run_json(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "pd", "--sonar", deaf,
+                     "--out", tmp_path / "deaf.png")
+    ship = heard["pd"]["SHIP"]["rows"]["any"]
+    assert ship["beyond_table"]["0.1"] == [False] * 3
+    assert all(0 < r < 5000 for r in ship["range_m"]["0.5"])
+    # the deaf sonar's P_D is below the area's wherever the area's is between 0 and 1
+    base = pd_map(tiny_radial_tables, "SHIP", [0.0]).pd
+    deafer = pd_map(tiny_radial_tables.with_receiver(envdata_receiver(deaf)), "SHIP", [0.0]).pd
+    between = (base > 1e-6) & (base < 1 - 1e-6)
+    assert between.any() and np.all(deafer[between] < base[between])
+
+
+def envdata_receiver(path):
+    from envdata.receiver import load_receiver
+    return load_receiver(path)
+
+
+def test_the_built_in_planning_sonar_and_bad_sonar_files(capsys, tmp_path, tiny_radial_grid_file):
+    from envdata.receiver import builtin_sonar_names, load_receiver
+    assert "omni-buoy" in builtin_sonar_names()
+    buoy = load_receiver("omni-buoy")
+    assert buoy.sonar.directivity_index_db == 0.0 and buoy.noise is not None
+    data = run_json(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "detection", "--sonar", "omni-buoy",
+                    "--out", tmp_path / "det.png")
+    assert data["sonar"] == "omni-buoy" and (tmp_path / "det.png").is_file()
+    no_sonar = tmp_path / "no-sonar.toml"
+    no_sonar.write_text('name = "x"\n[noise]\nspectrum_level_1khz_db = 60.0\n')
+    extra = _sonar_file(tmp_path, "extra", di_db=3.0, noise_db=None)
+    extra.write_text(extra.read_text() + "depth_m = 5.0\n")
+    negative = _sonar_file(tmp_path, "neg", di_db=-3.0, noise_db=None)
+    bad_name = _sonar_file(tmp_path, "ok", di_db=3.0, noise_db=None)
+    bad_name.write_text(bad_name.read_text().replace('name = "ok"', 'name = "a b"'))
+    out = tmp_path / "x.png"
+    for sonar, said in (("nope", "no built-in sonar of that name"), (no_sonar, "missing required table [sonar]"),
+                        (extra, "unknown key 'depth_m'"), (negative, "directivity_index_db"),
+                        (bad_name, "name"), (tmp_path, "is a directory")):
+        line = run_error(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "pd", "--sonar", sonar,
+                         "--out", out)
+        assert said in line, line
+    line = run_error(capsys, "grids", "plot", tiny_radial_grid_file, "--what", "k", "--sonar", "omni-buoy",
+                     "--out", out)
+    assert "--sonar" in line
+    assert not out.exists() and not (tmp_path / "x.nc").exists()
