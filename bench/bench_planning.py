@@ -12,6 +12,9 @@ Writes ``docs/results/planning.json`` and the figures in ``docs/results/planning
   on how many the level passes the table's end), sigma, and ``grids build``'s range check
   (``acoustics.grid.pdmap.table_reach``); ``AREA-pd.png``, the figure ``tmakit grids plot FILE
   --what pd`` draws;
+- shelf-break heard by the demo's sonar (``omni-buoy``: an omnidirectional hydrophone in sea
+  state 6) and by the same in sea state 4: ranges in any band, the range check, and the demo's
+  map ``shelf-break-pd-omni-buoy.png``;
 - ``gm-nps`` on ocean-deep (``tmakit plan track``): the cumulative P_D at a few times, the first
   detection's times, with the tables' sigma (all persistent) and with a per-look part of 2 dB,
   and with the bands' offsets independent or shared; ``gm-nps-track.png``;
@@ -53,6 +56,8 @@ ATLAS_CLASS = "NPS"
 #: 20 km tables (K does not depend on it: only where detection ends).
 ATLAS_DI_DB = 30.0
 TRACK = ("ocean-deep", "gm-nps")
+#: The demo's sonar also in Knudsen's sea state 4, dB re 1 uPa^2/Hz at 1 kHz (its own is 6).
+SONAR_OTHER_SEA_DB = 66.5
 TRACK_TIMES_S = (0.0, 600.0, 1200.0, 1800.0, 2400.0)
 
 
@@ -104,6 +109,44 @@ def area_figures(session: Session) -> dict:
                      "reach": reach, "figure": portable_path(png)}
         beyond = sum(not r["inside"] for r in reach)
         session.say(f"{area}_class_bands_beyond_table", beyond, f"of {len(reach)}")
+    return out
+
+
+def demo_sonar(session: Session) -> dict:
+    """shelf-break heard by the demo's sonar (``tools.demo_cmd.MAP_SONAR``) in its own sea and in
+    `SONAR_OTHER_SEA_DB`: the ranges per class in any band, the range check, and the demo's map."""
+    import dataclasses
+
+    import acoustics
+    from acoustics.grid.pdmap import pd_map, table_reach
+    from acoustics.plots.gridplots import PlotRequest, plot_grid
+    from acoustics.plots.what import What
+    from envdata.receiver import load_receiver
+    from tools.demo_cmd import MAP_AREA, MAP_SONAR
+    from tools.pdtext import reach_data
+
+    grid = bench_grid(MAP_AREA)
+    receiver = load_receiver(MAP_SONAR)
+    seas = {"own": receiver,
+            "sea_state_4": dataclasses.replace(receiver, noise=dataclasses.replace(
+                receiver.noise, spectrum_level_1khz_db=SONAR_OTHER_SEA_DB))}
+    out = {"area": MAP_AREA, "sonar": MAP_SONAR, "label": None, "seas": {}}
+    for name, rec in seas.items():
+        tables = acoustics.open_tables(grid).with_receiver(rec)
+        ranges = {c: level_ranges(pd_map(tables, c, tables.bearing_axis_deg))["any"] for c in tables.class_names}
+        reach = reach_data(table_reach(tables))
+        out["seas"][name] = {"noise_1khz_db": rec.noise.spectrum_level_1khz_db, "label": tables.sonar_label(),
+                             "ranges_any": ranges, "reach": reach,
+                             "class_bands_beyond_table": sum(not r["inside"] for r in reach)}
+        session.say(f"{MAP_SONAR}_{name}_class_bands_beyond_table", out["seas"][name]["class_bands_beyond_table"],
+                    f"of {len(reach)}")
+        if name == "own":   # what `tmakit demo` draws (and `grids plot GRID --what pd --sonar omni-buoy`)
+            out["label"] = tables.sonar_label()
+            with tempfile.TemporaryDirectory() as tmp:
+                drawn = plot_grid(tables, Path(tmp) / "pd.png", PlotRequest(what=What.PD, band="any", grid_path=grid))
+                png = FIGURES / f"{MAP_AREA}-pd-{MAP_SONAR}.png"
+                shutil.copyfile(drawn.files["map"], png)
+            out["figure"] = portable_path(png)
     return out
 
 
@@ -246,10 +289,11 @@ def main(argv=None) -> int:
     session = Session("planning")
     with tempfile.TemporaryDirectory() as tmp:
         areas = area_figures(session)
+        sonar = demo_sonar(session)
         track = track_example(session)
         extension = shelf_extension(session, Path(tmp))
         atlas = atlas_months(session, Path(tmp) / "atlas")
-    session.write(areas=areas, track=track, shelf_extension=extension, atlas=atlas)
+    session.write(areas=areas, demo_sonar=sonar, track=track, shelf_extension=extension, atlas=atlas)
     return 0
 
 
