@@ -103,6 +103,22 @@ def planning_extension(root: Path) -> str:
     return markdown_table(rows) + "\n" + caption(d, FILE)
 
 
+def planning_sonar(root: Path) -> str:
+    """shelf-break heard by the demo's sonar, in its own sea and in sea state 4: the P_D ranges in
+    any band per class, and on how many radials P_D is still 0.1 at the table's end."""
+    d = load_result(root, FILE)
+    s = d["demo_sonar"]
+    rows = [("sea (noise at 1 kHz)", "class", "P_D 0.9", "P_D 0.5", "P_D 0.1"), ("---",) * 5]
+    for name, sea in s["seas"].items():
+        where = f"{'its own' if name == 'own' else name.replace('_', ' ')} ({sea['noise_1khz_db']:g} dB)"
+        for c, ranges in sea["ranges_any"].items():
+            cells = ["never heard" if ranges[level]["min_m"] is None and not ranges[level]["beyond_table"]
+                     else _range_cell(ranges[level]) for level in LEVELS]
+            rows.append((where, c, *cells))
+            where = ""
+    return f"*{s['label']}; tables of {s['area']}.*\n\n" + markdown_table(rows) + "\n" + caption(d, FILE)
+
+
 def planning_atlas(root: Path) -> str:
     """The atlas's positions, month by month: the median P_D = 0.5 range of the submarine."""
     d = load_result(root, FILE)
@@ -126,11 +142,15 @@ def planning_atlas(root: Path) -> str:
     return note + markdown_table(rows) + "\n" + caption(d, FILE)
 
 
-#: The page's prose quotes no figure of its own: the numbers it discusses are the blocks' (each made
-#: from docs/results/planning.json); its sentences about them are read against the blocks whenever
-#: the file is made again.
-QUOTES = ()
+#: Figures the page quotes in prose (the rest of its numbers are its blocks'): (result file, the
+#: figure's keys in it, how the page prints it).
+QUOTES = (
+    (FILE, ("shelf_extension", "build_runs_s", "30km", 0), "30 km builds took {:.1f} and"),
+    (FILE, ("shelf_extension", "build_runs_s", "30km", 1), "and {:.1f} s\n(the first"),
+    (FILE, ("shelf_extension", "build_runs_s", "45km", 0), "the 45 km ones {:.1f} and"),
+    (FILE, ("shelf_extension", "build_runs_s", "45km", 1), "and {:.1f} s, so"),
+)
 
 #: The blocks of the page: name -> the function that makes it.
 TABLES = {"planning-areas": planning_areas, "planning-reach": planning_reach, "planning-track": planning_track,
-          "planning-extension": planning_extension, "planning-atlas": planning_atlas}
+          "planning-extension": planning_extension, "planning-atlas": planning_atlas, "planning-sonar": planning_sonar}
