@@ -104,8 +104,12 @@ def radials(root: Path) -> str:
             ("the command's fixed cost (1 worker less the raw sum)",
              f"{f('shelf_break_fixed_cost_w1_minus_raw'):.1f} s", "", ""),
             ("peak memory (largest process)", "", f"{f('wide_36_radials_peak_rss'):.0f} MiB", "< 1 GiB"),
-            ("K with the default 25 m ray step against 5 m, median / 95th percentile",
-             f"{f('step_25m_vs_5m_k_median_abs_diff'):.2f} / {f('step_25m_vs_5m_k_p95_abs_diff'):.2f} dB", "", "")]
+            ("field and arrivals runs per radial: their mean BELLHOP time, one run alone", "",
+             f"{f('wide_36_radials_field_run_mean_s'):.2f} s / {f('wide_36_radials_arrivals_run_mean_s'):.2f} s", "")]
+    if "step_25m_vs_5m_k_median_abs_diff" in d["figures"]:   # not with --no-convergence
+        rows.append(("K with the default 25 m ray step against 5 m, median / 95th percentile",
+                     f"{f('step_25m_vs_5m_k_median_abs_diff'):.2f} / {f('step_25m_vs_5m_k_p95_abs_diff'):.2f} dB",
+                     "", ""))
     return markdown_table(rows) + "\n" + caption(d, "radials.json")
 
 
