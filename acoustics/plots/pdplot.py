@@ -23,6 +23,7 @@ figure ``pd:CLASS:ROW`` (the curve: range in km, P_D).
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -82,12 +83,14 @@ def pd_map_figure(tables: RadialTables, *, band: str | None = None, classes: lis
                title="range where P_D falls through each level; beyond the table (outside the outer circle, "
                      f"{r_km[-1]:g} km): P_D still reaches the level at the table's last range, no range",
                title_fontsize=7.5)
-    fig.suptitle(f"Probability of detection P_D = \u03a6(SE / \u03c3), {row_label(tables, row)}, the target at "
-                 f"its class's mean level\n\u03c3: {pm.sigma.source}; SE = K(r) - K needed for "
-                 f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, "
-                 f"observer at {tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land\n"
-                 f"{tables.sonar_label()}",
-                 fontsize=9)
+    title = (f"Probability of detection P_D = \u03a6(SE / \u03c3), {row_label(tables, row)}, the target at "
+             f"its class's mean level\n\u03c3: {pm.sigma.source}; SE = K(r) - K needed for "
+             f"Q \u2265 {pm.terms.threshold:g}\narea {tables.area_name}, origin {origin_label(tables)}, "
+             f"observer at {tables.observer_depth_m:g} m; bearing clockwise from true north; tan: land\n"
+             f"{tables.sonar_label()}")
+    # a line as wide as the figure at most (the sigma's source is long)
+    width = int(fig.get_figwidth() * 72 / (0.55 * 9))
+    fig.suptitle("\n".join(textwrap.fill(line, width) for line in title.split("\n")), fontsize=9)
     if bathymetry is not None:
         ax = fig.add_subplot(nrows, ncols, len(classes) + 1)
         latlon_panel(tables, ax, bathymetry, outlines, bearings, bathymetry_note, gaps=True,
