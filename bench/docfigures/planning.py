@@ -142,14 +142,10 @@ def planning_atlas(root: Path) -> str:
     return note + markdown_table(rows) + "\n" + caption(d, FILE)
 
 
-#: Figures the page quotes in prose (the rest of its numbers are its blocks'): (result file, the
-#: figure's keys in it, how the page prints it).
-QUOTES = (
-    (FILE, ("shelf_extension", "build_runs_s", "30km", 0), "30 km builds took {:.1f} and"),
-    (FILE, ("shelf_extension", "build_runs_s", "30km", 1), "and {:.1f} s\n(the first"),
-    (FILE, ("shelf_extension", "build_runs_s", "45km", 0), "the 45 km ones {:.1f} and"),
-    (FILE, ("shelf_extension", "build_runs_s", "45km", 1), "and {:.1f} s, so"),
-)
+#: The page's prose quotes no figure of its own: the numbers it discusses are the blocks' (each made
+#: from docs/results/planning.json); its sentences about them are read against the blocks whenever
+#: the file is made again.
+QUOTES = ()
 
 #: The blocks of the page: name -> the function that makes it.
 TABLES = {"planning-areas": planning_areas, "planning-reach": planning_reach, "planning-track": planning_track,
