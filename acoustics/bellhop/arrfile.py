@@ -95,22 +95,28 @@ def read_arr(path: str | Path) -> list[Arrivals]:
     out = []
     for s in range(sz.size):
         record()  # the largest count
-        count, values, pos = _arrivals_of_source(raw, pos, rz.size * rr.size, path)
+        count, v, pos = _arrivals_of_source(raw, pos, rz.size * rr.size, path)
         count = count.reshape(rz.size, rr.size)
+        np.radians(v[1], out=v[1])
         out.append(Arrivals(freq_hz=freq, source_depth_m=float(sz[s]), receiver_depth_m=rz, range_m=rr,
-                            count=count, amplitude=values[:, 0], phase_rad=np.radians(values[:, 1]),
-                            delay_s=values[:, 2], delay_imag_s=values[:, 3],
-                            receiver_angle_deg=values[:, 5], surface_bounces=values[:, 6]))
+                            count=count, amplitude=v[0], phase_rad=v[1], delay_s=v[2], delay_imag_s=v[3],
+                            receiver_angle_deg=v[4], surface_bounces=v[5]))
     return out
 
 
+#: The columns of an arrival's eight values that are kept: amplitude, phase, delay, its imaginary
+#: part, receiver angle, surface bounces (not the source angle, 4, nor the bottom bounces, 7).
+_KEPT = (0, 1, 2, 3, 5, 6)
 _COUNT_RECORD = struct.Struct("<iii")  # byte count 4, the count, byte count 4
 
 
 def _arrivals_of_source(raw: bytes, pos: int, receivers: int, path: Path) -> tuple[np.ndarray, np.ndarray, int]:
-    """One source's receivers from byte ``pos``: their counts, every arrival's eight values
-    (float64, receiver order) and the position after them. One pass over the count records finds
-    the arrivals' blocks; the blocks are then taken out of the file's bytes at once."""
+    """One source's receivers from byte ``pos``: their counts, the arrivals' values that the
+    builder reads, ``(6, n)`` float64 with each row contiguous (amplitude, phase deg, delay, its
+    imaginary part, receiver angle, surface bounces; receiver order), and the position after them.
+    One pass over the count records finds the arrivals' blocks; the blocks are then taken out of
+    the file's bytes at once. Rows, not columns: the reductions read each quantity whole, and the
+    source angle and bottom bounces no one reads are left out (a large arrivals run's memory)."""
     counts = np.empty(receivers, dtype=np.int64)
     starts = np.empty(receivers, dtype=np.int64)
     unpack = _COUNT_RECORD.unpack_from
@@ -125,7 +131,7 @@ def _arrivals_of_source(raw: bytes, pos: int, receivers: int, path: Path) -> tup
         starts[i], counts[i] = pos, n
         pos += _COUNT_RECORD.size + n * _ARRIVAL.itemsize
     if receivers == 0 or counts.sum() == 0:
-        return counts, np.zeros((0, 8)), pos
+        return counts, np.zeros((len(_KEPT), 0)), pos
     # the source's bytes as 4-byte words, less each count record's three: the arrivals' records
     first = int(starts[0])
     words = np.frombuffer(raw, "<i4", (pos - first) // 4, first)
@@ -136,5 +142,7 @@ def _arrivals_of_source(raw: bytes, pos: int, receivers: int, path: Path) -> tup
     if bad.any():
         receiver = int(np.searchsorted(np.cumsum(counts), int(np.argmax(bad)), side="right"))
         raise BellhopError(f"{path}: arrivals file is damaged (receiver {receiver})")
-    values = np.ascontiguousarray(records[:, 1:-1]).view("<f4").astype(float)
-    return counts, values, pos
+    del keep
+    values = np.ascontiguousarray(records[:, 1:-1]).view("<f4")   # (n, 8) float32
+    del records
+    return counts, np.ascontiguousarray(values.T[list(_KEPT)], dtype=float), pos

@@ -76,10 +76,10 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     nz, nr = arrivals.count.shape
     if nz != len(image.receiver_depth_m):
         raise ValueError(f"arrivals for {nz} receiver depths, image for {len(image.receiver_depth_m)}")
-    which = arrivals.receiver_index
-    depth_row = which // nr
-    depth = np.asarray(image.receiver_depth_m, dtype=float)[depth_row]
-    speed = np.asarray(image.speed_mps, dtype=float)[depth_row]
+    # the arrivals are stored depth-major: each receiver depth's are one run of them
+    per_depth = arrivals.count.sum(axis=1)
+    depth = np.repeat(np.asarray(image.receiver_depth_m, dtype=float), per_depth)
+    speed = np.repeat(np.asarray(image.speed_mps, dtype=float), per_depth)
     amplitude2 = arrivals.amplitude ** 2
     # volume attenuation at the run frequency (|p| = A exp(omega Im tau)), as intensity
     attenuation = np.exp(2.0 * 2.0 * np.pi * arrivals.freq_hz * arrivals.delay_imag_s)
@@ -95,8 +95,9 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
         # factor vary together over the band
         plain, lloyd = _band_sums(attenuation, depth, speed, arrivals.receiver_angle_deg, band)
         for ic in range(n_class):
-            intensity = amplitude2 * plain[ic]
-            factor = lloyd[ic] / np.maximum(plain[ic], 1e-300)
+            # in place (a large arrivals run's memory): the factor in lloyd's row, the intensity in plain's
+            factor = np.divide(lloyd[ic], np.maximum(plain[ic], 1e-300), out=lloyd[ic])
+            intensity = np.multiply(amplitude2, plain[ic], out=plain[ic])
             total = _pair_sums(intensity, factor, arrivals.receiver_angle_deg, arrivals.surface_bounces,
                                offsets, tolerance)
             out[ic, ib] = (-10.0 * np.log10(np.maximum(total, floor))).reshape(nz, nr)
