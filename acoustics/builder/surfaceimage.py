@@ -76,31 +76,34 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     nz, nr = arrivals.count.shape
     if nz != len(image.receiver_depth_m):
         raise ValueError(f"arrivals for {nz} receiver depths, image for {len(image.receiver_depth_m)}")
-    # the arrivals are stored depth-major: each receiver depth's are one run of them
-    per_depth = arrivals.count.sum(axis=1)
-    depth = np.repeat(np.asarray(image.receiver_depth_m, dtype=float), per_depth)
-    speed = np.repeat(np.asarray(image.speed_mps, dtype=float), per_depth)
-    amplitude2 = arrivals.amplitude ** 2
-    # volume attenuation at the run frequency (|p| = A exp(omega Im tau)), as intensity
-    attenuation = np.exp(2.0 * 2.0 * np.pi * arrivals.freq_hz * arrivals.delay_imag_s)
     offsets = np.concatenate([[0], np.cumsum(arrivals.count.ravel())]).astype(np.int64)
-    z_r = np.repeat(np.asarray(image.receiver_depth_m, dtype=float), nr)
-    r_r = np.tile(np.maximum(np.asarray(arrivals.range_m, dtype=float), 1.0), nz)
-    tolerance = np.maximum(PAIR_ANGLE_DEG, 1.5 * np.degrees(2.0 * z_r / r_r))
+    r_r = np.maximum(np.asarray(arrivals.range_m, dtype=float), 1.0)
     floor = 10.0 ** (-image.tl_max_db / 10.0)
     n_class = len(image.bands[0].weights) if image.bands else 0
     out = np.empty((n_class, len(image.bands), nz, nr), dtype=np.float32)
-    for ib, band in enumerate(image.bands):
-        # each arrival's band averages of I(f) and of I(f) G(theta, f): attenuation and the Lloyd
-        # factor vary together over the band
-        plain, lloyd = _band_sums(attenuation, depth, speed, arrivals.receiver_angle_deg, band)
-        for ic in range(n_class):
-            # in place (a large arrivals run's memory): the factor in lloyd's row, the intensity in plain's
-            factor = np.divide(lloyd[ic], np.maximum(plain[ic], 1e-300), out=lloyd[ic])
-            intensity = np.multiply(amplitude2, plain[ic], out=plain[ic])
-            total = _pair_sums(intensity, factor, arrivals.receiver_angle_deg, arrivals.surface_bounces,
-                               offsets, tolerance)
-            out[ic, ib] = (-10.0 * np.log10(np.maximum(total, floor))).reshape(nz, nr)
+    # one receiver depth at a time (the arrivals are stored depth-major: each depth's are one run
+    # of them): the per-arrival work arrays then hold one depth's arrivals, not the run's
+    for iz in range(nz):
+        first, last = offsets[iz * nr], offsets[(iz + 1) * nr]
+        rows = slice(first, last)
+        z, c = float(image.receiver_depth_m[iz]), float(image.speed_mps[iz])
+        depth, speed = np.full(last - first, z), np.full(last - first, c)
+        amplitude2 = arrivals.amplitude[rows] ** 2
+        # volume attenuation at the run frequency (|p| = A exp(omega Im tau)), as intensity
+        attenuation = np.exp(2.0 * 2.0 * np.pi * arrivals.freq_hz * arrivals.delay_imag_s[rows])
+        angle, bounces = arrivals.receiver_angle_deg[rows], arrivals.surface_bounces[rows]
+        row_offsets = offsets[iz * nr:(iz + 1) * nr + 1] - first
+        tolerance = np.maximum(PAIR_ANGLE_DEG, 1.5 * np.degrees(2.0 * z / r_r))
+        for ib, band in enumerate(image.bands):
+            # each arrival's band averages of I(f) and of I(f) G(theta, f): attenuation and the
+            # Lloyd factor vary together over the band
+            plain, lloyd = _band_sums(attenuation, depth, speed, angle, band)
+            for ic in range(n_class):
+                # in place: the factor in lloyd's row, the intensity in plain's
+                factor = np.divide(lloyd[ic], np.maximum(plain[ic], 1e-300), out=lloyd[ic])
+                intensity = np.multiply(amplitude2, plain[ic], out=plain[ic])
+                total = _pair_sums(intensity, factor, angle, bounces, row_offsets, tolerance)
+                out[ic, ib, iz] = -10.0 * np.log10(np.maximum(total, floor))
     return out
 
 
