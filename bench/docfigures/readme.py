@@ -132,6 +132,8 @@ def _percent(x: float) -> float:
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
+    ("radials.json", ("figures", "western_med_bellhop_cpu_hours", "value"), "about {:,.0f}\nCPU hours of BELLHOP"),
+    ("radials.json", ("figures", "western_med_build_cpu_hours", "value"), "and {:,.0f} with the builder's"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km),
      "closer than the one measured number\ndoes ({:.2f}"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_scalar", _km), "against {:.2f} km after 5 min"),
