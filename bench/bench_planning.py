@@ -132,8 +132,9 @@ def demo_sonar(session: Session) -> dict:
             "sea_state_4": dataclasses.replace(receiver, noise=dataclasses.replace(
                 receiver.noise, spectrum_level_1khz_db=SONAR_OTHER_SEA_DB))}
     out = {"area": MAP_AREA, "sonar": MAP_SONAR, "label": None, "seas": {}}
+    area_tables = acoustics.open_tables(grid)   # opened once: each sea swaps only the sonar
     for name, rec in seas.items():
-        tables = acoustics.open_tables(grid).with_receiver(rec)
+        tables = area_tables.with_receiver(rec)
         ranges = {c: level_ranges(pd_map(tables, c, tables.bearing_axis_deg))["any"] for c in tables.class_names}
         reach = reach_data(table_reach(tables))
         out["seas"][name] = {"noise_1khz_db": rec.noise.spectrum_level_1khz_db, "label": tables.sonar_label(),

@@ -39,15 +39,6 @@ class Receiver:
     sonar: Sonar
     noise: Noise | None = None
 
-    def label(self) -> str:
-        """One line for figures and summaries: the sonar's terms (and the noise's when its own)."""
-        s = self.sonar
-        text = (f"sonar {self.name}: DI {s.directivity_index_db:g} dB, {s.integration_time_s:g} s, "
-                f"threshold {s.detection_threshold:g}")
-        if self.noise is not None:
-            text += f"; its sea noise {self.noise.spectrum_level_1khz_db:g} dB re 1 uPa^2/Hz at 1 kHz"
-        return text
-
 
 def builtin_sonar_names() -> list[str]:
     return builtin_names("sonars")

@@ -14,6 +14,7 @@ from numpy.testing import assert_allclose
 
 from acoustics.grid.atlas.store import open_store
 from acoustics.grid.pdmap import pd_map
+from envdata.receiver import load_receiver
 from tests.acoustics.atlas.atlasarea import write_atlas_area
 from tests.acoustics.plots.test_radialplots import png_size
 from tests.tools.test_plot_bearing_cli import run_error, run_json
@@ -285,18 +286,13 @@ def test_another_sonar_in_the_same_tables_moves_only_the_detection_rule(capsys, 
     assert all(0 < r < 5000 for r in ship["range_m"]["0.5"])
     # the deaf sonar's P_D is below the area's wherever the area's is between 0 and 1
     base = pd_map(tiny_radial_tables, "SHIP", [0.0]).pd
-    deafer = pd_map(tiny_radial_tables.with_receiver(envdata_receiver(deaf)), "SHIP", [0.0]).pd
+    deafer = pd_map(tiny_radial_tables.with_receiver(load_receiver(deaf)), "SHIP", [0.0]).pd
     between = (base > 1e-6) & (base < 1 - 1e-6)
     assert between.any() and np.all(deafer[between] < base[between])
 
 
-def envdata_receiver(path):
-    from envdata.receiver import load_receiver
-    return load_receiver(path)
-
-
 def test_the_built_in_planning_sonar_and_bad_sonar_files(capsys, tmp_path, tiny_radial_grid_file):
-    from envdata.receiver import builtin_sonar_names, load_receiver
+    from envdata.receiver import builtin_sonar_names
     assert "omni-buoy" in builtin_sonar_names()
     buoy = load_receiver("omni-buoy")
     assert buoy.sonar.directivity_index_db == 0.0 and buoy.noise is not None
