@@ -130,10 +130,10 @@ def instrumented(profile: Profile):
     timed(flat, "plan_runs", "planning (radials, runs)")
     timed(flat, "flat_dataset", "dataset or store")
     patch(atlas, "plan_atlas", profile.timed("planning (radials, runs)", atlas.plan_atlas))
-    patch(radial, "_dataset", profile.timed("dataset or store", radial._dataset))
+    timed(radial, "radial_dataset", "dataset or store")
     patch(gridfile, "write_grid", profile.timed("dataset or store", gridfile.write_grid))
     for name in ("_template", "write_table", "set_done"):
-        patch(atlas, name, profile.timed("dataset or store", getattr(atlas, name)))
+        timed(atlas, name, "dataset or store")
     try:
         yield profile
     finally:
