@@ -153,6 +153,12 @@ def _greatest_wall_ratio(d: dict) -> float:
     return max(_wall_ratios(d))
 
 
+def _shelf_wall_over_bellhop(d: dict) -> float:
+    """The shelf-break grid build's wall time over its BELLHOP runs' time (build-profile.json)."""
+    b = d["profiles"]["now"]["builds"]["shelf-break grid"]
+    return b["wall_s"] / (b["seconds"]["bellhop field runs"] + b["seconds"]["bellhop arrivals runs"])
+
+
 def build_profile(root: Path) -> str:
     """Where each build's time goes, now and before the change, seconds summed over threads."""
     d = load_result(root, "build-profile.json")
@@ -227,6 +233,8 @@ TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
+    ("build-profile.json", (_shelf_wall_over_bellhop,), "the build's wall time is {:.2f}x BELLHOP's"),
+    ("build-profile.json", ("profiles", "now", "startup_s"), "(its imports) to {:.1f} s more"),
     ("models.json", ("figures", "ram_w2_over_bellhop_w2", "value"), "costs {:.2g} times BELLHOP's build"),
     ("models-areas.json", (_least_wall_ratio,), "and {:.0f} to"),
     ("models-areas.json", (_greatest_wall_ratio,), "to {:.0f} times its wall time"),
