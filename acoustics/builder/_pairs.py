@@ -116,15 +116,14 @@ def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weigh
 
 
 @njit(cache=True, nogil=True)
-def pair_sums(intensity, factor, angle_deg, bounces, offsets, tolerance_deg):
-    """``offsets[i]:offsets[i + 1]`` are receiver i's arrivals, with their intensity and Lloyd
-    factor. Strongest first, each unmatched arrival takes the strongest unmatched twin (angle of
-    the other sign, magnitude within ``tolerance_deg[i]``, surface reflections differing by at most
-    one); the pair adds max(I_a, I_b) (G_a + G_b), an arrival without a twin 2 I_a G_a (its twin
-    was cut by the beams' truncation at the surface): the two members of an image pair carry
-    one intensity, and each its own angle's factor."""
+def image_twins(intensity, angle_deg, bounces, offsets, tolerance_deg):
+    """Each arrival's surface twin: ``offsets[i]:offsets[i + 1]`` are receiver i's arrivals.
+    Strongest first, each unmatched arrival takes the strongest unmatched twin (angle of the other
+    sign, magnitude within ``tolerance_deg[i]``, surface reflections differing by at most one).
+    Returns ``twin`` (n,): the leader of a pair holds its twin's index, the twin -2, an arrival
+    without a twin -1 (its twin was cut by the beams' truncation at the surface)."""
     n = offsets.size - 1
-    out = np.zeros(n)
+    twin = np.full(intensity.size, -1, dtype=np.int64)
     for i in range(n):
         lo, hi = offsets[i], offsets[i + 1]
         m = hi - lo
@@ -132,7 +131,6 @@ def pair_sums(intensity, factor, angle_deg, bounces, offsets, tolerance_deg):
             continue
         order = np.argsort(-intensity[lo:hi]) + lo
         used = np.zeros(m, dtype=np.bool_)
-        total = 0.0
         for a in order:
             if used[a - lo]:
                 continue
@@ -149,8 +147,26 @@ def pair_sums(intensity, factor, angle_deg, bounces, offsets, tolerance_deg):
                     best, best_value = b, intensity[b]
             if best >= 0:
                 used[best - lo] = True
-                total += intensity[a] * (factor[a] + factor[best])
-            else:
+                twin[a] = best
+                twin[best] = -2
+    return twin
+
+
+@njit(cache=True, nogil=True)
+def twin_sums(intensity, factor, twin, offsets):
+    """Per receiver, the sum over image pairs (``image_twins``): a pair adds max(I_a, I_b)
+    (G_a + G_b), an arrival without a twin 2 I_a G_a. The two members of an image pair carry one
+    intensity, and each its own angle's factor."""
+    n = offsets.size - 1
+    out = np.zeros(n)
+    for i in range(n):
+        total = 0.0
+        for a in range(offsets[i], offsets[i + 1]):
+            b = twin[a]
+            if b >= 0:
+                total += max(intensity[a], intensity[b]) * (factor[a] + factor[b])
+            elif b == -1:
                 total += 2.0 * intensity[a] * factor[a]
         out[i] = total
     return out
+
