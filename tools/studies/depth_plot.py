@@ -1,5 +1,5 @@
 """The plot of the depth study: each run's 90 % depth interval against the true depth, for each
-way of estimating the depth."""
+way of estimating the depth (the depth-state filter, retired, has no panel: docs/depth.md)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,6 @@ from acoustics.plots.figures import new_figure
 
 _SOURCE = {("ml", "unknown", "posterior"): ("ml_posterior", "ML analysis: posterior over its hypotheses' tracks"),
            ("rpf", "bank", "posterior"): ("rpf_bank", "bank of particle filters at the hypotheses"),
-           ("rpf", "unknown", "particles"): ("rpf_particles", "particle filter, depth a state:\nthe particles' depth"),
-           ("rpf", "unknown", "track"): ("rpf_track", "particle filter, depth a state:\nposterior along its track"),
            ("known_motion", "unknown", "true_track"): ("known_motion_true_track",
                                                        "the motion known:\nposterior along the true track")}
 _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple")
@@ -21,7 +19,7 @@ _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple")
 def depth_figure(frame: pd.DataFrame, summary: dict) -> Figure:
     """One panel per depth estimate: runs' 90 % intervals (bars) and medians (dots) at each true
     depth (x, jittered by scenario and run), the truth as a line; coverage in the title."""
-    fig = new_figure(figsize=(19.0, 4.8), layout="constrained")
+    fig = new_figure(figsize=(13.0, 4.8), layout="constrained")
     axes = fig.subplots(1, len(_SOURCE), sharey=True)
     truths = summary["true_depths_m"]
     for ax, ((method, variant, source), (key, label)) in zip(np.atleast_1d(axes), _SOURCE.items()):

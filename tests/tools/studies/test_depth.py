@@ -101,3 +101,21 @@ def test_the_likelihoods_errors_are_those_the_study_recorded():
     assert (e.fine_growth_db_per_km, e.fine_band_growth_db_per_km, e.band_growth_db_per_km,
             e.offset_growth_db_per_km) == (fit["fine_growth_db_per_km"], fit["fine_band_growth_db_per_km"],
                                            fit["band_growth_db_per_km"], fit["offset_growth_db_per_km"])
+
+
+def test_the_figure_has_a_panel_for_each_depth_estimate_and_none_empty():
+    # one run per scenario, true depth and estimate, in the study's rows' layout: every panel must
+    # draw its intervals (the retired depth-state filter's panels were left empty)
+    rows = [{"scenario": sc, "true_depth_m": z, "run": 0, "method": m, "variant": v, "depth_from": src,
+             "lo_m": 0.5 * z, "hi_m": 2.0 * z, "depth_m": z}
+            for sc in ("shelf-nps", "shelf-slope-nps") for z in (6.0, 200.0)
+            for m, v, src in (("ml", "unknown", "posterior"), ("rpf", "bank", "posterior"),
+                              ("known_motion", "unknown", "true_track"))]
+    summary = {"true_depths_m": [6.0, 200.0], "scenarios": ["shelf-nps", "shelf-slope-nps"], "depth_estimates": {},
+               "depth_span_m": [2.0, 300.0], "area": "shelf-break", "runs": 1, "class": "NPS",
+               "class_depth_m": 200.0, "truth": "bellhop"}
+    from tools.studies.depth_plot import depth_figure
+
+    fig = depth_figure(pd.DataFrame(rows), summary)
+    assert len(fig.axes) == 3
+    assert all(len(ax.collections) >= 2 for ax in fig.axes)  # both scenarios' interval bars in each
