@@ -5,11 +5,16 @@ few dropped and the rest averaged (L = 19, 2 + 2 dropped in section 4). Ranges a
 to the current time with each cycle's own velocity; courses are unwrapped around the current
 one. "The smoothing procedure can be repeated twice": a second pass smooths the smoothed series.
 
-The smoothed estimate is an average of the window's estimates, each with the sd its cycle stated;
-its own sd (`window_sd`) is that of the mixture of them: the root of the mean over the kept
-entries of sd_i^2 + (x_i - mean)^2. Where the window's estimates agree it is their sd; where a
-tack's first estimates wander (a few bearings after a manoeuvre), their spread is in it, since
-the average carries them.
+The smoothed estimate is an average of the window's estimates, each with the sd its cycle stated
+(eq. 25's marginal sd, `tracker.mltma.covariance`). Its own sd (`window_sd`) is the latest of
+those sds, or the window's spread where the estimates scatter more than that (the root of the
+mean of their squared deviations from the mean of the kept ones), whichever is larger. The
+window's estimates share most of their bearings and the levels' lasting errors, so their
+average is hardly better than the latest, whose sd is from the most bearings; where the raw
+estimates wander more than their sds say (a tack's first minutes after a manoeuvre, a course
+from a few bearings), the spread is the honest figure. (The root mean square of the window's
+sds with the spread added, as a mixture's, stated the shelf study's smoothed ranges about 1.4x
+too wide: docs/uncertainty.md.)
 """
 
 from __future__ import annotations
@@ -32,21 +37,24 @@ def _kept(values, count, drop_per_19: int, length: int):
 
 
 def window_sd(values, sds, count, drop_per_19: int, length: int):
-    """sd of the trimmed mean of each row's window as the mixture of its kept entries (module
-    docstring): sqrt(mean(sd_i^2 + (x_i - mean)^2)); NaN where no entry is kept or none has an sd.
+    """sd of the smoothed estimate of each row's window (module docstring): the larger of the sd
+    stated by the latest of its first ``count`` entries that has one and the spread of the entries
+    `trimmed_mean` keeps; NaN where no entry has an sd.
 
     Parameters
     ----------
     values, sds : ndarray, shape (B, W)
-        The window's estimates and the sds their cycles stated (NaN: none).
+        The window's estimates and the sds their cycles stated (NaN: none), oldest first.
     count, drop_per_19, length
         As `trimmed_mean`.
     """
-    keep = _kept(values, count, drop_per_19, length) & np.isfinite(sds)
-    n = keep.sum(1)
-    mean = np.where(keep, values, 0.0).sum(1) / np.maximum(n, 1)
-    second = np.where(keep, np.square(sds) + np.square(values - mean[:, None]), 0.0).sum(1)
-    return np.where(n > 0, np.sqrt(second / np.maximum(n, 1)), np.nan)
+    stated = (np.arange(sds.shape[1])[None, :] < count[:, None]) & np.isfinite(sds)
+    latest = np.take_along_axis(sds, (sds.shape[1] - 1 - np.argmax(stated[:, ::-1], axis=1))[:, None], axis=1)[:, 0]
+    keep = _kept(values, count, drop_per_19, length)
+    n = np.maximum(keep.sum(1), 1)
+    mean = np.where(keep, values, 0.0).sum(1) / n
+    spread2 = np.where(keep, np.square(values - mean[:, None]), 0.0).sum(1) / n
+    return np.where(stated.any(1), np.sqrt(np.maximum(np.square(latest), spread2)), np.nan)
 
 
 def trimmed_mean(values, count, drop_per_19: int, length: int):
