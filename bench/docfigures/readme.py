@@ -142,7 +142,7 @@ QUOTES = (
     ("kerror/kerror.json", ("calibration_after_late_min", "rpf_scalar", "range", "coverage_90", _percent),
      "({:.0f} % with the one\nnumber)"),
     ("kerror/kerror.json", ("calibration_after_late_min", "ml_model", "range", "coverage_90", _percent),
-     "wider than it needs ({:.0f} %)"),
+     "its intervals hold the truth in {:.0f} %"),
     *(("gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
         ("course_rms_deg", "| {:.1f} deg /"), ("speed_rms_mps", "/ {:.2f} m/s /"))),
     *(("atlas.json", ("speed", key), fmt) for key, fmt in (
