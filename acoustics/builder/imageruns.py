@@ -21,7 +21,7 @@ from acoustics.builder.plan import run_spec
 from acoustics.builder.runs import Run
 from acoustics.builder.surfaceimage import ImageBand, SurfaceImage
 from acoustics.kcurve import band_weights
-from acoustics.surface import band_quadrature, surface_reach_m
+from acoustics.surface import band_quadrature
 from envdata.area import Absorption, Area
 
 
@@ -34,26 +34,28 @@ def image_rows(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndar
                            for zi, ci in zip(z, c)])
 
 
-def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray,
-                  surface_speed_mps: float) -> SurfaceImage:
-    """The reduction of the arrivals run: per band, its quadrature for the surface's reach (the
-    same whichever receivers a table has), each frequency's volume attenuation relative to
-    ``run_hz``, and each class's weights."""
-    c0 = surface_speed_mps
-    bands = []
-    for band in area.bands:
-        freqs, _ = band_quadrature(area.classes[0], band, surface_reach_m(band, c0), c0)
-        if area.propagation.absorption is Absorption.NONE:
-            ratio = np.ones(freqs.size)
-        else:
-            ratio = absorption_db_per_km(freqs, area.propagation.absorption) \
-                / absorption_db_per_km(run_hz, area.propagation.absorption)
-        weights = tuple(tuple(float(x) for x in band_weights(cls, freqs)) for cls in area.classes)
-        bands.append(ImageBand(freqs_hz=tuple(float(f) for f in freqs),
-                               attenuation_ratio=tuple(float(r) for r in ratio), weights=weights))
-    return SurfaceImage(receiver_depth_m=tuple(float(z) for z in depths_m),
-                        speed_mps=tuple(round(float(c), 3) for c in speeds_mps), bands=tuple(bands),
+def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray) -> SurfaceImage:
+    """The reduction of the arrivals run: per receiver depth and band, the band's quadrature for
+    that depth (``band_quadrature``: as many frequencies as the Lloyd factor's turns across the band
+    at that depth need, the rule the band runs' source end follows), each frequency's volume
+    attenuation relative to ``run_hz``, and each class's weights."""
+    speeds = tuple(round(float(c), 3) for c in speeds_mps)
+    rows = tuple(tuple(_image_band(area, band, float(z), c, run_hz) for band in area.bands)
+                 for z, c in zip(depths_m, speeds))
+    return SurfaceImage(receiver_depth_m=tuple(float(z) for z in depths_m), speed_mps=speeds, bands=rows,
                         tl_max_db=float(area.propagation.tl_max_db))
+
+
+def _image_band(area: Area, band, depth_m: float, speed_mps: float, run_hz: float) -> ImageBand:
+    freqs, _ = band_quadrature(area.classes[0], band, depth_m, speed_mps)
+    if area.propagation.absorption is Absorption.NONE:
+        ratio = np.ones(freqs.size)
+    else:
+        ratio = absorption_db_per_km(freqs, area.propagation.absorption) \
+            / absorption_db_per_km(run_hz, area.propagation.absorption)
+    weights = tuple(tuple(float(x) for x in band_weights(cls, freqs)) for cls in area.classes)
+    return ImageBand(freqs_hz=tuple(float(f) for f in freqs),
+                     attenuation_ratio=tuple(float(r) for r in ratio), weights=weights)
 
 
 def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndarray],
@@ -75,7 +77,7 @@ def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.
                     source_depths_m=(area.observer.depth_m,), receiver_depths_m=depths, ranges_m=rng,
                     fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True)
     files = make_files(spec)
-    image = surface_image(area, run_hz, depths, speed_of(depths), float(speed_of(np.zeros(1))[0]))
+    image = surface_image(area, run_hz, depths, speed_of(depths))
     run = Run(env=files.pop("env"), files=tuple(files.items()), freq_hz=run_hz,
               source_depth_m=area.observer.depth_m, n_beams=n_beams, image=image,
               timeout_s=run_timeout_s(area, n_beams, depths.size * rng.size))
