@@ -21,7 +21,7 @@ from acoustics.builder.plan import run_spec
 from acoustics.builder.runs import Run
 from acoustics.builder.surfaceimage import ImageBand, SurfaceImage
 from acoustics.kcurve import band_weights
-from acoustics.surface import band_quadrature
+from acoustics.surface import band_quadrature, surface_reach_m
 from envdata.area import Absorption, Area
 
 
@@ -37,8 +37,9 @@ def image_rows(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndar
 def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray) -> SurfaceImage:
     """The reduction of the arrivals run: per receiver depth and band, the band's quadrature for
     that depth (``band_quadrature``: as many frequencies as the Lloyd factor's turns across the band
-    at that depth need, the rule the band runs' source end follows), each frequency's volume
-    attenuation relative to ``run_hz``, and each class's weights."""
+    at that depth need, the rule the band runs' source end follows; below the band's reach, the
+    reach's), each frequency's volume attenuation relative to ``run_hz``, and each class's
+    weights."""
     speeds = tuple(round(float(c), 3) for c in speeds_mps)
     rows = tuple(tuple(_image_band(area, band, float(z), c, run_hz) for band in area.bands)
                  for z, c in zip(depths_m, speeds))
@@ -47,7 +48,8 @@ def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: n
 
 
 def _image_band(area: Area, band, depth_m: float, speed_mps: float, run_hz: float) -> ImageBand:
-    freqs, _ = band_quadrature(area.classes[0], band, depth_m, speed_mps)
+    # below the band's reach the factor averages out: the reach's quadrature serves
+    freqs, _ = band_quadrature(area.classes[0], band, min(depth_m, surface_reach_m(band, speed_mps)), speed_mps)
     if area.propagation.absorption is Absorption.NONE:
         ratio = np.ones(freqs.size)
     else:
