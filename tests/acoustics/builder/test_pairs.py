@@ -63,3 +63,21 @@ def test_twins_pair_an_arrival_with_its_image_and_restore_a_missing_one():
     other = np.array([1.0, 4.0, 3.0, 0.5, 0.25])
     assert twin_sums(other, factor, twin, offsets)[0] == 4.0 * (0.1 + 0.3) + 2 * 3.0 * 0.7 + 2 * 0.5 * 1.1 \
         + 2 * 0.25 * 1.3
+
+
+def test_each_receiver_depth_takes_the_quadrature_its_turns_need_up_to_the_bands_reach():
+    import envdata
+    from acoustics.builder.imageruns import surface_image
+    from acoustics.surface import band_quadrature, surface_reach_m
+
+    area = envdata.load_area("shelf-break")
+    depths = np.array([0.0, 2.5, 10.0, 50.0, 300.0])
+    image = surface_image(area, float(area.bands[0].center_hz), depths, np.full(depths.size, 1500.0))
+    for ib, band in enumerate(area.bands):
+        n = [len(row[ib].freqs_hz) for row in image.bands]
+        reach_n = band_quadrature(area.classes[0], band, surface_reach_m(band, 1500.0), 1500.0)[0].size
+        # more turns deeper, never more than the band's reach asks for (the factor averages out below it)
+        assert n == sorted(n) and max(n) == reach_n and n[-1] == reach_n, (band.name, n, reach_n)
+        assert n[0] < reach_n  # the surface row: the fewest
+        for row in image.bands:  # each class's weights sum to 1 over that row's frequencies
+            assert np.allclose([sum(w) for w in row[ib].weights], 1.0)
