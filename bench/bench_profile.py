@@ -30,6 +30,7 @@ import argparse
 import contextlib
 import dataclasses
 import json
+import shlex
 import shutil
 import statistics
 import subprocess
@@ -246,7 +247,10 @@ def main(argv=None) -> int:
                         "COMMIT | tar -x -C DIR), profiled side by side")
     parser.add_argument("--before-commit", default=None, help="the commit --before holds, for the record")
     args = parser.parse_args(argv)
-    session = Session("build-profile")
+    # the checkout before is a machine path: the command names it BEFORE (its commit is in the file)
+    argv_shown = [a if args.before is None or a != str(args.before) else "BEFORE"
+                  for a in (sys.argv[1:] if argv is None else argv)]
+    session = Session("build-profile", command=shlex.join(["python", "-m", "bench.bench_profile", *argv_shown]))
     sides = {"now": REPO, **({"before": args.before.resolve()} if args.before else {})}
     for checkout in sides.values():  # warm: numba's caches, the data files in the page cache
         one_build(checkout, "atlas table", args.workers)
