@@ -21,14 +21,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import shlex
 import statistics
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-from bench.harness import git_state, load_average, provenance, write_result
+from bench.harness import command_naming, git_state, load_average, provenance, write_result
 
 GRIDS_BUILD = """
 import subprocess, sys, time, tempfile, os
@@ -233,9 +232,7 @@ def main(argv=None) -> int:
               flush=True)
     # the two checkouts are machine paths: the command names them BEFORE and AFTER, their commits
     # are the result's "checkouts"
-    argv_shown = [{str(args.before): "BEFORE", str(args.after): "AFTER"}.get(a, a)
-                  for a in (sys.argv[1:] if argv is None else argv)]
-    command = shlex.join(["python", "-m", "bench.ab_checkouts", *argv_shown])
+    command = command_naming("bench.ab_checkouts", argv, {str(args.before): "BEFORE", str(args.after): "AFTER"})
     write_result(args.name, result, provenance_data=provenance(command=command, load_before=load_before, git=git))
     return 0
 

@@ -30,7 +30,6 @@ import argparse
 import contextlib
 import dataclasses
 import json
-import shlex
 import shutil
 import statistics
 import subprocess
@@ -41,7 +40,7 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-from bench.harness import REPO, Session
+from bench.harness import REPO, Session, command_naming
 
 #: The categories, in the order the table shows them.
 CATEGORIES = ("bellhop field runs", "bellhop arrivals runs", "run files and process start", "reading .shd",
@@ -248,9 +247,8 @@ def main(argv=None) -> int:
     parser.add_argument("--before-commit", default=None, help="the commit --before holds, for the record")
     args = parser.parse_args(argv)
     # the checkout before is a machine path: the command names it BEFORE (its commit is in the file)
-    argv_shown = [a if args.before is None or a != str(args.before) else "BEFORE"
-                  for a in (sys.argv[1:] if argv is None else argv)]
-    session = Session("build-profile", command=shlex.join(["python", "-m", "bench.bench_profile", *argv_shown]))
+    named = {} if args.before is None else {str(args.before): "BEFORE"}
+    session = Session("build-profile", command=command_naming("bench.bench_profile", argv, named))
     sides = {"now": REPO, **({"before": args.before.resolve()} if args.before else {})}
     for checkout in sides.values():  # warm: numba's caches, the data files in the page cache
         one_build(checkout, "atlas table", args.workers)

@@ -99,6 +99,14 @@ def command_line() -> str:
     return shlex.join([*args, *sys.argv[1:]])
 
 
+def command_naming(module: str, argv, names: Mapping[str, str]) -> str:
+    """``python -m module ARGS`` (``argv``, default this process's) with each machine path among
+    the arguments shown by its name in ``names`` (a checkout: BEFORE, AFTER; its commit is in the
+    result file)."""
+    args = sys.argv[1:] if argv is None else argv
+    return shlex.join(["python", "-m", module, *(names.get(a, a) for a in args)])
+
+
 def portable(command: str) -> str:
     """``command`` as one types it from the repository's root on any machine: the checkout's own
     path and an interpreter's absolute path (a venv's ``.../bin/python``) taken out."""

@@ -34,13 +34,12 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import shlex
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from bench.harness import REPO, RESULTS_DIR, Session, portable
+from bench.harness import REPO, RESULTS_DIR, Session, command_naming, portable
 
 OUT = REPO / "out" / "surface-compare"
 PLOTS = RESULTS_DIR / "surface-compare"
@@ -179,9 +178,8 @@ def main(argv=None) -> int:
     p.add_argument("--before-checkout", type=Path, help="a checkout of the code before the surface landed")
     args = p.parse_args(argv)
     # the checkout before is a machine path: the command names it BEFORE (its commit is in the file)
-    argv_shown = [a if args.before_checkout is None or a != str(args.before_checkout) else "BEFORE"
-                  for a in (sys.argv[1:] if argv is None else argv)]
-    session = Session("surface-compare", command=shlex.join(["python", "-m", "bench.surface_compare", *argv_shown]))
+    named = {} if args.before_checkout is None else {str(args.before_checkout): "BEFORE"}
+    session = Session("surface-compare", command=command_naming("bench.surface_compare", argv, named))
     OUT.mkdir(parents=True, exist_ok=True)
     PLOTS.mkdir(parents=True, exist_ok=True)
     areas = {}
