@@ -80,6 +80,15 @@ def calibration_idm(root: Path) -> str:
                     lambda name, key: f"{name}, {IDM.get(key, key)}")
 
 
+def calibration_idm_phases(root: Path) -> str:
+    """The manoeuvring observer's cycles after 10 min split at its turn (13-17 min)."""
+    d = load_result(root, "idm/idm-maneuvering.json")
+    rows = calibration_head("filter, cycles")
+    for phase, label in (("before_turn", "before the turn (10-12 min)"), ("after_turn", "after the turn (17-30 min)")):
+        rows += [calibration_row(f"{IDM.get(key, key)}, {label}", c) for key, c in d["calibration_by_phase"][phase].items()]
+    return markdown_table(rows) + "\n" + caption(d, "idm/idm-maneuvering.json")
+
+
 def calibration_depth(root: Path) -> str:
     d = load_result(root, "depth/depth.json")
     rows = [("tracker, depth", "range: 90 % interval holds the truth", "median \\|error\\| / sd"), ("---",) * 3]
@@ -103,4 +112,5 @@ def kerror_check(root: Path) -> str:
 TABLES = {"kerror-check": kerror_check, "calibration-shelf": calibration_shelf,
           "calibration-kerror": calibration_kerror, "calibration-follow": calibration_follow,
           "calibration-gm": calibration_gm, "calibration-idm": calibration_idm,
+          "calibration-idm-phases": calibration_idm_phases,
           "calibration-depth": calibration_depth}
