@@ -55,9 +55,14 @@ def _image_band(area: Area, band, depth_m: float, speed_mps: float, run_hz: floa
     else:
         ratio = absorption_db_per_km(freqs, area.propagation.absorption) \
             / absorption_db_per_km(run_hz, area.propagation.absorption)
-    weights = tuple(tuple(float(x) for x in band_weights(cls, freqs)) for cls in area.classes)
-    return ImageBand(freqs_hz=tuple(float(f) for f in freqs),
-                     attenuation_ratio=tuple(float(r) for r in ratio), weights=weights)
+    weights = np.stack([band_weights(cls, freqs) for cls in area.classes])
+    return ImageBand(freqs_hz=_frozen(freqs), attenuation_ratio=_frozen(ratio), weights=_frozen(weights))
+
+
+def _frozen(values) -> np.ndarray:
+    a = np.ascontiguousarray(values, dtype=np.float64)
+    a.setflags(write=False)
+    return a
 
 
 def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndarray],

@@ -39,6 +39,7 @@ and is cached is one small array per run: TL (class, band, receiver depth, range
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,18 +51,19 @@ from acoustics.bellhop.arrfile import Arrivals
 PAIR_ANGLE_DEG = 0.5
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class ImageBand:
     """One band: its quadrature frequencies (``acoustics.surface.band_quadrature``), each one's
     volume attenuation relative to the run frequency's (ratio; 1 without absorption), and the
-    weights of each class's spectrum, ``weights[class]``."""
+    weights of each class's spectrum, ``weights[class]``: read-only float64 arrays, (n,), (n,)
+    and (class, n)."""
 
-    freqs_hz: tuple[float, ...]
-    attenuation_ratio: tuple[float, ...]
-    weights: tuple[tuple[float, ...], ...]
+    freqs_hz: np.ndarray
+    attenuation_ratio: np.ndarray
+    weights: np.ndarray
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class SurfaceImage:
     """What an arrivals run is reduced to: its receivers' depths (m) and sound speeds (m/s), the
     bands' quadratures at each receiver depth (``bands[depth][band]``), and the shadow cap (dB)."""
@@ -73,8 +75,14 @@ class SurfaceImage:
 
     @property
     def digest(self) -> str:
-        return repr((self.receiver_depth_m, self.speed_mps, self.tl_max_db,
-                     tuple(tuple((b.freqs_hz, b.attenuation_ratio, b.weights) for b in row) for row in self.bands)))
+        """A hash of everything the reduction uses (part of the run's key)."""
+        h = hashlib.sha256(repr((self.receiver_depth_m, self.speed_mps, self.tl_max_db)).encode())
+        for row in self.bands:
+            for b in row:
+                for a in (b.freqs_hz, b.attenuation_ratio, b.weights):
+                    h.update(repr(a.shape).encode())
+                    h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+        return h.hexdigest()
 
 
 def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
@@ -124,8 +132,8 @@ def _band_sums(attenuation, depth, speed, angle_deg, band: ImageBand) -> tuple[n
     def arr(x):
         return np.ascontiguousarray(x, dtype=np.float64)
 
-    return band_sums(arr(attenuation), arr(depth), arr(speed), arr(angle_deg), arr(band.freqs_hz),
-                     arr(band.attenuation_ratio), arr(band.weights))
+    return band_sums(arr(attenuation), arr(depth), arr(speed), arr(angle_deg), band.freqs_hz,
+                     band.attenuation_ratio, band.weights)
 
 
 def _image_twins(intensity, angle_deg, bounces, offsets, tolerance_deg) -> np.ndarray:
