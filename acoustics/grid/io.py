@@ -29,11 +29,26 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Pa
         elif np.issubdtype(var.dtype, np.floating):
             encoding[name] = {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
     if not atomic:
-        ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        _dump(ds, path, encoding)
         return path
     with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        _dump(ds, tmp, encoding)
     return path
+
+
+def _dump(ds: xr.Dataset, path: Path, encoding: dict) -> None:
+    """``ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", encoding=encoding)`` without its
+    look for a dask scheduler, which imports dask.distributed (0.3 s of a build's fixed cost) to
+    write arrays that are all in memory; the lock is the one it would take for the netCDF library.
+    The file is the same."""
+    from xarray.backends import NetCDF4DataStore
+    from xarray.backends.locks import NETCDFC_LOCK
+
+    store = NetCDF4DataStore.open(path, mode="w", format="NETCDF4", lock=NETCDFC_LOCK)
+    try:
+        ds.dump_to_store(store, encoding=encoding)
+    finally:
+        store.close()
 
 
 def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Dataset:

@@ -39,6 +39,37 @@ def test_write_leaves_no_temporary_file_and_keeps_old_file_on_failure(tiny_grid,
     assert sorted(p.name for p in tmp_path.iterdir()) == ["g.nc"]
 
 
+def test_written_file_is_what_xarray_to_netcdf_writes_without_importing_dask_distributed(tiny_grid, tmp_path):
+    # write_netcdf skips to_netcdf's look for a dask scheduler (it imports dask.distributed, 0.3 s
+    # of every build); the file must hold the same: data, attributes, encodings, compression
+    import subprocess
+    import sys
+
+    import netCDF4
+
+    from acoustics.grid.io import write_netcdf
+
+    ours, theirs = tmp_path / "ours.nc", tmp_path / "theirs.nc"
+    write_netcdf(tiny_grid, ours)
+    encoding = {n: {"dtype": "S1", "_FillValue": None} if v.dtype.kind in "UO" else {"_FillValue": None}
+                for n, v in tiny_grid.variables.items() if n in tiny_grid.coords or v.dtype.kind in "UO"}
+    encoding |= {n: {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
+                 for n, v in tiny_grid.data_vars.items() if np.issubdtype(v.dtype, np.floating)}
+    tiny_grid.to_netcdf(theirs, format="NETCDF4", engine="netcdf4", encoding=encoding)
+    with xr.open_dataset(ours) as a, xr.open_dataset(theirs) as b:
+        xr.testing.assert_identical(a, b)
+    with netCDF4.Dataset(ours) as a, netCDF4.Dataset(theirs) as b:
+        assert a.data_model == b.data_model == "NETCDF4"
+        for name, var in b.variables.items():
+            assert (a[name].dtype, a[name].dimensions, a[name].filters(), a[name].chunking()) \
+                == (var.dtype, var.dimensions, var.filters(), var.chunking()), name
+    code = ("import sys, xarray, acoustics; from acoustics.grid.io import write_netcdf; "
+            f"write_netcdf(xarray.open_dataset({str(theirs)!r}).load(), {str(tmp_path / 'again.nc')!r}); "
+            "print('dask.distributed' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    assert out.stdout.strip() == "False", out
+
+
 def test_compliance_checker_finds_no_high_priority_failure_but_db_units(tiny_grid_file):
     from compliance_checker.runner import CheckSuite
 
