@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from acoustics.kcurve import band_weights
 from envdata.bands import Band
 from envdata.classes import TargetClass
 
@@ -57,13 +58,7 @@ def band_quadrature(cls: TargetClass, band: Band, depth_m: float, speed_mps: flo
     turns = 2.0 * depth_m * (band.high_hz - band.low_hz) / speed_mps  # of k 2 z across the band
     n = int(np.clip(_POINTS_PER_TURN * turns + 1, _MIN_POINTS, _MAX_POINTS))
     freqs = np.geomspace(band.low_hz, band.high_hz, n)
-    # the class spectrum S(f) ~ f^a over d(ln f): weights f S(f), trapezoids in ln f
-    x = np.log(freqs)
-    trapz = np.zeros(n)
-    trapz[:-1] += np.diff(x) / 2.0
-    trapz[1:] += np.diff(x) / 2.0
-    w = trapz * (freqs / freqs[0]) ** (cls.spectral_exponent + 1.0)
-    return freqs, w / w.sum()
+    return freqs, band_weights(cls, freqs)  # the class spectrum's weights, trapezoids in ln f
 
 
 def lloyd_factor(depth_m, speed_mps, freqs_hz, weights, angle_deg) -> np.ndarray:
