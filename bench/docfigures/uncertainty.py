@@ -85,7 +85,8 @@ def calibration_idm_phases(root: Path) -> str:
     d = load_result(root, "idm/idm-maneuvering.json")
     rows = calibration_head("filter, cycles")
     for phase, label in (("before_turn", "before the turn (10-12 min)"), ("after_turn", "after the turn (17-30 min)")):
-        rows += [calibration_row(f"{IDM.get(key, key)}, {label}", c) for key, c in d["calibration_by_phase"][phase].items()]
+        rows += [calibration_row(f"{IDM.get(key, key)}, {label}", c)
+                 for key, c in d["calibration_by_phase"][phase].items()]
     return markdown_table(rows) + "\n" + caption(d, "idm/idm-maneuvering.json")
 
 
