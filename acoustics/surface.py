@@ -49,14 +49,16 @@ def surface_reach_m(band: Band, speed_mps: float) -> float:
     return REACH_WAVELENGTHS * speed_mps / band.low_hz
 
 
-def band_quadrature(cls: TargetClass, band: Band, depth_m: float, speed_mps: float
+def band_quadrature(cls: TargetClass, band: Band, depth_m: float, speed_mps: float, *,
+                    points_per_turn: int = _POINTS_PER_TURN, min_points: int = _MIN_POINTS
                     ) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies (Hz) and weights (sum 1) of the band's spectrum-weighted average of
-    ``lloyd_factor`` for an end at ``depth_m``: dense enough to follow G's turns at grazing 90 deg."""
+    ``lloyd_factor`` for an end at ``depth_m``: dense enough to follow G's turns at grazing 90 deg
+    (``points_per_turn`` of them a turn, at least ``min_points``)."""
     if band.is_single_frequency:
         return np.array([band.center_hz]), np.ones(1)
     turns = 2.0 * depth_m * (band.high_hz - band.low_hz) / speed_mps  # of k 2 z across the band
-    n = int(np.clip(_POINTS_PER_TURN * turns + 1, _MIN_POINTS, _MAX_POINTS))
+    n = int(np.clip(points_per_turn * turns + 1, min_points, _MAX_POINTS))
     freqs = np.geomspace(band.low_hz, band.high_hz, n)
     return freqs, band_weights(cls, freqs)  # the class spectrum's weights, trapezoids in ln f
 

@@ -47,9 +47,17 @@ def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: n
                         tl_max_db=float(area.propagation.tl_max_db))
 
 
+#: The reduction's quadrature: frequencies per turn of the Lloyd factor across the band, and the
+#: fewest a row takes. Half the source end's (8, 33): on shelf-break's arrivals runs the band TL
+#: of the near-surface rows moves by 0.0006 dB median, 0.03 dB at the 99th percentile and 0.32 dB
+#: at most, and the reduction takes half the time (notes of the stop that chose it).
+IMAGE_POINTS_PER_TURN, IMAGE_MIN_POINTS = 4, 17
+
+
 def _image_band(area: Area, band, depth_m: float, speed_mps: float, run_hz: float) -> ImageBand:
     # below the band's reach the factor averages out: the reach's quadrature serves
-    freqs, _ = band_quadrature(area.classes[0], band, min(depth_m, surface_reach_m(band, speed_mps)), speed_mps)
+    freqs, _ = band_quadrature(area.classes[0], band, min(depth_m, surface_reach_m(band, speed_mps)), speed_mps,
+                               points_per_turn=IMAGE_POINTS_PER_TURN, min_points=IMAGE_MIN_POINTS)
     if area.propagation.absorption is Absorption.NONE:
         ratio = np.ones(freqs.size)
     else:

@@ -67,7 +67,7 @@ def test_twins_pair_an_arrival_with_its_image_and_restore_a_missing_one():
 
 def test_each_receiver_depth_takes_the_quadrature_its_turns_need_up_to_the_bands_reach():
     import envdata
-    from acoustics.builder.imageruns import surface_image
+    from acoustics.builder.imageruns import IMAGE_MIN_POINTS, IMAGE_POINTS_PER_TURN, surface_image
     from acoustics.surface import band_quadrature, surface_reach_m
 
     area = envdata.load_area("shelf-break")
@@ -75,7 +75,8 @@ def test_each_receiver_depth_takes_the_quadrature_its_turns_need_up_to_the_bands
     image = surface_image(area, float(area.bands[0].center_hz), depths, np.full(depths.size, 1500.0))
     for ib, band in enumerate(area.bands):
         n = [len(row[ib].freqs_hz) for row in image.bands]
-        reach_n = band_quadrature(area.classes[0], band, surface_reach_m(band, 1500.0), 1500.0)[0].size
+        reach_n = band_quadrature(area.classes[0], band, surface_reach_m(band, 1500.0), 1500.0,
+                                  points_per_turn=IMAGE_POINTS_PER_TURN, min_points=IMAGE_MIN_POINTS)[0].size
         # more turns deeper, never more than the band's reach asks for (the factor averages out below it)
         assert n == sorted(n) and max(n) == reach_n and n[-1] == reach_n, (band.name, n, reach_n)
         assert n[0] < reach_n  # the surface row: the fewest
