@@ -37,9 +37,9 @@ def image_rows(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndar
 def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray) -> SurfaceImage:
     """The reduction of the arrivals run: per receiver depth and band, the band's quadrature for
     that depth (``band_quadrature``: as many frequencies as the Lloyd factor's turns across the band
-    at that depth need, the rule the band runs' source end follows; below the band's reach, the
-    reach's), each frequency's volume attenuation relative to ``run_hz``, and each class's
-    weights."""
+    at that depth need, `IMAGE_POINTS_PER_TURN` a turn, half what the band runs' source end takes;
+    below the band's reach, the reach's), each frequency's volume attenuation relative to
+    ``run_hz``, and each class's weights."""
     speeds = tuple(round(float(c), 3) for c in speeds_mps)
     rows = tuple(tuple(_image_band(area, band, float(z), c, run_hz) for band in area.bands)
                  for z, c in zip(depths_m, speeds))

@@ -27,7 +27,8 @@ near-surface cells of shelf-break's first four radials, where two arrivals of ne
 intensity swapped rank between bands, by up to 0.7 dB, and left the rest identical.)
 
 The band average runs over the band's quadrature with the class's spectrum, as many frequencies
-at each receiver depth as the Lloyd factor's turns across the band there need (``band_quadrature``). Measured on
+at each receiver depth as the Lloyd factor's turns across the band there need (``band_quadrature``
+with ``acoustics.builder.imageruns.IMAGE_POINTS_PER_TURN``). Measured on
 ocean-deep (a 6 m target, the 100 m observer, 2-60 km) against the run from the target with
 the Lloyd pattern: K differs by 0.92 / 0.65 / 0.18 / 0.03 dB median with 1500 / 3000 / 4000 /
 6000 beams over +-80 deg, where the incoherent field's row differs by 1.9-2.1 dB and the field
