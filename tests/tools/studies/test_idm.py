@@ -166,6 +166,19 @@ def test_spl_crlb_levels_never_lose_information_and_a_flat_k_gives_none_on_range
     assert np.all(speed_only <= bot * (1 + 1e-9)) and speed_only[-1] > spl[-1]
 
 
+def _runs_from_the_priors_range(name: str, munk_grid):
+    """The scenario with its target started on the same bearing at the filters' prior range mean
+    (10 km), and 20 runs of every filter on it (2000 particles, the paper's sigma_l)."""
+    import dataclasses
+
+    sc = get_scenario(name)
+    f = rpf.RpfConfig().range_mean_m / math.hypot(sc.target_x_m, sc.target_y_m)
+    at_prior = dataclasses.replace(sc, target_x_m=sc.target_x_m * f, target_y_m=sc.target_y_m * f)
+    tables = acoustics.open_tables(munk_grid)
+    prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
+    return at_prior, idm._chunk((at_prior, prof.range_m, prof.k_db, 20, np.random.SeedSequence(5), 2000, 10.0))
+
+
 @pytest.mark.bellhop
 @pytest.mark.slow
 def test_manoeuvring_intervals_miss_only_where_the_prior_does(munk_grid, tmp_path):
@@ -190,16 +203,7 @@ def test_manoeuvring_intervals_miss_only_where_the_prior_does(munk_grid, tmp_pat
         assert 0.8 <= phases["after_turn"][m]["range"]["coverage_90"] <= 1.0, (m, phases)
     assert "after turn" in out["summary"]
 
-    import dataclasses
-
-    from tools.studies.idm_scenarios import get_scenario as scenario_named
-
-    sc = scenario_named("idm-maneuvering")
-    f = 10_000.0 / math.hypot(sc.target_x_m, sc.target_y_m)
-    at_prior = dataclasses.replace(sc, target_x_m=sc.target_x_m * f, target_y_m=sc.target_y_m * f)
-    tables = acoustics.open_tables(munk_grid)
-    prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
-    res = idm._chunk((at_prior, prof.range_m, prof.k_db, 20, np.random.SeedSequence(5), 2000, 10.0))
+    at_prior, res = _runs_from_the_priors_range("idm-maneuvering", munk_grid)
     before = idm._phases(at_prior, at_prior.t_s)["before_turn"]
     for m in ("rpf-bot", "rpf"):
         z = res[m + ":z"][0][:, before]
@@ -215,14 +219,7 @@ def test_static_bearings_only_intervals_hold_where_the_target_starts_at_the_prio
     # filter's intervals hold to the end. Measured 2026-11-28 (80 runs, 5000 particles): 100 % in
     # each of 10-40, 40-100 and 100-150 min, against 78 / 50 / 14 % for the paper's target. Bound:
     # above 90 % after 10 min (20 runs, 2000 particles)
-    import dataclasses
-
-    sc = get_scenario("idm-static")
-    f = 10_000.0 / math.hypot(sc.target_x_m, sc.target_y_m)
-    at_prior = dataclasses.replace(sc, target_x_m=sc.target_x_m * f, target_y_m=sc.target_y_m * f)
-    tables = acoustics.open_tables(munk_grid)
-    prof = tables.level_profile(tables.class_index("ship"), tables.band_index("F50"), 300.0)
-    res = idm._chunk((at_prior, prof.range_m, prof.k_db, 20, np.random.SeedSequence(5), 2000, 10.0))
+    at_prior, res = _runs_from_the_priors_range("idm-static", munk_grid)
     late = at_prior.t_s / 60.0 >= idm.LATE_MIN
     z = res["rpf-bot:z"][0][:, late]
     assert np.mean(np.abs(z) <= 1.645) > 0.9, np.mean(np.abs(z) <= 1.645)
