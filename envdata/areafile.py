@@ -156,7 +156,8 @@ def parse_area(data: dict[str, Any], source: str = "<area>", folder: str | Path 
             tl_max_db=t.number("tl_max_db", defaults.tl_max_db),
             run_timeout_s=t.number("run_timeout_s", required=False),
             step_m=t.number("step_m", required=False),
-            surface_image_beams=t.integer("surface_image_beams", required=False))
+            surface_image_beams=t.integer("surface_image_beams", required=False),
+            bottom_tolerance_m=t.number("bottom_tolerance_m", defaults.bottom_tolerance_m))
         t.done()
     else:
         propagation = defaults

@@ -6,7 +6,12 @@ per profile range, ranges in km. BELLHOP stops with "ray is outside the box wher
 is defined" when a ray leaves the columns' ranges, and a ray is traced until |r| reaches the
 box's range, behind the source too; so the columns are continued, unchanged, to -box and +box.
 The bottom is read from the .bty file (option 'A~', piecewise linear 'L', ranges in km, depths
-in m); BELLHOP itself continues it beyond its ends at the end depths. The ray step is the
+in m); BELLHOP itself continues it beyond its ends at the end depths. With ``[propagation]
+bottom_tolerance_m`` set, the radial's samples (every grid range step, interpolated between the
+bathymetry's cells) are thinned to the fewest that hold the polyline within it of every sample
+(`thinned_bottom`): BELLHOP shortens a ray's step at each segment of the bottom it crosses, so
+on a 50 km radial sampled every 100 m that crossing, more than the ray step, sets a run's cost.
+By default (0) every sample is kept. The ray step is the
 area's ``[propagation] step_m``, never BELLHOP's automatic one (a tenth of the depth, which is
 not converged on deep radials).
 """
@@ -17,6 +22,27 @@ import numpy as np
 
 from acoustics.bellhop.envfile import RunSpec, env_lines, fmt_number
 from envdata.area import Area
+
+
+def thinned_bottom(range_m, depth_m, tolerance_m: float) -> np.ndarray:
+    """Indices of the samples a piecewise-linear bottom keeps (the ends always) so that it passes
+    within ``tolerance_m`` in depth of every sample (Douglas-Peucker on the vertical distance)."""
+    r = np.asarray(range_m, dtype=float)
+    z = np.asarray(depth_m, dtype=float)
+    keep = np.zeros(r.size, dtype=bool)
+    keep[[0, -1]] = True
+    spans = [(0, r.size - 1)] if r.size > 2 else []
+    while spans:
+        i, j = spans.pop()
+        inner = slice(i + 1, j)
+        chord = z[i] + (z[j] - z[i]) * (r[inner] - r[i]) / (r[j] - r[i])
+        miss = np.abs(z[inner] - chord)
+        k = int(np.argmax(miss))
+        if miss[k] > tolerance_m:
+            k += i + 1
+            keep[k] = True
+            spans.extend(s for s in ((i, k), (k, j)) if s[1] - s[0] > 1)
+    return np.flatnonzero(keep)
 
 
 def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
@@ -50,9 +76,13 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
     env = env_lines(spec, area.bottom, depth_m=float(z[-1]), ssp_depth_m=z, ssp_speed_mps=at_origin, interpolation="Q",
                     bottom_option="A~", step_m=step_m, box_range_km=box_range_m / 1000.0)
 
-    bty_r_km = np.asarray(radial.range_m, dtype=float) / 1000.0
+    tolerance = area.propagation.bottom_tolerance_m
+    kept = thinned_bottom(radial.range_m, radial.bottom_depth_m, tolerance) if tolerance > 0.0 \
+        else np.arange(np.size(radial.range_m))
+    bty_r_km = np.asarray(radial.range_m, dtype=float)[kept] / 1000.0
+    bty_z_m = np.asarray(radial.bottom_depth_m, dtype=float)[kept]
     bty = "\n".join(["'L'", str(bty_r_km.size)] +
-                    [f"{fmt_number(rk)} {fmt_number(zb)}" for rk, zb in zip(bty_r_km, radial.bottom_depth_m)])
+                    [f"{fmt_number(rk)} {fmt_number(zb)}" for rk, zb in zip(bty_r_km, bty_z_m)])
     ssp_rows = [" ".join(f"{v:.3f}" for v in row) for row in c]
     ssp = "\n".join([str(r.size), " ".join(fmt_number(v) for v in r / 1000.0)] + ssp_rows)
     return {"env": env, "bty": bty + "\n", "ssp": ssp + "\n"}

@@ -81,6 +81,8 @@ def grid_attrs(area: Area, model: str, digest: str, exe_info: dict | None, *,
             "ssp_interpolation": ssp_interpolation}
         if prop.step_m is not None:
             settings["step_m"] = prop.step_m
+        if prop.bottom_tolerance_m > 0.0:
+            settings["bottom_tolerance_m"] = prop.bottom_tolerance_m
         if str(prop.mode) == "semicoherent":  # the surface's arrivals run of a table from the observer
             settings["surface_image_beams"] = prop.image_beams
         attrs["bellhop_settings"] = json.dumps(settings, sort_keys=True)

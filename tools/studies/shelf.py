@@ -83,16 +83,19 @@ def origin_area(area: Area) -> Area:
 
 
 def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_particles: int = FILTER_PARTICLES,
-        progress: bool = False, truth: str = "bellhop") -> dict:
+        progress: bool = False, truth: str = "bellhop", area: Area | None = None) -> dict:
     """The study: build (or reuse) both grids in ``out_dir/grids``, simulate ``runs`` runs (levels
     from ``truth``: BELLHOP along the true paths, its runs kept in ``out_dir/grids/truth-runs``, or
     the bearing-dependent grid), track them with both; write ``shelf_rmse.csv``, ``shelf.json`` and
-    ``shelf_rmse.png`` (all or none) and return the summary."""
+    ``shelf_rmse.png`` (all or none) and return the summary. ``area``: the built-in shelf-break
+    area with other settings (benchmarks that vary how its tables are made); by default as built in."""
     if truth not in TRUTHS:
         raise ValueError(f"truth must be one of {', '.join(TRUTHS)}, got {truth!r}")
     start = time.perf_counter()
     out = Path(out_dir)
-    area = load_area(AREA)
+    area = load_area(AREA) if area is None else area
+    if area.name != AREA:
+        raise ValueError(f"the shelf study's area is {AREA!r}, got {area.name!r}")
     grids = {"bearing": build_grid_file(area, out / "grids" / f"{AREA}-bellhop.nc", workers=workers,
                                         progress=progress).file,
              "isotropic": build_grid_file(origin_area(area), out / "grids" / f"{AREA}-origin-bellhop.nc",
