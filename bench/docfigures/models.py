@@ -226,10 +226,39 @@ def engine(root: Path) -> str:
     return text + "\n" + caption(d, "engine.json")
 
 
+def bottom(root: Path) -> str:
+    d = load_result(root, "bottom.json")
+    rows = [("shelf-break tables (12 radials)", "BELLHOP CPU", "of every sample's", "K moved: median / p90, dB",
+             "ships' K against their own runs: worst median, dB", "the same: mean per class and band, dB"),
+            ("---",) * 6]
+    for label, c in d["shelf_break"].items():
+        k = c.get("k_moved")
+        vs = c["k_against_targets_own_runs"]
+        rows.append((label, f"{c['bellhop_cpu_s']:.1f} s", f"{c['over_every_sample']:.2f}",
+                     f"{k['median_db']:.2f} / {k['p90_db']:.2f}" if k else "",
+                     f"{c['k_against_targets_worst_median_db']:.2f}",
+                     " ".join(f"{v['mean_db']:+.1f}" for v in vs.values())))
+    text = markdown_table(rows) + "\n"
+    rows = [("36 radials to 50 km (one atlas table)", "BELLHOP CPU per table", "of every sample's",
+             "western-Med atlas, CPU h of BELLHOP"), ("---",) * 4]
+    for label, c in d["wide_36_radials"].items():
+        rows.append((label, f"{c['bellhop_cpu_s_per_table']:.1f} s", f"{c['over_every_sample']:.2f}",
+                     f"{c['western_med_bellhop_cpu_hours']:,}"))
+    text += markdown_table(rows) + "\n"
+    rows = [(f"shelf study, shelf-tv, levels from the tables, {d['shelf_study_runs']} runs", "ML: RMSE after 5 min",
+             "PF: RMSE after 5 min", "PF: 90 % range interval covers"), ("---",) * 4]
+    for label, c in d["shelf_study"].items():
+        e, cov = c["mean_rmse_after_5min_m"], c["range_coverage_90"]
+        rows.append((f"tables of {label}", f"{e['ml_bearing'] / 1000:.2f} km", f"{e['rpf_bearing'] / 1000:.2f} km",
+                     f"{100 * cov['rpf_bearing']:.0f} %"))
+    text += markdown_table(rows)
+    return text + "\n" + caption(d, "bottom.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
           "ram-crossover": ram_crossover, "models-bench": models_bench, "build-profile": build_profile,
-          "surface-candidates": surface_candidates, "engine": engine}
+          "surface-candidates": surface_candidates, "engine": engine, "bottom": bottom}
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (

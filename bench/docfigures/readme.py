@@ -134,6 +134,9 @@ def _percent(x: float) -> float:
 QUOTES = (
     ("radials.json", ("figures", "western_med_bellhop_cpu_hours", "value"), "about {:,.0f}\nCPU hours of BELLHOP"),
     ("radials.json", ("figures", "western_med_build_cpu_hours", "value"), "and {:,.0f} with the builder's"),
+    ("bottom.json", ("wide_36_radials", "1 m", "western_med_bellhop_cpu_hours"), "would take\n{:,.0f} CPU hours"),
+    ("bottom.json", ("wide_36_radials", "1 m, step 50 m", "western_med_bellhop_cpu_hours"),
+     "and {:,.0f} with the ray step at 50 m"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km),
      "closer than the one measured number\ndoes ({:.2f}"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_scalar", _km), "against {:.2f} km after 5 min"),
