@@ -189,7 +189,7 @@ class Propagation:
     # thinned to the fewest that hold it (acoustics.bellhop.radialfiles.thinned_bottom); 0: every
     # sample. BELLHOP shortens a ray's step at each bottom segment it crosses, so this cuts the
     # runs' time by about a third on a 50 km radial sampled every 100 m; the near-surface rows of
-    # tables from the observer move by more than their beam noise (docs/models.md "What it costs")
+    # tables from the observer move by more than their beam noise (docs/models.md "A thinner bottom")
     bottom_tolerance_m: float = 0.0
 
     def __post_init__(self) -> None:
