@@ -51,3 +51,11 @@ def test_the_study_through_the_command_line(tmp_path, capsys):
     assert set(cal) == {f"{m}_{g}" for m in ("ml", "rpf", "bot") for g in ("bearing", "isotropic")}
     assert all(0.0 <= c[q]["coverage_90"] <= 1.0 for c in cal.values() for q in ("range", "course", "speed"))
     assert (out / "shelf_rmse.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_study_refuses_another_area_before_building_anything(tmp_path):
+    from tools.studies import shelf
+
+    with pytest.raises(ValueError, match="shelf-break"):
+        shelf.run(runs=1, out_dir=tmp_path / "out", truth="tables", area=envdata.load_area("ocean-deep"))
+    assert not (tmp_path / "out").exists()
