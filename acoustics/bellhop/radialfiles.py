@@ -26,9 +26,12 @@ from envdata.area import Area
 
 def thinned_bottom(range_m, depth_m, tolerance_m: float) -> np.ndarray:
     """Indices of the samples a piecewise-linear bottom keeps (the ends always) so that it passes
-    within ``tolerance_m`` in depth of every sample (Douglas-Peucker on the vertical distance)."""
+    within ``tolerance_m`` in depth of every sample (Douglas-Peucker on the vertical distance);
+    every sample where ``tolerance_m`` is 0 (collinear ones too)."""
     r = np.asarray(range_m, dtype=float)
     z = np.asarray(depth_m, dtype=float)
+    if tolerance_m <= 0.0:
+        return np.arange(r.size)
     keep = np.zeros(r.size, dtype=bool)
     keep[[0, -1]] = True
     spans = [(0, r.size - 1)] if r.size > 2 else []
@@ -76,9 +79,7 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
     env = env_lines(spec, area.bottom, depth_m=float(z[-1]), ssp_depth_m=z, ssp_speed_mps=at_origin, interpolation="Q",
                     bottom_option="A~", step_m=step_m, box_range_km=box_range_m / 1000.0)
 
-    tolerance = area.propagation.bottom_tolerance_m
-    kept = thinned_bottom(radial.range_m, radial.bottom_depth_m, tolerance) if tolerance > 0.0 \
-        else np.arange(np.size(radial.range_m))
+    kept = thinned_bottom(radial.range_m, radial.bottom_depth_m, area.propagation.bottom_tolerance_m)
     bty_r_km = np.asarray(radial.range_m, dtype=float)[kept] / 1000.0
     bty_z_m = np.asarray(radial.bottom_depth_m, dtype=float)[kept]
     bty = "\n".join(["'L'", str(bty_r_km.size)] +
