@@ -65,17 +65,17 @@ def variant(area, tol, step, beams):
     return dataclasses.replace(area, propagation=prop)
 
 
-def receivers_of(area, radials):
-    depth = depth_axis_m(area, radials)
-    return depth, np.unique(np.concatenate([depth, [c.depth_m for c in area.classes], [SURFACE_ROW_M]]))
-
-
-def planned(area):
+def geometry(area):
+    """The radials (the settings varied here leave them as they are), the depth axis and the receivers."""
     radials = area_radials(area)
-    depth, receivers = receivers_of(area, radials)
-    fields = plan_radial_runs(area, radials, receivers)
-    images = plan_radial_image_runs(area, radials, receivers)
-    return radials, depth, receivers, fields, images
+    depth = depth_axis_m(area, radials)
+    return radials, depth, np.unique(np.concatenate([depth, [c.depth_m for c in area.classes], [SURFACE_ROW_M]]))
+
+
+def planned(area, geom):
+    """The field runs and the surface's arrivals runs of ``area`` on ``geom`` (`geometry`)."""
+    radials, _, receivers = geom
+    return plan_radial_runs(area, radials, receivers), plan_radial_image_runs(area, radials, receivers)
 
 
 def targets_own_k(area, k_grid_bearings, bottom, cache: Path) -> dict:
@@ -123,11 +123,14 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         wide = envdata.load_area(wide_area(tmp / "wide", step_deg=10.0, range_max_m=50_000.0))
-        plans = {label: planned(variant(shelf, tol, step, beams)) for label, tol, step, beams in CANDIDATES}
-        wide_runs = {label: planned(variant(wide, tol, step, beams))
+        shelf_geom, wide_geom = geometry(shelf), geometry(wide)
+        radials, depth, receivers = shelf_geom
+        bottom = np.stack([bottom_on_grid_m(shelf, rad) for rad in radials])
+        plans = {label: planned(variant(shelf, tol, step, beams), shelf_geom) for label, tol, step, beams in CANDIDATES}
+        wide_runs = {label: planned(variant(wide, tol, step, beams), wide_geom)
                      for label, tol, step, beams in CANDIDATES if label in WIDE}
-        work = {**{f"shelf {label}": p[3][0] + p[4][0] for label, p in plans.items()},
-                **{f"wide {label}": p[3][0] + p[4][0] for label, p in wide_runs.items()}}
+        work = {**{f"shelf {label}": fields[0] + images[0] for label, (fields, images) in plans.items()},
+                **{f"wide {label}": fields[0] + images[0] for label, (fields, images) in wide_runs.items()}}
         cpu = {name: [] for name in work}
         results = {}
 
@@ -146,16 +149,13 @@ def main(argv=None) -> int:
 
         # the tables of each candidate on shelf-break
         made = {}
-        for label, (radials, depth, receivers, fields, images) in plans.items():
+        for label, (fields, images) in plans.items():
             done = results[f"shelf {label}"]
             field_keys = {r.key for r in fields[0]}
             field_done = [(r, res) for r, res in done if r.key in field_keys]
             image_done = [(r, res) for r, res in done if r.key not in field_keys]
-            bottom = np.stack([bottom_on_grid_m(shelf, rad) for rad in radials])
             made[label] = tables(shelf, (field_done, fields[1]), (image_done, images[1]), receivers, depth, bottom)
         base_tl, base_k = made["every sample"]
-        radials = plans["every sample"][0]
-        bottom = np.stack([bottom_on_grid_m(shelf, rad) for rad in radials])
         truth = targets_own_k(shelf, [rad.bearing_deg for rad in radials], bottom, tmp / "truth")
         shelf_rows = {}
         for label, (tl, k) in made.items():
