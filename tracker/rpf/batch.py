@@ -43,7 +43,7 @@ from tracker.rpf.levelerrors import ParticleErrors
 from tracker.rpf.likelihood import bearing_loglik, level_loglik, predicted_level_db
 from tracker.rpf.motion import predict
 from tracker.rpf.prior import initial_particles
-from tracker.rpf.regularise import optimal_bandwidth, regularise
+from tracker.rpf.regularise import regularise
 from tracker.rpf.scratch import scratch
 from tracker.rpf.weights import n_eff, normalise_exp
 
@@ -171,7 +171,7 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
             t_s=t_s, obs_state=obs_state, bearing_rad_meas=bearing_rad_meas,
             level_db_meas=level_db_meas, k_profiles=k_profiles, cfg=cfg, rng=rng,
             ross=source_level_model is SourceLevelModel.ROSS, p0_db=p0_db, sigma_l_db=sigma_l,
-            bandwidth=optimal_bandwidth(cfg.n_particles, cfg.n_dim), summaries=summaries,
+            bandwidth=cfg.bandwidth, summaries=summaries,
             level_errors=level_errors, displacement_m=displacement_m, bearing_sd_rad=bearing_sd_rad)
         return BatchResult(mean=means, cov=covs, resampled=resampled,
                            extra={"sd": sds} if summaries else {})
@@ -227,10 +227,11 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
         low = n_eff(w) < n_thr
         if low.any():
             if low.all():
-                state, idx = regularise(state, w, rng, shrink=cfg.shrink, work=work, indices=True)
+                state, idx = regularise(state, w, rng, bandwidth=cfg.bandwidth, shrink=cfg.shrink, work=work,
+                                        indices=True)
             else:
-                state[:, low], idx = regularise(state[:, low], w[low], rng, shrink=cfg.shrink,
-                                                work=work, indices=True)
+                state[:, low], idx = regularise(state[:, low], w[low], rng, bandwidth=cfg.bandwidth,
+                                                shrink=cfg.shrink, work=work, indices=True)
             if errors is not None:
                 errors.resample(low, idx)
             log_w[low] = -math.log(cfg.n_particles)

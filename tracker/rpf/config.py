@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+from tracker.rpf.regularise import optimal_bandwidth
+
 #: One knot, m/s (the papers give speeds in knots).
 KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
@@ -62,6 +64,12 @@ class RpfConfig:
         inflation acts as artificial process noise on the velocity; when the bearings carry no
         range information (observer parallel to the target) it lets the filter forget the
         speed prior and drift out along the SL(v) - TL(r) ridge.
+    bandwidth_scale : float
+        Not in the paper: the regularization kernel's bandwidth is this times eqs. 27-28's h (1,
+        the paper's). That h is MISE-optimal for a Gaussian density, and wider than the cloud
+        of a posterior with narrow or several modes can stand: each resampling then moves the
+        particles off a narrow peak of the levels' likelihood into the broad hills around it
+        (docs/uncertainty.md, "The particle cloud's kernel").
     engine : Engine
         The cycle loop (`Engine`; the compiled kernel by default).
     """
@@ -78,6 +86,7 @@ class RpfConfig:
     course_sd_deg: float = math.degrees(math.pi / math.sqrt(12.0))
     sl_offset_sd_db: float = 0.0
     shrink: bool = False
+    bandwidth_scale: float = 1.0
     engine: Engine = Engine.KERNEL
 
     def __post_init__(self) -> None:
@@ -88,13 +97,18 @@ class RpfConfig:
             if not (math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be >= 0, got {v}")
         for name in ("bearing_sigma_deg", "level_sigma_db", "range_mean_m", "range_sd_m",
-                     "speed_sd_mps", "course_sd_deg"):
+                     "speed_sd_mps", "course_sd_deg", "bandwidth_scale"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise ValueError(f"{name} must be > 0, got {v}")
         object.__setattr__(self, "engine", Engine(self.engine))
         if not 0.0 < self.neff_fraction <= 1.0:
             raise ValueError(f"neff_fraction must be in (0, 1], got {self.neff_fraction}")
+
+    @property
+    def bandwidth(self) -> float:
+        """The regularization kernel's h: eqs. 27-28's for N and n_x, times ``bandwidth_scale``."""
+        return self.bandwidth_scale * optimal_bandwidth(self.n_particles, self.n_dim)
 
     @property
     def n_dim(self) -> int:
