@@ -42,9 +42,11 @@ def test_the_study_through_the_command_line(tmp_path, capsys):
     # (a persistent offset integrated out, the residual growing off the origin) they lean on the
     # bearings where the levels disagree, so the ML analysis loses less than it did (these 3 runs
     # at 12499da: 2.33 against 1.71 km, 1.36x, was 2.9x with the class's 1.5 dB alone; bound 1.2x
-    # set after measuring, margin 0.16) and the particle filter still 2.7x (3.95 against 1.49 km)
+    # set after measuring, margin 0.16) and the particle filter still 2.7x (3.95 against 1.49 km;
+    # 1.88x, 3.81 against 2.02 km, with the studies' half bandwidth, which on these 3 runs happens
+    # to cost the right tables' filter more than the shortcut's; bound 1.5x set after measuring)
     assert errors["ml_isotropic"] > 1.2 * errors["ml_bearing"]
-    assert errors["rpf_isotropic"] > 2.0 * errors["rpf_bearing"]
+    assert errors["rpf_isotropic"] > 1.5 * errors["rpf_bearing"]
     assert np.isfinite(list(errors.values())).all()
     # every tracker's stated sds are checked against the truth after the first minutes
     cal = summary["calibration_after_late_min"]
