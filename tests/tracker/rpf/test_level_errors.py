@@ -23,7 +23,8 @@ def test_the_range_interval_covers_the_truth_with_the_errors_integrated_out():
                     level_errors=errors).calibration(sim, after)["range"]
     white = rpf_track(tables, sim, ic, 0, np.random.default_rng(3), 2000).calibration(sim, after)["range"]
     # measured 2026-11-27 on seeds 1 and 2: coverage 1.00 and 0.97, median |z| 0.61 and 0.43 (the
-    # regularisation keeps the cloud a little wide); the white likelihood with the offset's sd in
+    # regularisation kept the cloud a little wide); with the studies' half bandwidth (2026-11-28)
+    # 0.91 and 0.91, median |z| 0.66 and 0.59; the white likelihood with the offset's sd in
     # sigma_l (the studies' old setting) 0.38 and 0.20. Bounds: the issue's 80-97 % band, its top
     # opened to 1.0 for the cloud's width on 20 runs that share an observer path; the white
     # likelihood below 0.6 (a failing change would bring the two together)
