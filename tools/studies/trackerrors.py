@@ -28,7 +28,8 @@ FILTER_PARTICLES = 5000
 #: sloping bottom their likelihood has narrow peaks in range, and each resampling's jitter, about
 #: as wide as the cloud, moves the particles off the true one into broader, lower hills. By hand
 #: (shelf-tv, 10 runs, levels from the tables with the 1 m thinned bottom) the filter covered 37 %
-#: of cycles at 1, 79 % at 0.5 and 93 % at 0.25; on levels from BELLHOP and the members' seas 0.25
+#: of cycles at 1, 79 % at 0.5 and 93 % at 0.25 (docs/results/bottom.json, the study's own runs:
+#: 33 % at 1, 65 % at 0.5); on levels from BELLHOP and the members' seas 0.25
 #: narrowed the clouds too far (shelf 80 %, the bearings-only filter of the follow study 72 %),
 #: and 0.5 kept every study's coverage in the band or moved it toward it with lower errors
 #: (docs/uncertainty.md, "The particle cloud's kernel").
