@@ -157,9 +157,41 @@ def depth_weights(root: Path) -> str:
             + caption(d, "depth/depth.json"))
 
 
+_DIAGNOSIS_MODELS = (("levels", "the study's levels"), ("levels_k_smoothed", "K smoothed"),
+                     ("bearings_only", "bearings only"))
+
+
+def depth_diagnosis(root: Path) -> str:
+    d = load_result(root, "depth-diagnosis.json")
+    f = d["figures"]
+    rows = [("scenario", "true depth, m", *(f"{label}: covers / median \\|error\\| / sd / RMSE"
+                                            for _, label in _DIAGNOSIS_MODELS)),
+            ("---",) * (2 + len(_DIAGNOSIS_MODELS))]
+    for sc, by_z in d["by_case"].items():
+        for z, v in by_z.items():
+            rows.append((f"`{sc}`", z, *(f"{100 * v[m]['coverage_90']:.0f} % / {v[m]['abs_z_median']:.2f} / "
+                                         f"{v[m]['rms_error_median_m'] / 1000:.2f} km" for m, _ in _DIAGNOSIS_MODELS)))
+    rows.append(("all", "all", *(f"**{100 * f[m + '_coverage_90_pooled']['value']:.0f} %** / "
+                                 f"{f[m + '_abs_z_median_pooled']['value']:.2f} / "
+                                 f"{f[m + '_rms_error_median_pooled_m']['value'] / 1000:.2f} km"
+                                 for m, _ in _DIAGNOSIS_MODELS)))
+    pc = d["posterior_case"]
+    runs = pc["runs"]
+    text = ("\nThe filter given the true depth, the study's runs; RMSE: the median over runs of the RMS position "
+            "error after 5 min. On `{}` at {:g} m, runs {}: the filter's own model puts the true path "
+            "{} log units below the best constant-velocity path it finds (first range {} km against the true "
+            "{:.2f} km); the levels' spread across the bands along the true path, RMS {} dB.\n\n").format(
+        pc["scenario"], pc["true_depth_m"], ", ".join(str(r["run"]) for r in runs),
+        ", ".join(f"{r['truth_below_best']:.0f}" for r in runs),
+        ", ".join(f"{r['best_first_range_m'] / 1000:.1f}" for r in runs), runs[0]["true_first_range_m"] / 1000,
+        ", ".join(f"{r['band_spread_at_truth_db']:.2f}" for r in runs))
+    return markdown_table(rows) + text + caption(d, "depth-diagnosis.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"depth-errors": depth_errors, "depth-estimates": depth_estimates, "depth-widths": depth_widths,
-          "depth-weights": depth_weights, "depth-mismatch": depth_mismatch, "depth-check": depth_check}
+          "depth-weights": depth_weights, "depth-mismatch": depth_mismatch, "depth-check": depth_check,
+          "depth-diagnosis": depth_diagnosis}
 
 def _percent(share: float) -> float:
     """A share as the page prints it, in per cent."""
