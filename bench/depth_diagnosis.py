@@ -13,8 +13,11 @@ given the true depth (`tools.studies.depth`'s settings) runs
   `SMOOTH_FRACTION` r)) (`tracker.depth.kstructure`) and the spread of K there (the median over
   the profile's 3-25 km) added to the level's own sd: a model that does not trust the tables'
   short ripple;
-- ``bearings_only``: the same filter without levels (no observer manoeuvre: the range is the
-  prior's and the speed prior's).
+- ``bearings_only``: the same filter without levels (on the slope run the observer keeps one
+  course: the range is the range and speed priors');
+- ``bearings_only_sd_floor``: the same with the filter's bearing sd at least
+  `BEARING_SD_FLOOR_DEG` (the measured sds go down to 0.05 deg): whether the bearings' likelihood,
+  a tube narrower than the cloud can fill, is what narrows the cloud.
 
 Reported: the share of cycles after 10 min whose 90 % range interval holds the truth, the median
 |error| / sd, the median over runs of the RMS position error after 5 min.
@@ -44,7 +47,8 @@ SPREAD_SPAN_M = (3000.0, 25000.0)
 POSTERIOR_CASE = ("shelf-slope-nps", 6.0)
 #: The first ranges profiled, relative to the true first range, m.
 PROFILE_SPAN_M = (-6000.0, 8000.0, 500.0)
-MODELS = ("levels", "levels_k_smoothed", "bearings_only")
+MODELS = ("levels", "levels_k_smoothed", "bearings_only", "bearings_only_sd_floor")
+BEARING_SD_FLOOR_DEG = 0.5
 
 
 def _smoothed(profile, cache: dict):
@@ -78,6 +82,7 @@ def track(tables, sim, ic: int, view, model: str, rng, n_particles: int) -> np.n
     errors = LevelErrors.of_tables(view, ic, source_sd_db=target.noise_sd_db)
     away = view.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m)
     cache: dict = {}
+    floor = BEARING_SD_FLOOR_DEG if model == "bearings_only_sd_floor" else 0.0
     pos = np.empty((e, t, 5))
     for run in range(e):
         profiles, spread = [], []
@@ -92,8 +97,8 @@ def track(tables, sim, ic: int, view, model: str, rng, n_particles: int) -> np.n
         levels = sim.level_db[run][None]
         res = run_batch(k_profiles=profiles, t_s=sim.t_s, obs_state=obs,
                         bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
-                        bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None],
-                        level_db_meas=np.full(levels.shape, np.nan) if model == "bearings_only" else levels,
+                        bearing_sd_rad=np.radians(np.maximum(sim.bearing_sigma_deg[run], floor))[None],
+                        level_db_meas=np.full(levels.shape, np.nan) if model.startswith("bearings_only") else levels,
                         cfg=rpf_config(tables, sim, ic, n_particles, sigma), rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, summaries=True,
                         level_errors=errors, displacement_m=away)
@@ -256,6 +261,7 @@ def main(argv=None) -> int:
     session.say("band_spread_at_truth_db_median", float(np.median([p["band_spread_at_truth_db"] for p in posterior])),
                 "dB")
     session.write(models=list(MODELS), smooth_fraction=SMOOTH_FRACTION, smooth_floor_m=SMOOTH_FLOOR_M,
+                  bearing_sd_floor_deg=BEARING_SD_FLOOR_DEG,
                   runs=args.runs, particles=args.particles, by_case=by_case,
                   posterior_case={"scenario": scenario, "true_depth_m": z, "runs": posterior})
     return 0

@@ -158,13 +158,15 @@ def depth_weights(root: Path) -> str:
 
 
 _DIAGNOSIS_MODELS = (("levels", "the study's levels"), ("levels_k_smoothed", "K smoothed"),
-                     ("bearings_only", "bearings only"))
+                     ("bearings_only", "bearings only"),
+                     ("bearings_only_sd_floor", "bearings only, their sd at least {floor:g} deg"))
 
 
 def depth_diagnosis(root: Path) -> str:
     d = load_result(root, "depth-diagnosis.json")
     f = d["figures"]
-    rows = [("scenario", "true depth, m", *(f"{label}: covers / median \\|error\\| / sd / RMSE"
+    floor = d["bearing_sd_floor_deg"]
+    rows = [("scenario", "true depth, m", *(f"{label.format(floor=floor)}: covers / median \\|error\\| / sd / RMSE"
                                             for _, label in _DIAGNOSIS_MODELS)),
             ("---",) * (2 + len(_DIAGNOSIS_MODELS))]
     for sc, by_z in d["by_case"].items():
