@@ -34,6 +34,12 @@ FILTER_PARTICLES = 5000
 #: and 0.5 kept every study's coverage in the band or moved it toward it with lower errors
 #: (docs/uncertainty.md, "The particle cloud's kernel").
 FILTER_BANDWIDTH_SCALE = 0.5
+#: The least bearing sd the studies' filter weighs a bearing with, deg (0: each cycle's measured sd
+#: as it is). At a high SNR the shelf scenarios' bearings are good to 0.05 deg, a tube a few metres
+#: wide at 8 km, narrower than a cycle's process noise spreads the particles: few of them land in
+#: it, every cycle resamples from a handful, and the cloud narrows along the range the bearings
+#: leave open (docs/depth.md, "What makes them miss, measured").
+FILTER_BEARING_SD_FLOOR_DEG = 0.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -105,6 +111,12 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
                      bandwidth_scale=FILTER_BANDWIDTH_SCALE)
 
 
+def filter_bearing_sd_rad(sigma_deg) -> np.ndarray:
+    """The sds the studies' filter weighs the bearings with, rad: the measured ones (deg), at
+    least `FILTER_BEARING_SD_FLOOR_DEG`."""
+    return np.radians(np.maximum(np.asarray(sigma_deg, dtype=float), FILTER_BEARING_SD_FLOOR_DEG))
+
+
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
               *, level_sigma_db: float | None = None, at_observer: bool = True,
               config: RpfConfig | None = None, level_errors=None, bearings_only: bool = False) -> Tracked:
@@ -134,7 +146,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
                         k_profiles=profiles, cfg=cfg, rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                         p0_sd_db=target.noise_sd_db, summaries=True, level_errors=errors,
-                        displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])
+                        displacement_m=away, bearing_sd_rad=filter_bearing_sd_rad(sim.bearing_sigma_deg[run])[None])
         mean, sds = res.mean[0], res.extra["sd"][0]
         tvx, tvy = mean[:, 2] + obs[:, 2], mean[:, 3] + obs[:, 3]
         est["x_m"][run], est["y_m"][run] = mean[:, 0] + obs[:, 0], mean[:, 1] + obs[:, 1]
