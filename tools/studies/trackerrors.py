@@ -36,9 +36,14 @@ FILTER_PARTICLES = 5000
 FILTER_BANDWIDTH_SCALE = 0.5
 #: The least bearing sd the studies' filter weighs a bearing with, deg (0: each cycle's measured sd
 #: as it is). At a high SNR the shelf scenarios' bearings are good to 0.05 deg, a tube a few metres
-#: wide at 8 km, narrower than a cycle's process noise spreads the particles: few of them land in
-#: it, every cycle resamples from a handful, and the cloud narrows along the range the bearings
-#: leave open (docs/depth.md, "What makes them miss, measured").
+#: wide at 8 km that the cloud cannot fill: where the bearings leave the range open (an observer
+#: on one course) the cloud ends narrower along it than the posterior, and the bearings-only
+#: filter of the depth study's slope run holds the truth in about half the cycles, with 0.5 in
+#: nearly all (docs/results/depth-diagnosis.json). Not adopted: with 0.5, by hand on the same
+#: grids and truth as the result files, the filters with levels lose position error (shelf
+#: 1255 -> 1506 m at 97 % coverage; kerror, the study's model 1379 -> 1635 m, no longer below
+#: the one number's 1532 m; follow, 5 km atlas 553 -> 719 m) while the bearings-only filters gain
+#: (follow 82 -> 98 % coverage; kerror 1981 -> 1726 m).
 FILTER_BEARING_SD_FLOOR_DEG = 0.0
 
 
