@@ -110,8 +110,23 @@ def kerror_check(root: Path) -> str:
     return markdown_table(rows) + "\n" + caption(d, "kerror-check.json")
 
 
+def command_calibration(root: Path) -> str:
+    d = load_result(root, "command-calibration.json")
+    methods = d["methods"]
+    rows = [("runs (BELLHOP's levels)", "true first range, median",
+             *(f"`{m}`: 90 % holds / median \\|error\\| / sd / RMSE" for m in methods)), ("---",) * (2 + len(methods))]
+    for name, v in d["sets"].items():
+        rows.append((f"`{name}`, {v[methods[0]]['runs']} runs", f"{v['true_first_range_m'] / 1000:.1f} km",
+                     *(f"{100 * v[m]['coverage_90']:.0f} % / {v[m]['abs_z_median']:.2f} / "
+                       f"{v[m]['rms_error_median_m'] / 1000:.2f} km" for m in methods)))
+    p = d["prior"]
+    return (markdown_table(rows) + f"\nThe command's prior: range {p['range_mean_m'] / 1000:g} +- "
+            f"{p['range_sd_m'] / 1000:g} km, speed {p['speed_mean_mps']:.2f} +- {p['speed_sd_mps']:.2f} m/s; RMSE: "
+            "the median over runs of the RMS position error after 5 min.\n\n" + caption(d, "command-calibration.json"))
+
+
 TABLES = {"kerror-check": kerror_check, "calibration-shelf": calibration_shelf,
           "calibration-kerror": calibration_kerror, "calibration-follow": calibration_follow,
           "calibration-gm": calibration_gm, "calibration-idm": calibration_idm,
           "calibration-idm-phases": calibration_idm_phases,
-          "calibration-depth": calibration_depth}
+          "calibration-depth": calibration_depth, "command-calibration": command_calibration}
