@@ -45,6 +45,8 @@ FILTER_BANDWIDTH_SCALE = 0.5
 #: the one number's 1532 m; follow, 5 km atlas 553 -> 719 m) while the bearings-only filters gain
 #: (follow 82 -> 98 % coverage; kerror 1981 -> 1726 m).
 FILTER_BEARING_SD_FLOOR_DEG = 0.0
+#: The studies' filter's acceleration sd, m/s^2 (`RpfConfig.sigma_a_mps2`; the paper's 1.5e-3).
+FILTER_SIGMA_A_MPS2 = 1.5e-3
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -113,7 +115,7 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
     return RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
                      level_sigma_db=sigma, range_mean_m=r0, range_sd_m=0.25 * r0,
                      speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True,
-                     bandwidth_scale=FILTER_BANDWIDTH_SCALE)
+                     bandwidth_scale=FILTER_BANDWIDTH_SCALE, sigma_a_mps2=FILTER_SIGMA_A_MPS2)
 
 
 def filter_bearing_sd_rad(sigma_deg) -> np.ndarray:
