@@ -36,8 +36,9 @@ FILTER_PARTICLES = 5000
 FILTER_BANDWIDTH_SCALE = 0.5
 #: The least bearing sd the studies' filter weighs a bearing with, deg (0: each cycle's measured sd
 #: as it is). At a high SNR the shelf scenarios' bearings are good to 0.05 deg, a tube a few metres
-#: wide at 8 km that the cloud cannot fill: where the bearings leave the range open (an observer
-#: on one course) the cloud ends narrower along it than the posterior, and the bearings-only
+#: wide at 8 km that the particles' random accelerations carry them out of within a few cycles:
+#: where the bearings leave the range open (an observer on one course) the cloud ends narrower
+#: along it than the posterior, and the bearings-only
 #: filter of the depth study's slope run holds the truth in about half the cycles, with 0.5 in
 #: nearly all (docs/results/depth-diagnosis.json). Not adopted: with 0.5, by hand on the same
 #: grids and truth as the result files, the filters with levels lose position error (shelf
