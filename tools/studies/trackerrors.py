@@ -47,6 +47,13 @@ FILTER_BANDWIDTH_SCALE = 0.5
 #: (follow 82 -> 98 % coverage; kerror 1981 -> 1726 m).
 FILTER_BEARING_SD_FLOOR_DEG = 0.0
 #: The studies' filter's acceleration sd, m/s^2 (`RpfConfig.sigma_a_mps2`; the paper's 1.5e-3).
+#: With 0.05 deg bearings the particles' accelerations carry them out of the bearings' tube, and
+#: where the bearings leave the range open the cloud narrows (docs/depth.md): by hand with 1e-4
+#: the depth study's bearings-only filter on the slope run held 85-99 % of cycles (46-60 %), but
+#: on the same grids and truth as the result files the filters with levels lost: shelf 97 -> 87 %
+#: and 1255 -> 1619 m, kerror (the study's model) 89 -> 75 % and 1379 -> 1867 m, follow (origin
+#: table) 42 -> 16 %, while the bearings-only filters gained (follow 82 -> 90 %, 830 -> 703 m).
+#: The paper's stays.
 FILTER_SIGMA_A_MPS2 = 1.5e-3
 
 
