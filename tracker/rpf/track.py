@@ -47,8 +47,11 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     config : RpfConfig, optional
         Filter settings: the paper's, but sigma_l the level's own error (eq. 11 at the
         detection threshold, `tracker.levels.MEASUREMENT_SD_DB`) where the errors that last are
-        integrated out. A ``bearing_sigma_deg`` column gives each cycle's bearing its own sd
-        (sigma_theta where blank: its median).
+        integrated out. With levels (``rpf``, ``rpf-vp``) each class hypothesis's filter takes
+        that class's speed mean and sd as its speed prior (the paper's 3 +- 2 kn are its
+        scenario's; docs/uncertainty.md, "The command's particle filters"). A
+        ``bearing_sigma_deg`` column gives each cycle's bearing its own sd (sigma_theta where
+        blank: its median).
     depth_unknown : bool
         The target's depth unknown: a bank of filters, one per depth hypothesis of the class's
         ``depth_range_m`` (else the water the tables hold; `tracker.depth.bank.depth_hypotheses_m`),
@@ -158,8 +161,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
             if not depth_unknown:
                 profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         label = name if spl or cls_name else "any"
+        # the class hypothesis's own speed statistics as the speed prior
+        cfg_class = replace(cfg, speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps) if spl else cfg
 
-        def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label, errors=errors):
+        def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label, errors=errors, cfg=cfg_class):
             res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
                             level_db_meas=None if levels is None else levels[rows][None],
                             k_profiles=k_profiles, cfg=cfg, rng=rng, source_level_model=model,
