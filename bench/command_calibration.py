@@ -119,9 +119,9 @@ def main(argv=None) -> int:
     from tracker.rpf import RpfConfig
 
     cfg = RpfConfig()
+    # the command's range prior is the config's; its speed prior each class hypothesis's own
     session.write(methods=list(METHODS), sets=results,
-                  prior={"range_mean_m": cfg.range_mean_m, "range_sd_m": cfg.range_sd_m,
-                         "speed_mean_mps": cfg.speed_mean_mps, "speed_sd_mps": cfg.speed_sd_mps})
+                  prior={"range_mean_m": cfg.range_mean_m, "range_sd_m": cfg.range_sd_m, "speed": "class"})
     return 0
 
 

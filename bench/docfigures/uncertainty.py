@@ -120,8 +120,10 @@ def command_calibration(root: Path) -> str:
                      *(f"{100 * v[m]['coverage_90']:.0f} % / {v[m]['abs_z_median']:.2f} / "
                        f"{v[m]['rms_error_median_m'] / 1000:.2f} km" for m in methods)))
     p = d["prior"]
+    speed = ("the class's mean and sd" if p.get("speed") == "class"
+             else f"{p['speed_mean_mps']:.2f} +- {p['speed_sd_mps']:.2f} m/s")
     return (markdown_table(rows) + f"\nThe command's prior: range {p['range_mean_m'] / 1000:g} +- "
-            f"{p['range_sd_m'] / 1000:g} km, speed {p['speed_mean_mps']:.2f} +- {p['speed_sd_mps']:.2f} m/s; RMSE: "
+            f"{p['range_sd_m'] / 1000:g} km, speed {speed}; RMSE: "
             "the median over runs of the RMS position error after 5 min.\n\n" + caption(d, "command-calibration.json"))
 
 
