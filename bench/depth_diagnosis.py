@@ -33,7 +33,6 @@ only the measurement's own 1.1 dB separates them). Writes docs/results/depth-dia
 from __future__ import annotations
 
 import argparse
-import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -108,20 +107,15 @@ def track(tables, sim, ic: int, view, model: str, rng, n_particles: int) -> np.n
 
 
 def simulate(tables, provider, scenario: str, true_depth_m: float, runs: int, seed: int = 0):
-    """The depth study's runs of one scenario and true depth (its seeds: `tools.studies.depth.run`)."""
+    """The depth study's runs of one scenario and true depth (`tools.studies.depth.simulate_runs`
+    with the study's seeds), the class index and the seed key."""
+    from tools.studies.depth import simulate_runs
     from tools.studies.depth_setup import SCENARIOS, TRUE_DEPTHS_M
     from tracker.scenario import load_scenario
-    from tracker.simulate import simulate_batch
 
-    s_i, z_i = SCENARIOS.index(scenario), TRUE_DEPTHS_M.index(true_depth_m)
-    sc0 = load_scenario(scenario)
-    ic = tables.class_index(sc0.target_class)
-    cls = tables.classes[ic]
-    rng = np.random.default_rng([seed, s_i, z_i])
-    sim = simulate_batch(dataclasses.replace(sc0, target_depth_m=float(true_depth_m)), tables, rng,
-                         dp0_db=rng.normal(0.0, cls.noise_sd_db, runs),
-                         dk_db=rng.normal(0.0, cls.k_error_sd_db, runs), k_provider=provider)
-    return sim, ic, (seed, s_i, z_i)
+    key = (seed, SCENARIOS.index(scenario), TRUE_DEPTHS_M.index(true_depth_m))
+    sc = load_scenario(scenario)
+    return simulate_runs(tables, sc, true_depth_m, runs, key, provider), tables.class_index(sc.target_class), key
 
 
 class PathPosterior:

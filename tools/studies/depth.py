@@ -293,6 +293,18 @@ def _weight_rows(w: np.ndarray, z) -> dict:
     return {f"w_{h:g}": w[:, j] for j, h in enumerate(z)}
 
 
+def simulate_runs(tables, scenario, true_depth_m: float, runs: int, seed_key, provider):
+    """The study's ``runs`` runs of one scenario (a `tracker.scenario.Scenario`) with its target at
+    ``true_depth_m``: P0 and dK drawn per run from the class, the stream seeded by ``seed_key``
+    (the study's: (seed, scenario index, depth index)), levels from ``provider`` (None: the
+    tables)."""
+    cls = tables.classes[tables.class_index(scenario.target_class)]
+    rng = np.random.default_rng(list(seed_key))
+    return simulate_batch(dataclasses.replace(scenario, target_depth_m=float(true_depth_m)), tables, rng,
+                          dp0_db=rng.normal(0.0, cls.noise_sd_db, runs),
+                          dk_db=rng.normal(0.0, cls.k_error_sd_db, runs), k_provider=provider)
+
+
 def _truth_provider(truth: str, out: Path, workers: int):
     if truth == "tables":
         return None
@@ -324,10 +336,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         cls = tables.classes[ic]
         like = TrackDepthLikelihood(tables, ic, tables.band_names, DEPTH_SPAN_M)
         for z_i, z_true in enumerate(true_depths_m):
-            sc = dataclasses.replace(sc0, target_depth_m=float(z_true))
-            rng = np.random.default_rng([seed, s_i, z_i])
-            sim = simulate_batch(sc, tables, rng, dp0_db=rng.normal(0.0, cls.noise_sd_db, runs),
-                                 dk_db=rng.normal(0.0, cls.k_error_sd_db, runs), k_provider=provider)
+            sim = simulate_runs(tables, sc0, z_true, runs, (seed, s_i, z_i), provider)
             late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
             base = {"scenario": name, "true_depth_m": float(z_true), "run": np.arange(runs)}
             hypotheses = {}
