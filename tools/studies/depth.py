@@ -80,7 +80,7 @@ from tools.studies.depth_setup import (  # noqa: F401  (the study's settings, na
 )
 from tools.studies.depth_summary import _mismatch_summary, _summary, _text
 from tools.studies.depthcheck import table_check
-from tools.studies.trackerrors import LEVEL_SD_DB, filter_bearing_sd_rad, rpf_config
+from tools.studies.trackerrors import LEVEL_SD_DB, rpf_config
 from tracker.depth.bank import (
     TRACK_RULES,
     bearing_fit,
@@ -133,7 +133,7 @@ def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particl
                     for b in range(n_bands)]
         res = run_batch(k_profiles=profiles, t_s=sim.t_s, obs_state=obs,
                         bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
-                        bearing_sd_rad=filter_bearing_sd_rad(sim.bearing_sigma_deg[run])[None],
+                        bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None],
                         level_db_meas=sim.level_db[run][None], cfg=cfg, rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, summaries=True,
                         level_errors=errors, displacement_m=away)
