@@ -74,6 +74,15 @@ def calibration_row(label: str, c: dict) -> tuple:
             f"{100 * c['course']['coverage_90']:.0f} %", f"{100 * c['speed']['coverage_90']:.0f} %")
 
 
+def range_cell(coverage: float, abs_z_median: float, rms_m: float) -> str:
+    """One filter's range figures in one cell: the 90 % interval's coverage, the median
+    |error| / sd and an RMS error, "90 % / 0.67 / 1.23 km"."""
+    return f"{100 * coverage:.0f} % / {abs_z_median:.2f} / {rms_m / 1000:.2f} km"
+
+
+RANGE_CELL_HEAD = "90 % holds / median \\|error\\| / sd / RMSE"
+
+
 def _nees(value: float) -> str:
     """A mean squared normalised error as a page prints it (large ones in powers of ten)."""
     return f"{value:.2f}" if value < 100 else f"{value:.1e}"

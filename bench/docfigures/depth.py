@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.docfigures.common import caption, load_result, markdown_table
+from bench.docfigures.common import RANGE_CELL_HEAD, caption, load_result, markdown_table, range_cell
 
 PAGE = "docs/depth.md"
 
@@ -166,17 +166,16 @@ def depth_diagnosis(root: Path) -> str:
     d = load_result(root, "depth-diagnosis.json")
     f = d["figures"]
     floor = d["bearing_sd_floor_deg"]
-    rows = [("scenario", "true depth, m", *(f"{label.format(floor=floor)}: covers / median \\|error\\| / sd / RMSE"
+    rows = [("scenario", "true depth, m", *(f"{label.format(floor=floor)}: {RANGE_CELL_HEAD}"
                                             for _, label in _DIAGNOSIS_MODELS)),
             ("---",) * (2 + len(_DIAGNOSIS_MODELS))]
     for sc, by_z in d["by_case"].items():
         for z, v in by_z.items():
-            rows.append((f"`{sc}`", z, *(f"{100 * v[m]['coverage_90']:.0f} % / {v[m]['abs_z_median']:.2f} / "
-                                         f"{v[m]['rms_error_median_m'] / 1000:.2f} km" for m, _ in _DIAGNOSIS_MODELS)))
-    rows.append(("all", "all", *(f"**{100 * f[m + '_coverage_90_pooled']['value']:.0f} %** / "
-                                 f"{f[m + '_abs_z_median_pooled']['value']:.2f} / "
-                                 f"{f[m + '_rms_error_median_pooled_m']['value'] / 1000:.2f} km"
-                                 for m, _ in _DIAGNOSIS_MODELS)))
+            rows.append((f"`{sc}`", z, *(range_cell(v[m]["coverage_90"], v[m]["abs_z_median"],
+                                                    v[m]["rms_error_median_m"]) for m, _ in _DIAGNOSIS_MODELS)))
+    rows.append(("all", "all", *("**" + range_cell(*(f[f"{m}_{k}"]["value"] for k in (
+        "coverage_90_pooled", "abs_z_median_pooled", "rms_error_median_pooled_m"))).replace(" %", " %**", 1)
+        for m, _ in _DIAGNOSIS_MODELS)))
     pc = d["posterior_case"]
     runs = pc["runs"]
     text = ("\nThe filter given the true depth, the study's runs; RMSE: the median over runs of the RMS position "

@@ -6,12 +6,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from bench.docfigures.common import (
+    RANGE_CELL_HEAD,
     calibration_head,
     calibration_row,
     calibration_rows,
     caption,
     load_result,
     markdown_table,
+    range_cell,
 )
 
 PAGE = "docs/uncertainty.md"
@@ -114,11 +116,11 @@ def command_calibration(root: Path) -> str:
     d = load_result(root, "command-calibration.json")
     methods = d["methods"]
     rows = [("runs (BELLHOP's levels)", "true first range, median",
-             *(f"`{m}`: 90 % holds / median \\|error\\| / sd / RMSE" for m in methods)), ("---",) * (2 + len(methods))]
+             *(f"`{m}`: {RANGE_CELL_HEAD}" for m in methods)), ("---",) * (2 + len(methods))]
     for name, v in d["sets"].items():
         rows.append((f"`{name}`, {v[methods[0]]['runs']} runs", f"{v['true_first_range_m'] / 1000:.1f} km",
-                     *(f"{100 * v[m]['coverage_90']:.0f} % / {v[m]['abs_z_median']:.2f} / "
-                       f"{v[m]['rms_error_median_m'] / 1000:.2f} km" for m in methods)))
+                     *(range_cell(v[m]["coverage_90"], v[m]["abs_z_median"], v[m]["rms_error_median_m"])
+                       for m in methods)))
     p = d["prior"]
     speed = ("the class's mean and sd" if p.get("speed") == "class"
              else f"{p['speed_mean_mps']:.2f} +- {p['speed_sd_mps']:.2f} m/s")
