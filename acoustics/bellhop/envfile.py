@@ -31,6 +31,17 @@ class RunSpec:
     #: an arrivals run (run type 'a': every arrival's amplitude, delay and angles, binary .arr)
     #: in place of the TL field
     arrivals: bool = False
+    #: the water mirrored above the sea surface (``mirrored_lines``): no surface, the bottom's
+    #: mirror image as the top, a receiver at each depth's mirror -z too (the surface image of a
+    #: target that is the receiver, ``acoustics.builder.surfaceimage``)
+    mirror_surface: bool = False
+
+    def receiver_rows_m(self) -> tuple[float, ...]:
+        """The depths BELLHOP receives at: ``receiver_depth_m``, and with ``mirror_surface`` the
+        mirror -z of each z > 0 before them (increasing)."""
+        if not self.mirror_surface:
+            return self.receiver_depth_m
+        return tuple(-z for z in reversed(self.receiver_depth_m) if z > 0.0) + self.receiver_depth_m
 
     @property
     def run_type(self) -> str:
@@ -72,14 +83,20 @@ def env_lines(spec: RunSpec, bottom: Bottom, *, depth_m: float, ssp_depth_m, ssp
     depth_max = float(depth_m)
     # SSP options: interpolation, vacuum surface, attenuation in dB/wavelength, volume attenuation
     volume = "T" if spec.absorption is Absorption.THORP else " "
-    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'{interpolation}VW{volume}'",
-             f"0 0.0 {fmt_number(depth_max)}"]
-    lines += [f"{fmt_number(z)} {fmt_number(c)} /" for z, c in zip(ssp_depth_m, ssp_speed_mps)]
-    lines += [f"'{bottom_option}' 0.0",
-              f"{fmt_number(depth_max)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
-              f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /"]
+    half_space = (f"{fmt_number(depth_max)} {fmt_number(bottom.speed_mps)} {fmt_number(bottom.shear_speed_mps)} "
+                  f"{fmt_number(bottom.density_gcc)} {fmt_number(bottom.attenuation_db_per_wavelength)} 0.0 /")
+    if spec.mirror_surface:
+        lines = mirrored_lines(spec, half_space, depth_max=depth_max, ssp_depth_m=ssp_depth_m,
+                               ssp_speed_mps=ssp_speed_mps, interpolation=interpolation, volume=volume,
+                               altimetry="~" in bottom_option)
+    else:
+        lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1", f"'{interpolation}VW{volume}'",
+                 f"0 0.0 {fmt_number(depth_max)}"]
+        lines += [f"{fmt_number(z)} {fmt_number(c)} /" for z, c in zip(ssp_depth_m, ssp_speed_mps)]
+    lines += [f"'{bottom_option}' 0.0", half_space]
     lines += [str(len(spec.source_depth_m)), fmt_list(spec.source_depth_m)]
-    lines += [str(len(spec.receiver_depth_m)), fmt_list(spec.receiver_depth_m)]
+    receivers = spec.receiver_rows_m()
+    lines += [str(len(receivers)), fmt_list(receivers)]
     range_km = np.asarray(spec.range_m, dtype=float) / 1000.0  # BELLHOP reads ranges in km
     lines += [str(len(range_km)), fmt_list(range_km)]
     lines += [f"'{spec.run_type}'", str(spec.n_beams),
@@ -87,6 +104,29 @@ def env_lines(spec: RunSpec, bottom: Bottom, *, depth_m: float, ssp_depth_m, ssp
     box_depth_m = depth_max * 1.01 + 1.0  # rays leaving this box stop; the bottom reflects first
     lines.append(f"{fmt_number(step_m)} {fmt_number(box_depth_m)} {fmt_number(box_range_km)}")
     return "\n".join(lines) + "\n"
+
+
+def mirrored_lines(spec: RunSpec, half_space: str, *, depth_max: float, ssp_depth_m, ssp_speed_mps,
+                   interpolation: str, volume: str, altimetry: bool) -> list[str]:
+    """The .env's head (title to the last SSP point) with the water mirrored above the surface.
+
+    The surface is gone: the water runs from -depth_max to depth_max, its profile mirrored at 0,
+    and its top is the bottom's half-space, at the mirror image of the bottom (a flat top at
+    -depth_max, or with ``altimetry`` the .ati beside the .env, ``mirrored_files``). A ray that
+    reflects at the sea surface runs on through the mirror instead, so a receiver at -z hears
+    the surface-reflected paths to z exactly (the method of images), and a hat beam is never cut
+    short at the surface. Each SSP point gives its density and attenuation (1 g/cm3, none):
+    BELLHOP otherwise takes them from the top half-space read before it.
+    """
+    z = np.asarray(ssp_depth_m, dtype=float)
+    c = np.asarray(ssp_speed_mps, dtype=float)
+    if z[0] != 0.0:
+        raise ValueError(f"a mirrored profile starts at the surface, this one at {z[0]} m")
+    zs = np.concatenate([-z[:0:-1], z])
+    cs = np.concatenate([c[:0:-1], c])
+    lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1",
+             f"'{interpolation}AW{volume}{'*' if altimetry else ''}'", half_space, f"0 0.0 {fmt_number(depth_max)}"]
+    return lines + [f"{fmt_number(zi)} {fmt_number(ci)} 0.0 1.0 0.0 0.0 /" for zi, ci in zip(zs, cs)]
 
 
 def env_text(area: Area, spec: RunSpec) -> str:

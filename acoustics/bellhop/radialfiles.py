@@ -6,7 +6,9 @@ per profile range, ranges in km. BELLHOP stops with "ray is outside the box wher
 is defined" when a ray leaves the columns' ranges, and a ray is traced until |r| reaches the
 box's range, behind the source too; so the columns are continued, unchanged, to -box and +box.
 The bottom is read from the .bty file (option 'A~', piecewise linear 'L', ranges in km, depths
-in m); BELLHOP itself continues it beyond its ends at the end depths. With ``[propagation]
+in m; a run with the water mirrored above the surface, ``RunSpec.mirror_surface``, has the
+sound-speed rows mirrored too and its top in an .ati file, the .bty's depths negated); BELLHOP
+itself continues it beyond its ends at the end depths. With ``[propagation]
 bottom_tolerance_m`` set, the radial's samples (every grid range step, interpolated between the
 bathymetry's cells) are thinned to the fewest that hold the polyline within it of every sample
 (`thinned_bottom`): BELLHOP shortens a ray's step at each segment of the bottom it crosses, so
@@ -84,6 +86,12 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
     bty_z_m = np.asarray(radial.bottom_depth_m, dtype=float)[kept]
     bty = "\n".join(["'L'", str(bty_r_km.size)] +
                     [f"{fmt_number(rk)} {fmt_number(zb)}" for rk, zb in zip(bty_r_km, bty_z_m)])
+    if spec.mirror_surface:  # the water mirrored above the surface (envfile.mirrored_lines)
+        c = np.concatenate([c[:0:-1], c])
     ssp_rows = [" ".join(f"{v:.3f}" for v in row) for row in c]
     ssp = "\n".join([str(r.size), " ".join(fmt_number(v) for v in r / 1000.0)] + ssp_rows)
-    return {"env": env, "bty": bty + "\n", "ssp": ssp + "\n"}
+    files = {"env": env, "bty": bty + "\n", "ssp": ssp + "\n"}
+    if spec.mirror_surface:  # the top: the bottom's mirror image
+        files["ati"] = "\n".join(["'L'", str(bty_r_km.size)] + [f"{fmt_number(rk)} {fmt_number(-zb)}"
+                                                                for rk, zb in zip(bty_r_km, bty_z_m)]) + "\n"
+    return files

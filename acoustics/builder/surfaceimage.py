@@ -73,11 +73,14 @@ class SurfaceImage:
     speed_mps: tuple[float, ...]
     bands: tuple[tuple[ImageBand, ...], ...]
     tl_max_db: float
+    #: the run's water is mirrored above the surface (``RunSpec.mirror_surface``): its receivers
+    #: are at each depth and its mirror, and the reduction sums both (``mirrored_tl_db``)
+    mirrored: bool = False
 
     @property
     def digest(self) -> str:
         """A hash of everything the reduction uses (part of the run's key)."""
-        h = hashlib.sha256(repr((self.receiver_depth_m, self.speed_mps, self.tl_max_db)).encode())
+        h = hashlib.sha256(repr((self.receiver_depth_m, self.speed_mps, self.tl_max_db, self.mirrored)).encode())
         for row in self.bands:
             for b in row:
                 for a in (b.freqs_hz, b.attenuation_ratio, b.weights):
@@ -89,6 +92,8 @@ class SurfaceImage:
 def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     """Band TL at the run's receivers with the surface at their end, ``(class, band, receiver
     depth, range)``, float32, dB (``tl_max_db`` where nothing arrives)."""
+    if image.mirrored:
+        return mirrored_tl_db(arrivals, image)
     nz, nr = arrivals.count.shape
     if nz != len(image.receiver_depth_m):
         raise ValueError(f"arrivals for {nz} receiver depths, image for {len(image.receiver_depth_m)}")
@@ -122,6 +127,41 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
                 factor = np.divide(lloyd[ic], np.maximum(plain[ic], 1e-300), out=lloyd[ic])
                 intensity = np.multiply(amplitude2, plain[ic], out=plain[ic])
                 total = _twin_sums(intensity, factor, twin, row_offsets)
+                out[ic, ib, iz] = -10.0 * np.log10(np.maximum(total, floor))
+    return out
+
+
+def mirrored_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
+    """``image_tl_db`` of a run whose water is mirrored above the surface: at each row z the
+    arrivals at z (the paths that end there without a last surface reflection) and at -z (the
+    mirror images of those that end with one) carry the intensity of a pair each, and each its
+    Lloyd factor, band-averaged with the class's spectrum and the volume attenuation across the
+    band:
+
+        I_row = sum over the arrivals at z and at -z of I_a G(theta_a)
+
+    No pairing and no restoring: a hat beam is never cut at a surface here, so the two members
+    of a pair arrive whole, each at its own receiver."""
+    depths = np.asarray(arrivals.receiver_depth_m, dtype=float)
+    nr = arrivals.count.shape[1]
+    offsets = np.concatenate([[0], np.cumsum(arrivals.count.ravel())]).astype(np.int64)
+    floor = 10.0 ** (-image.tl_max_db / 10.0)
+    n_class = len(image.bands[0][0].weights) if image.bands and image.bands[0] else 0
+    n_band = len(image.bands[0]) if image.bands else 0
+    out = np.empty((n_class, n_band, len(image.receiver_depth_m), nr), dtype=np.float32)
+    for iz, (z, c) in enumerate(zip(image.receiver_depth_m, image.speed_mps)):
+        mirror = [int(np.flatnonzero(np.isclose(depths, d, rtol=0.0, atol=1e-6))[0]) for d in {z, -z}]
+        spans = [slice(offsets[q * nr], offsets[(q + 1) * nr]) for q in mirror]
+        amplitude2 = np.concatenate([arrivals.amplitude[s] for s in spans]) ** 2
+        attenuation = np.exp(2.0 * 2.0 * np.pi * arrivals.freq_hz
+                             * np.concatenate([arrivals.delay_imag_s[s] for s in spans]))
+        angle = np.concatenate([arrivals.receiver_angle_deg[s] for s in spans])
+        at_range = np.concatenate([np.repeat(np.arange(nr), arrivals.count[q]) for q in mirror])
+        depth, speed = np.full(angle.size, float(z)), np.full(angle.size, float(c))
+        for ib, band in enumerate(image.bands[iz]):
+            _, lloyd = _band_sums(attenuation, depth, speed, angle, band)
+            for ic in range(n_class):
+                total = np.bincount(at_range, weights=amplitude2 * lloyd[ic], minlength=nr)
                 out[ic, ib, iz] = -10.0 * np.log10(np.maximum(total, floor))
     return out
 
