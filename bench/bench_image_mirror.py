@@ -1,17 +1,16 @@
-"""The surface's arrivals run with the water mirrored above the surface, against the run with the
-surface whose arrivals are paired with their surface twins, side by side in one run: cost,
-convergence in beams, and K of the surface ships against references that share neither.
+"""The surface's arrivals run with the water mirrored above the surface: cost, convergence in
+beams, and K of the surface ships against references that do not share its approximation.
 
 ``python -m bench.bench_image_mirror [--repeats N]`` writes ``docs/results/image-mirror.json``.
 
 Each variant is one arrivals run per radial, made as the build makes it
-(``acoustics.builder.radial.plan_radial_image_runs``, ``mirrored`` on or off, the beams set) and
-reduced as the build reduces it (``acoustics.builder.surfaceimage.image_tl_db``):
-
-- ``with the surface``: the run has the sea surface, and each arrival is paired with its
-  surface twin, a missing twin restored (the build before the mirror: 6000 beams);
-- ``mirrored``: the water mirrored above the surface, each row the sum of its arrivals at z
-  and at -z with their Lloyd factors.
+(``acoustics.builder.radial.plan_radial_image_runs``, the beams set) and reduced as the build
+reduces it (``acoustics.builder.surfaceimage.image_tl_db``): ``mirrored``, the water mirrored
+above the surface, each row the sum of its arrivals at z and at -z with their Lloyd factors.
+The result file in docs/results was made at commit 50757f5, the last that also had the run it
+replaced, measured beside it in the same turns: ``with the surface``, the run with the sea
+surface whose arrivals were paired with their surface twins, a twin the hat beams' truncation at
+the surface had cut restored (6000 beams by default; ``git show 50757f5:bench/bench_image_mirror.py``).
 
 Figures:
 
@@ -47,10 +46,8 @@ from acoustics.surface import SURFACE_ROW_M
 from bench.harness import REPO, Session
 from envdata.radials import area_radials
 
-#: (label, mirrored, beams); the first is the build before the mirror.
+#: (label, mirrored, beams); the first is the build's default.
 VARIANTS = (
-    ("with the surface, 6000 (before)", False, 6000),
-    ("with the surface, 12000", False, 12000),
     ("mirrored, 3000", True, 3000),
     ("mirrored, 6000", True, 6000),
     ("mirrored, 12000", True, 12000),
@@ -76,7 +73,8 @@ def child_cpu() -> float:
 
 
 def image_runs(area, radials, receivers, mirrored, beams):
-    runs, where = plan_radial_image_runs(with_beams(area, beams), radials, receivers, mirrored=mirrored)
+    assert mirrored, "the run with the surface is gone since commit 50757f5"
+    runs, where = plan_radial_image_runs(with_beams(area, beams), radials, receivers)
     return [(where[r.key][0], r) for r in runs]
 
 
@@ -228,7 +226,7 @@ def main(argv=None) -> int:
     truth = truth_case(area, radials, {label: k_rows(area, runs[label], tables[label]) for label in COMPARED})
     reciprocity = reciprocity_case([v for v in VARIANTS if v[0] in COMPARED])
     for label, row in out.items():
-        text = f"{row['bellhop_cpu_s']:.1f} s ({row['of_before']:.2f} of before)"
+        text = f"{row['bellhop_cpu_s']:.1f} s ({row['of_before']:.2f} of the first row's)"
         if "against_finest" in row:
             c = row["against_finest"]
             text += (f"; against {FINEST} beams over 1 km: {c['km_median_db']} / {c['km_p90_db']} "

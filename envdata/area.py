@@ -156,10 +156,13 @@ class GridSpec:
 
 
 #: The surface's arrivals run's beams (the fan's angles) by default: at least this many, and at
-#: least twice the fan's. Measured (docs/results/surface.json and acoustics/builder/surfaceimage.py):
-#: K of ocean-deep's 6-8 m ships from the observer to 40 km against their own runs, worst class
-#: and band, 0.20 dB median with 6000 beams, 0.49 dB with 3000.
-IMAGE_MIN_BEAMS = 6000
+#: least twice the fan's. Measured with its water mirrored above the surface
+#: (docs/results/image-mirror.json): K of the 6-8 m ships from the observer, worst class and band
+#: median, against their own runs on ocean-deep 0.16 dB with 3000 beams and 0.17 with 6000, and
+#: against BELLHOP from the ship along the true paths on shelf-break 1.27 and 1.40 dB, means within
+#: 0.31 and 0.48 dB of 0; the run with the surface it replaced took 6000 (0.20 and 1.70 dB, means
+#: +0.1 to +1.8 dB) and cost 1.4 times BELLHOP's time of 3000 mirrored.
+IMAGE_MIN_BEAMS = 3000
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -182,7 +185,7 @@ class Propagation:
     # explicitly: BELLHOP's automatic step, a tenth of the depth, is not converged on deep radials)
     step_m: float | None = None
     # beams of the arrivals run that gives a table from the observer its near-surface rows (the
-    # fan's angles); None: the rule of Propagation.image_beams (at least 6000,
+    # fan's angles); None: the rule of Propagation.image_beams (at least 3000,
     # at least twice n_beams). `tmakit grids check` says whether an area's count is converged.
     surface_image_beams: int | None = None
     # how far (m, in depth) a radial's .bty may pass from the bottom's samples, which are then

@@ -1,11 +1,12 @@
 """The arrivals run that puts the surface at a target that is the receiver (tables from the
 observer), and its rows in a band's TL (``acoustics.builder.surfaceimage``).
 
-One arrivals run per table from the observer (a radial, or a flat grid's ``tl_obs_db``): the
-fan's angles with more beams (``Propagation.image_beams``), receivers at the depths within the surface's
-reach of the lowest band (the grid's depths there, the classes' and ``SURFACE_ROW_M``), at the
-lowest band's centre frequency (geometric beams do not depend on frequency but through volume
-attenuation, which the reduction rescales). Its result replaces those rows of every band's TL.
+One arrivals run per table from the observer (a radial, or a flat grid's ``tl_obs_db``), its
+water mirrored above the surface: the fan's angles with more beams (``Propagation.image_beams``),
+receivers at the depths within the surface's reach (and their mirror images) of the lowest
+band (the grid's depths there, the classes' and ``SURFACE_ROW_M``), at the lowest band's centre
+frequency (geometric beams do not depend on frequency but through volume attenuation, which the
+reduction rescales). Its result replaces those rows of every band's TL.
 """
 
 from __future__ import annotations
@@ -25,11 +26,6 @@ from acoustics.kcurve import band_weights
 from acoustics.surface import band_quadrature, surface_reach_m
 from envdata.area import Absorption, Area
 
-#: The arrivals run's water is mirrored above the surface (``RunSpec.mirror_surface``,
-#: reduced by ``surfaceimage.mirrored_tl_db``); else the run has the surface and its arrivals
-#: are paired with their surface twins (``surfaceimage.image_tl_db``).
-MIRRORED = False
-
 
 def image_rows(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
     """Indices of ``receivers_m`` within the surface's reach of any band (none outside the
@@ -40,8 +36,7 @@ def image_rows(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndar
                            for zi, ci in zip(z, c)])
 
 
-def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray, *,
-                  mirrored: bool = False) -> SurfaceImage:
+def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: np.ndarray) -> SurfaceImage:
     """The reduction of the arrivals run: per receiver depth and band, the band's quadrature for
     that depth (``band_quadrature``: as many frequencies as the Lloyd factor's turns across the band
     at that depth need, `IMAGE_POINTS_PER_TURN` a turn, half what the band runs' source end takes;
@@ -51,7 +46,7 @@ def surface_image(area: Area, run_hz: float, depths_m: np.ndarray, speeds_mps: n
     rows = tuple(tuple(_image_band(area, band, float(z), c, run_hz) for band in area.bands)
                  for z, c in zip(depths_m, speeds))
     return SurfaceImage(receiver_depth_m=tuple(float(z) for z in depths_m), speed_mps=speeds, bands=rows,
-                        tl_max_db=float(area.propagation.tl_max_db), mirrored=mirrored)
+                        tl_max_db=float(area.propagation.tl_max_db))
 
 
 #: The reduction's quadrature: frequencies per turn of the Lloyd factor across the band, and the
@@ -81,13 +76,11 @@ def _frozen(values) -> np.ndarray:
 
 
 def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.ndarray],
-                   make_files: Callable[[RunSpec], dict[str, str]], *, title: str,
-                   mirrored: bool | None = None) -> tuple[np.ndarray, Run] | None:
+                   make_files: Callable[[RunSpec], dict[str, str]], *, title: str
+                   ) -> tuple[np.ndarray, Run] | None:
     """(receiver rows, run) of the arrivals run a table from the observer needs (None where the
-    surface acts on none of its receivers); ``make_files`` turns the run's spec into its files
-    (``env`` and any others); ``mirrored`` (default `MIRRORED`) whether its water is mirrored
-    above the surface."""
-    mirrored = MIRRORED if mirrored is None else mirrored
+    surface acts on none of its receivers), its water mirrored above the surface; ``make_files``
+    turns the run's spec into its files (``env`` and any others)."""
     prop = area.propagation
     rng = area.grid.range_m()
     receivers = np.asarray(receivers_m, dtype=float)
@@ -100,9 +93,9 @@ def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.
     spec = run_spec(area, title=f"{title} surface image", freq_hz=run_hz,
                     source_depths_m=(area.observer.depth_m,), receiver_depths_m=depths, ranges_m=rng,
                     fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True)
-    spec = dataclasses.replace(spec, mirror_surface=mirrored)
+    spec = dataclasses.replace(spec, mirror_surface=True)
     files = make_files(spec)
-    image = surface_image(area, run_hz, depths, speed_of(depths), mirrored=mirrored)
+    image = surface_image(area, run_hz, depths, speed_of(depths))
     run = Run(env=files.pop("env"), files=tuple(files.items()), freq_hz=run_hz,
               source_depth_m=area.observer.depth_m, n_beams=n_beams, image=image,
               timeout_s=run_timeout_s(area, n_beams, depths.size * rng.size))

@@ -127,11 +127,10 @@ def origin_speed_of(radial: Radial):
     return lambda depth: np.interp(np.asarray(depth, dtype=float), z, c)
 
 
-def plan_radial_image_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray, *,
-                           mirrored: bool | None = None) -> tuple[list[Run], dict[str, tuple[int, np.ndarray]]]:
+def plan_radial_image_runs(area: Area, radials: list[Radial], receivers_m: np.ndarray
+                           ) -> tuple[list[Run], dict[str, tuple[int, np.ndarray]]]:
     """The arrivals run of every radial that puts the surface at the target's end
-    (``acoustics.builder.imageruns``; ``mirrored`` as there), and each run's (radial, receiver
-    rows)."""
+    (``acoustics.builder.imageruns``), and each run's (radial, receiver rows)."""
     prop = area.propagation
     rng = area.grid.range_m()
     box_range_m = float(rng.max()) * BOX_MARGIN[0] + BOX_MARGIN[1]
@@ -142,7 +141,7 @@ def plan_radial_image_runs(area: Area, radials: list[Radial], receivers_m: np.nd
             return radial_files(area, radial, spec, step_m=step_m, box_range_m=box_range_m)
 
         planned = plan_image_run(area, receivers_m, origin_speed_of(radial), make_files,
-                                 title=f"tmakit {area.name} bearing={radial.bearing_deg:g}", mirrored=mirrored)
+                                 title=f"tmakit {area.name} bearing={radial.bearing_deg:g}")
         if planned is not None:
             rows, run = planned
             runs.append(run)

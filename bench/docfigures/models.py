@@ -255,10 +255,40 @@ def bottom(root: Path) -> str:
     return text + "\n" + caption(d, "bottom.json")
 
 
+def image_mirror(root: Path) -> str:
+    d = load_result(root, "image-mirror.json")
+    finest = d["finest_beams"]
+    rows = [("surface's arrivals run (shelf-break, 12 radials)", "BELLHOP CPU", "of the first row's",
+             f"against its own {finest} beams over 1 km: median / p90 / mean, dB"), ("---",) * 4]
+    for label, v in d["variants"].items():
+        c = v.get("against_finest")
+        near = f"{c['km_median_db']:.2f} / {c['km_p90_db']:.2f} / {c['km_mean_db']:+.2f}" if c else "(the finest)"
+        rows.append((label, f"{v['bellhop_cpu_s']:.1f} s", f"{v['of_before']:.2f}", near))
+    text = markdown_table(rows) + "\n"
+
+    def worst(by_case):
+        medians = [s["median_db"] for s in by_case.values()]
+        means = [s["mean_db"] for s in by_case.values()]
+        return f"{max(medians):.2f}", f"{min(means):+.2f} to {max(means):+.2f}"
+
+    rows = [("ships' K (SW 6 m, TV 8 m; 3 bands)",
+             "shelf-break, against BELLHOP from the ship along each true path: worst median / means, dB",
+             "ocean-deep, against the ships' own runs: worst median (bound 0.5) / means, dB"), ("---",) * 3]
+    for label in d["truth"]:
+        t, r = worst(d["truth"][label]), worst(d["reciprocity"][label])
+        rows.append((label, f"{t[0]} / {t[1]}", f"{r[0]} / {r[1]}"))
+    n = next(iter(next(iter(d["truth"].values())).values()))["n"]
+    text += markdown_table(rows)
+    text += (f"\nTruth targets: every {d['truth_targets']['radial_step']}rd radial, 2 to 30 km every 1 km where the "
+             f"ship has water ({n} per class); means are table minus reference (positive: the table louder).\n")
+    return text + "\n" + caption(d, "image-mirror.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
           "ram-crossover": ram_crossover, "models-bench": models_bench, "build-profile": build_profile,
-          "surface-candidates": surface_candidates, "engine": engine, "bottom": bottom}
+          "surface-candidates": surface_candidates, "image-mirror": image_mirror, "engine": engine,
+          "bottom": bottom}
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (

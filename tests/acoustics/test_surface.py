@@ -98,11 +98,11 @@ def test_the_default_tables_are_semicoherent_and_the_grid_says_so(tiny_grid):
     assert envdata.Propagation().mode is envdata.TlMode.SEMICOHERENT
     tables = acoustics.open_tables(tiny_grid)
     assert tables.dataset.attrs["bellhop_settings"].count('"mode": "semicoherent"') == 1
-    # and the surface's arrivals run's beams it used (the tiny area's fan of 300: the default 6000)
+    # and the surface's arrivals run's beams it used (the tiny area's fan of 300: the default 3000)
     import json
 
     settings = json.loads(tables.dataset.attrs["bellhop_settings"])
-    assert settings["n_beams"] == 300 and settings["surface_image_beams"] == 6000
+    assert settings["n_beams"] == 300 and settings["surface_image_beams"] == 3000
 
 
 def test_a_grid_built_with_incoherent_beams_says_how_far_off_its_surface_ship_is(tmp_path, capsys):
@@ -130,7 +130,7 @@ def test_grids_check_doubles_the_fan_and_the_surfaces_arrivals_run_apart():
     from acoustics.builder.check import _variants, build_settings
 
     area = envdata.load_area("shelf-break")
-    assert area.propagation.image_beams == max(6000, 2 * area.propagation.n_beams)
+    assert area.propagation.image_beams == max(3000, 2 * area.propagation.n_beams)
     variants = {name: varied.propagation for name, _, varied in _variants(area)}
     assert variants["beams"].n_beams == 2 * area.propagation.n_beams
     assert variants["beams"].image_beams == area.propagation.image_beams

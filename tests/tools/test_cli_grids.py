@@ -190,7 +190,7 @@ def test_grids_check_reports_each_doubling_and_the_build_settings(capsys, tmp_pa
     names = [v["name"] for v in out["variants"]]
     assert names == ["beams", "ray_step", "freqs_per_band", "one_run_per_band"]
     assert out["settings"]["n_beams"] == 300 and out["settings"]["mode"] == "semicoherent"
-    assert out["settings"]["surface_image_beams"] == 6000
+    assert out["settings"]["surface_image_beams"] == 3000
     for v in out["variants"]:
         assert v["median_db"] >= 0.0 and v["worst_db"] >= v["median_db"] - 1e-9
         assert v["converged"] == (v["median_db"] <= 0.2)

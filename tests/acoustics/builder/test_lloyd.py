@@ -1,14 +1,14 @@
-"""The compiled band sums of the surface's arrivals (``acoustics.builder._pairs``) against the
+"""The compiled band sums of the surface's arrivals (``acoustics.builder._lloyd``) against the
 formula they compute, exp and sin at every frequency in numpy: the blocked, polynomial kernel
 must give the same sums to float rounding, in every branch (the carried attenuation and the
-reduced sine, and the library calls a block falls back to). And the image pairs on arrivals
-whose twins are known."""
+reduced sine, and the library calls a block falls back to). And each receiver depth's band
+quadrature."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from acoustics.builder._pairs import BLOCK, LARGE_PHASE, SMALL_EXPONENT, band_sums, image_twins, twin_sums
+from acoustics.builder._lloyd import BLOCK, LARGE_PHASE, SMALL_EXPONENT, band_sums
 
 
 def reference(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weights):
@@ -42,27 +42,6 @@ def test_the_blocked_sums_are_the_formula_to_float_rounding(rng):
     # the cases above reach each branch
     assert 0.05 * (ratio[-1] - ratio[-2]) <= SMALL_EXPONENT < 50.0 * (ratio[-1] - ratio[-2])
     assert 2 * np.pi * 70.0 / 1480.0 * 3000.0 <= LARGE_PHASE < 2 * np.pi * 1e4 / 1540.0 * 3000.0
-
-
-def test_twins_pair_an_arrival_with_its_image_and_restore_a_missing_one():
-    # receiver 0: a ray at +5 deg and its image at -5.1 deg (one surface reflection more), a
-    # lone ray at +10 deg, a -10.2 deg ray three reflections away (not its image) and a +5.05
-    # deg ray (same sign as the first: not its image); receiver 1: nothing
-    intensity = np.array([2.0, 1.0, 3.0, 0.5, 0.25])
-    angle = np.array([5.0, -5.1, 10.0, -10.2, 5.05])
-    bounces = np.array([0.0, 1.0, 1.0, 4.0, 0.0])
-    offsets = np.array([0, 5, 5])
-    tolerance = np.array([0.5, 0.5])
-    twin = image_twins(intensity, angle, bounces, offsets, tolerance)
-    assert twin.tolist() == [1, -2, -1, -1, -1]
-    factor = np.array([0.1, 0.3, 0.7, 1.1, 1.3])
-    # the pair counts its stronger member's intensity once per factor; the others are restored
-    expected = 2.0 * (0.1 + 0.3) + 2 * 3.0 * 0.7 + 2 * 0.5 * 1.1 + 2 * 0.25 * 1.3
-    np.testing.assert_allclose(twin_sums(intensity, factor, twin, offsets), [expected, 0.0], rtol=1e-15)
-    # the sums take the stronger member by the intensities they are given (another band's)
-    other = np.array([1.0, 4.0, 3.0, 0.5, 0.25])
-    assert twin_sums(other, factor, twin, offsets)[0] == 4.0 * (0.1 + 0.3) + 2 * 3.0 * 0.7 + 2 * 0.5 * 1.1 \
-        + 2 * 0.25 * 1.3
 
 
 def test_each_receiver_depth_takes_the_quadrature_its_turns_need_up_to_the_bands_reach():

@@ -1,6 +1,5 @@
-"""The image pairs of ``acoustics.builder.surfaceimage``, compiled (numba): each arrival's band
-averages, and per receiver each arrival matched with its surface twin, the pair's intensity
-restored from its stronger member."""
+"""Each arrival's band averages of its intensity and of its Lloyd factor, compiled (numba): the
+inner loop of ``acoustics.builder.surfaceimage``."""
 
 from __future__ import annotations
 
@@ -57,7 +56,7 @@ def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weigh
     Blocks of ``BLOCK`` arrivals go through the band's frequencies together: a^ratio carried from
     one frequency to the next (``_exp_small``) and sin^2 from a polynomial (``_sin_squared``), no
     library call in the inner loops; the same sums as exp and sin at every frequency to about
-    1e-14 relative (tests/acoustics/builder/test_pairs.py)."""
+    1e-14 relative (tests/acoustics/builder/test_lloyd.py)."""
     n_class, n_freq = weights.shape
     n = attenuation.size
     plain = np.zeros((n_class, n))
@@ -113,60 +112,3 @@ def band_sums(attenuation, depth_m, speed_mps, angle_deg, freqs_hz, ratio, weigh
         plain[:, lo:lo + m] = p_sum[:, :m]
         lloyd[:, lo:lo + m] = l_sum[:, :m]
     return plain, lloyd
-
-
-@njit(cache=True, nogil=True)
-def image_twins(intensity, angle_deg, bounces, offsets, tolerance_deg):
-    """Each arrival's surface twin: ``offsets[i]:offsets[i + 1]`` are receiver i's arrivals.
-    Strongest first, each unmatched arrival takes the strongest unmatched twin (angle of the other
-    sign, magnitude within ``tolerance_deg[i]``, surface reflections differing by at most one).
-    Returns ``twin`` (n,): the leader of a pair holds its twin's index, the twin -2, an arrival
-    without a twin -1 (its twin was cut by the beams' truncation at the surface)."""
-    n = offsets.size - 1
-    twin = np.full(intensity.size, -1, dtype=np.int64)
-    for i in range(n):
-        lo, hi = offsets[i], offsets[i + 1]
-        m = hi - lo
-        if m == 0:
-            continue
-        order = np.argsort(-intensity[lo:hi]) + lo
-        used = np.zeros(m, dtype=np.bool_)
-        for a in order:
-            if used[a - lo]:
-                continue
-            used[a - lo] = True
-            best, best_value = -1, -1.0
-            for b in order:
-                if used[b - lo] or (angle_deg[b] < 0.0) == (angle_deg[a] < 0.0):
-                    continue
-                if abs(abs(angle_deg[b]) - abs(angle_deg[a])) >= tolerance_deg[i]:
-                    continue
-                if abs(bounces[b] - bounces[a]) > 1.0:
-                    continue
-                if intensity[b] > best_value:
-                    best, best_value = b, intensity[b]
-            if best >= 0:
-                used[best - lo] = True
-                twin[a] = best
-                twin[best] = -2
-    return twin
-
-
-@njit(cache=True, nogil=True)
-def twin_sums(intensity, factor, twin, offsets):
-    """Per receiver, the sum over image pairs (``image_twins``): a pair adds max(I_a, I_b)
-    (G_a + G_b), an arrival without a twin 2 I_a G_a. The two members of an image pair carry one
-    intensity, and each its own angle's factor."""
-    n = offsets.size - 1
-    out = np.zeros(n)
-    for i in range(n):
-        total = 0.0
-        for a in range(offsets[i], offsets[i + 1]):
-            b = twin[a]
-            if b >= 0:
-                total += max(intensity[a], intensity[b]) * (factor[a] + factor[b])
-            elif b == -1:
-                total += 2.0 * intensity[a] * factor[a]
-        out[i] = total
-    return out
-
