@@ -112,11 +112,13 @@ def mirrored_lines(spec: RunSpec, half_space: str, *, depth_max: float, ssp_dept
 
     The surface is gone: the water runs from -depth_max to depth_max, its profile mirrored at 0,
     and its top is the bottom's half-space, at the mirror image of the bottom (a flat top at
-    -depth_max, or with ``altimetry`` the .ati beside the .env, ``mirrored_files``). A ray that
-    reflects at the sea surface runs on through the mirror instead, so a receiver at -z hears
-    the surface-reflected paths to z exactly (the method of images), and a hat beam is never cut
-    short at the surface. Each SSP point gives its density and attenuation (1 g/cm3, none):
-    BELLHOP otherwise takes them from the top half-space read before it.
+    -depth_max, or with ``altimetry`` the .ati beside the .env that
+    ``acoustics.bellhop.radialfiles.radial_files`` writes). A ray that reflects at the sea surface
+    runs on through the mirror instead, so a receiver at -z hears the surface-reflected paths to z
+    exactly (the method of images), and a hat beam is never cut short at the surface. Each SSP
+    point gives its density and attenuation (1 g/cm3, none): BELLHOP otherwise takes them from the
+    top half-space read before it. A spline or PCHIP profile ('S', 'P') is fitted through the
+    mirrored points, so within its first interval below 0 it bends where the sea's own ended.
     """
     z = np.asarray(ssp_depth_m, dtype=float)
     c = np.asarray(ssp_speed_mps, dtype=float)
