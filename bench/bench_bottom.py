@@ -13,8 +13,10 @@ Measured side by side, interleaved, BELLHOP CPU time of each process:
   and 1 m with the ray step doubled (25 -> 50 m); the western-Mediterranean budget of
   ``bench.bench_radials`` from each;
 - the tables: shelf-break's 12 radials built from each candidate's runs (and from every sample
-  with 6002 arrivals beams in place of 6000, a change the tables should be indifferent to: the
-  rays' own noise), K moved against every sample's; and K of the ships (6 and 8 m) from the
+  with 6002 arrivals beams: two more than the default of the run with the surface, 6000, a change
+  the tables should be indifferent to; since the run's water is mirrored above the surface and
+  its default is 3000, twice the default and two more: the rays' own noise), K moved against every
+  sample's; and K of the ships (6 and 8 m) from the
   observer against the targets' own runs (``acoustics.builder.truthk``: the source at the target
   with the surface at its end, every sample of the bottom; 2-30 km every 1 km on each radial),
   median |dK| and its mean (the bias) per class and band;

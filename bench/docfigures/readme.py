@@ -134,6 +134,8 @@ def _percent(x: float) -> float:
 QUOTES = (
     ("radials.json", ("figures", "western_med_bellhop_cpu_hours", "value"), "about {:,.0f}\nCPU hours of BELLHOP"),
     ("radials.json", ("figures", "western_med_build_cpu_hours", "value"), "and {:,.0f} with the builder's"),
+    ("bottom.json", ("wide_36_radials", "every sample", "western_med_bellhop_cpu_hours"),
+     "area: {:,.0f} CPU hours of BELLHOP since"),
     ("bottom.json", ("wide_36_radials", "1 m", "western_med_bellhop_cpu_hours"), "would take\n{:,.0f} CPU hours"),
     ("bottom.json", ("wide_36_radials", "1 m, step 50 m", "western_med_bellhop_cpu_hours"),
      "and {:,.0f} with the ray step at 50 m"),
