@@ -41,7 +41,7 @@ class RunSpec:
         mirror -z of each z > 0 before them (increasing)."""
         if not self.mirror_surface:
             return self.receiver_depth_m
-        return tuple(-z for z in reversed(self.receiver_depth_m) if z > 0.0) + self.receiver_depth_m
+        return tuple(float(z) for z in mirror_at_surface(self.receiver_depth_m)[0])
 
     @property
     def run_type(self) -> str:
@@ -52,6 +52,16 @@ class RunSpec:
     def side_files(self) -> dict[str, str]:
         """Files BELLHOP reads beside the .env for this run: the .sbp of a source pattern."""
         return {"sbp": sbp_text(self.source_pattern)} if self.source_pattern is not None else {}
+
+
+def mirror_at_surface(depth_m, *rows):
+    """Depths (increasing) and what is given at them (``rows``, indexed by depth along their first
+    axis) mirrored above the surface: the mirror -z of each z > 0, deepest first, then the depths
+    as they are; each row's values in the same order."""
+    z = np.asarray(depth_m, dtype=float)
+    above = np.flatnonzero(z > 0.0)[::-1]
+    return (np.concatenate([-z[above], z]),
+            *(np.concatenate([np.asarray(r)[above], np.asarray(r)]) for r in rows))
 
 
 def sbp_text(pattern) -> str:
@@ -120,12 +130,9 @@ def mirrored_lines(spec: RunSpec, half_space: str, *, depth_max: float, ssp_dept
     top half-space read before it. A spline or PCHIP profile ('S', 'P') is fitted through the
     mirrored points, so within its first interval below 0 it bends where the sea's own ended.
     """
-    z = np.asarray(ssp_depth_m, dtype=float)
-    c = np.asarray(ssp_speed_mps, dtype=float)
-    if z[0] != 0.0:
-        raise ValueError(f"a mirrored profile starts at the surface, this one at {z[0]} m")
-    zs = np.concatenate([-z[:0:-1], z])
-    cs = np.concatenate([c[:0:-1], c])
+    if ssp_depth_m[0] != 0.0:
+        raise ValueError(f"a mirrored profile starts at the surface, this one at {ssp_depth_m[0]} m")
+    zs, cs = mirror_at_surface(ssp_depth_m, np.asarray(ssp_speed_mps, dtype=float))
     lines = [f"'{spec.title[:70]}'", fmt_number(spec.freq_hz), "1",
              f"'{interpolation}AW{volume}{'*' if altimetry else ''}'", half_space, f"0 0.0 {fmt_number(depth_max)}"]
     return lines + [f"{fmt_number(zi)} {fmt_number(ci)} 0.0 1.0 0.0 0.0 /" for zi, ci in zip(zs, cs)]

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from acoustics.bellhop.envfile import RunSpec, env_lines, fmt_number
+from acoustics.bellhop.envfile import RunSpec, env_lines, fmt_number, mirror_at_surface
 from envdata.area import Area
 
 
@@ -87,7 +87,7 @@ def radial_files(area: Area, radial, spec: RunSpec, *, step_m: float,
     bty = "\n".join(["'L'", str(bty_r_km.size)] +
                     [f"{fmt_number(rk)} {fmt_number(zb)}" for rk, zb in zip(bty_r_km, bty_z_m)])
     if spec.mirror_surface:  # the water mirrored above the surface (envfile.mirrored_lines)
-        c = np.concatenate([c[:0:-1], c])
+        c = mirror_at_surface(z, c)[1]
     ssp_rows = [" ".join(f"{v:.3f}" for v in row) for row in c]
     ssp = "\n".join([str(r.size), " ".join(fmt_number(v) for v in r / 1000.0)] + ssp_rows)
     files = {"env": env, "bty": bty + "\n", "ssp": ssp + "\n"}

@@ -11,7 +11,6 @@ reduction rescales). Its result replaces those rows of every band's TL.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 
 import numpy as np
@@ -92,8 +91,7 @@ def plan_image_run(area: Area, receivers_m, speed_of: Callable[[np.ndarray], np.
     n_beams = prop.image_beams
     spec = run_spec(area, title=f"{title} surface image", freq_hz=run_hz,
                     source_depths_m=(area.observer.depth_m,), receiver_depths_m=depths, ranges_m=rng,
-                    fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True)
-    spec = dataclasses.replace(spec, mirror_surface=True)
+                    fan=(n_beams, prop.angle_min_deg, prop.angle_max_deg), arrivals=True, mirror_surface=True)
     files = make_files(spec)
     image = surface_image(area, run_hz, depths, speed_of(depths))
     run = Run(env=files.pop("env"), files=tuple(files.items()), freq_hz=run_hz,

@@ -33,12 +33,12 @@ RECIPROCITY_MIN_DEPTH_M = 50.0
 
 def run_spec(area: Area, *, title: str, freq_hz: float, source_depths_m, receiver_depths_m, ranges_m,
              fan: tuple[int, float, float] | None = None, pattern: SourcePattern | None = None,
-             arrivals: bool = False) -> RunSpec:
+             arrivals: bool = False, mirror_surface: bool = False) -> RunSpec:
     """One run at the area's ``[propagation]`` settings; ``fan`` = (beams, first, last angle in
     deg) for a slice of the area's fan (default the whole fan); ``pattern`` the source's beam
     pattern (the surface at a target that is the source, ``bandruns.run_pattern``);
-    ``arrivals`` for an arrivals run (the surface at a target that is the receiver,
-    ``acoustics.builder.surfaceimage``).
+    ``arrivals`` for an arrivals run and ``mirror_surface`` for its water mirrored above the
+    surface (the surface at a target that is the receiver, ``acoustics.builder.surfaceimage``).
 
     The semicoherent mode runs as incoherent beams: its Lloyd factor is the pattern, band-averaged
     and only at a target's end (BELLHOP's own 'S' would apply it at every source, the observer
@@ -53,7 +53,7 @@ def run_spec(area: Area, *, title: str, freq_hz: float, source_depths_m, receive
                    range_m=tuple(float(r) for r in ranges_m), mode=mode,
                    beam_type=prop.beam_type, n_beams=n_beams, angle_min_deg=a1, angle_max_deg=a2,
                    absorption=prop.absorption, source_pattern=pattern.pairs if pattern is not None else None,
-                   arrivals=arrivals)
+                   arrivals=arrivals, mirror_surface=mirror_surface)
 
 
 def receiver_depths_m(area: Area) -> np.ndarray:
