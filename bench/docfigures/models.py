@@ -277,7 +277,8 @@ def image_mirror(root: Path) -> str:
     for label in d["truth"]:
         t, r = worst(d["truth"][label]), worst(d["reciprocity"][label])
         rows.append((label, f"{t[0]} / {t[1]}", f"{r[0]} / {r[1]}"))
-    n = next(iter(next(iter(d["truth"].values())).values()))["n"]
+    first = next(iter(next(iter(d["truth"].values())).values()))
+    n = first.get("cells", first.get("n"))  # the file made at 50757f5 names the count n
     text += markdown_table(rows)
     text += (f"\nTruth targets: every {d['truth_targets']['radial_step']}rd radial, 2 to 30 km every 1 km where the "
              f"ship has water ({n} per class); means are table minus reference (positive: the table louder).\n")
