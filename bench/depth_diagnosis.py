@@ -22,6 +22,13 @@ given the true depth (`tools.studies.depth`'s settings) runs
 Reported: the share of cycles after 10 min whose 90 % range interval holds the truth, the median
 |error| / sd, the median over runs of the RMS position error after 5 min.
 
+Then the filter's model's own posterior on the bearings, without sampling
+(`tracker.rpf.gaussiansum`, a Gaussian sum of EKFs), for the first ``--model-runs`` runs of every
+case, with the paper's acceleration sd and the smaller ones of `MODEL_SIGMA_A_MPS2`: its range
+interval's coverage, and how much more probable the bearings are under each (the log evidence
+against the paper's, median over runs). Where the sum misses as the bearings-only filter does,
+the miss is the model's, not the sampler's.
+
 Then, for the first ``--posterior-runs`` runs of `POSTERIOR_CASE`, the filter's own model's log
 posterior (bearings, the levels' exact marginal, the filter's range and speed priors) along
 constant-velocity paths: at the true path and at the best path found by profiling the first
@@ -48,6 +55,10 @@ POSTERIOR_CASE = ("shelf-slope-nps", 6.0)
 PROFILE_SPAN_M = (-6000.0, 8000.0, 500.0)
 MODELS = ("levels", "levels_k_smoothed", "bearings_only", "bearings_only_sd_floor")
 BEARING_SD_FLOOR_DEG = 0.5
+#: The acceleration sds whose model posterior on the bearings is computed, m/s^2 (the paper's first).
+MODEL_SIGMA_A_MPS2 = (1.5e-3, 3e-4, 1e-4)
+#: The Gaussian sum's nodes over first range, course and speed (`tracker.rpf.gaussiansum`).
+MODEL_GRID = (25, 21, 15)
 
 
 def _smoothed(profile, cache: dict):
@@ -185,6 +196,32 @@ class PathPosterior:
         return best
 
 
+def model_posterior(tables, sim, ic: int, runs: int, sigma_a_mps2: float) -> dict:
+    """The filter's model's posterior of the range on the bearings of the first ``runs`` runs
+    (`tracker.rpf.gaussiansum.bearings_posterior`, the filter's prior and sigma_theta): the share
+    of cycles after `LATE_MIN` whose 90 % interval holds the truth, the median |error| / sd, and
+    each run's log evidence of its bearings."""
+    from dataclasses import replace
+
+    from tools.studies.depth import _observer
+    from tools.studies.depth_setup import LATE_MIN
+    from tools.studies.trackerrors import rpf_config
+    from tracker.rpf.gaussiansum import bearings_posterior
+
+    cfg = replace(rpf_config(tables, sim, ic, 2), sigma_a_mps2=sigma_a_mps2)
+    obs = _observer(sim)
+    late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
+    z, evidence = [], []
+    for run in range(runs):
+        got = bearings_posterior(sim.t_s, obs, np.radians(sim.bearing_deg[run]), np.radians(sim.bearing_sigma_deg[run]),
+                                 cfg, grid=MODEL_GRID)
+        z.append(((got.range_mean_m - sim.range_m[run]) / got.range_sd_m)[late])
+        evidence.append(got.log_evidence)
+    z = np.concatenate(z)
+    return {"coverage_90": float(np.mean(np.abs(z) <= 1.645)), "abs_z_median": float(np.median(np.abs(z))),
+            "log_evidence": evidence}
+
+
 def coverage_rows(sim, pos) -> dict:
     from tools.studies.depth import _position_rows
     from tools.studies.depth_setup import LATE_MIN
@@ -201,6 +238,8 @@ def main(argv=None) -> int:
                         help="the depth study's output folder (its grids/ and truth runs are reused)")
     parser.add_argument("--runs", type=int, default=12, help="runs per scenario and true depth (the study's 12)")
     parser.add_argument("--posterior-runs", type=int, default=3)
+    parser.add_argument("--model-runs", type=int, default=4,
+                        help="runs per case whose model posterior is computed (a few seconds each per acceleration sd)")
     parser.add_argument("--particles", type=int, default=2000, help="the study's 2000")
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args(argv)
@@ -231,6 +270,24 @@ def main(argv=None) -> int:
                 pooled[model].append(got.pop("_rows"))
                 by_case.setdefault(scenario, {}).setdefault(f"{z:g}", {})[model] = got
                 print(f"{scenario} {z:g} m {model}: {got}", flush=True)
+    model_posteriors: dict = {}
+    for scenario in SCENARIOS:
+        for z in TRUE_DEPTHS_M:
+            sim, ic, _ = simulate(tables, provider, scenario, z, args.runs)
+            row = {f"{a:g}": model_posterior(tables, sim, ic, min(args.model_runs, args.runs), a)
+                   for a in MODEL_SIGMA_A_MPS2}
+            paper = row[f"{MODEL_SIGMA_A_MPS2[0]:g}"]["log_evidence"]
+            for got in row.values():
+                got["log_evidence_vs_paper_median"] = float(np.median(np.subtract(got["log_evidence"], paper)))
+            model_posteriors.setdefault(scenario, {})[f"{z:g}"] = row
+            said = (f"{a}: {g['coverage_90']:.2f} / {g['abs_z_median']:.2f} / {g['log_evidence_vs_paper_median']:+.1f}"
+                    for a, g in row.items())
+            print(f"{scenario} {z:g} m model posterior: " + ", ".join(said), flush=True)
+    for a in MODEL_SIGMA_A_MPS2:
+        key = f"{a:g}"
+        cells = [row[key] for by_z in model_posteriors.values() for row in by_z.values()]
+        cover = float(np.mean([c["coverage_90"] for c in cells]))
+        session.say(f"model_posterior_coverage_90_mean_sigma_a_{key}", cover)
     for model, parts in pooled.items():
         f = pd.concat(parts)
         session.say(f"{model}_coverage_90_pooled", float(f.range_cover_90.mean()))
@@ -257,6 +314,8 @@ def main(argv=None) -> int:
     session.write(models=list(MODELS), smooth_fraction=SMOOTH_FRACTION, smooth_floor_m=SMOOTH_FLOOR_M,
                   bearing_sd_floor_deg=BEARING_SD_FLOOR_DEG,
                   runs=args.runs, particles=args.particles, by_case=by_case,
+                  model_sigma_a_mps2=list(MODEL_SIGMA_A_MPS2), model_grid=list(MODEL_GRID), model_runs=args.model_runs,
+                  model_posterior=model_posteriors,
                   posterior_case={"scenario": scenario, "true_depth_m": z, "runs": posterior})
     return 0
 

@@ -189,10 +189,30 @@ def depth_diagnosis(root: Path) -> str:
     return markdown_table(rows) + text + caption(d, "depth-diagnosis.json")
 
 
+def depth_model_posterior(root: Path) -> str:
+    d = load_result(root, "depth-diagnosis.json")
+    sigmas = [f"{a:g}" for a in d["model_sigma_a_mps2"]]
+    rows = [("scenario", "true depth, m", *(f"sigma_a {a} m/s^2: 90 % holds / median \\|error\\| / sd / "
+                                            "log evidence against the paper's" for a in sigmas)),
+            ("---",) * (2 + len(sigmas))]
+    for sc, by_z in d["model_posterior"].items():
+        for z, v in by_z.items():
+            rows.append((f"`{sc}`", z, *(f"{100 * v[a]['coverage_90']:.0f} % / {v[a]['abs_z_median']:.2f} / "
+                                         f"{v[a]['log_evidence_vs_paper_median']:+.1f}" for a in sigmas)))
+    f = d["figures"]
+    rows.append(("all", "all", *(f"**{100 * f[f'model_posterior_coverage_90_mean_sigma_a_{a}']['value']:.0f} %**"
+                                 for a in sigmas)))
+    text = ("\nThe filter's model's posterior of the range on the bearings alone, without sampling "
+            "(`tracker.rpf.gaussiansum`), the first {} runs of each case, the filter's prior and sigma_theta; "
+            "the log evidence: how much more probable the run's bearings are under that acceleration sd "
+            "than under the paper's, median over runs.\n\n").format(d["model_runs"])
+    return markdown_table(rows) + text + caption(d, "depth-diagnosis.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"depth-errors": depth_errors, "depth-estimates": depth_estimates, "depth-widths": depth_widths,
           "depth-weights": depth_weights, "depth-mismatch": depth_mismatch, "depth-check": depth_check,
-          "depth-diagnosis": depth_diagnosis}
+          "depth-diagnosis": depth_diagnosis, "depth-model-posterior": depth_model_posterior}
 
 def _percent(share: float) -> float:
     """A share as the page prints it, in per cent."""
