@@ -219,8 +219,34 @@ def _percent(share: float) -> float:
     return 100.0 * share
 
 
+def model_span(scenario: str | None, sigma_a: str, key: str, scale: float = 1.0):
+    """The least and greatest of a model-posterior figure over the true depths of ``scenario``
+    (every scenario if None) at acceleration sd ``sigma_a``."""
+    def span(d: dict) -> tuple[float, float]:
+        cases = d["model_posterior"]
+        v = [scale * by_z[z][sigma_a][key] for sc, by_z in cases.items() if scenario in (None, sc) for z in by_z]
+        return min(v), max(v)
+    return span
+
+
+def filter_span(scenario: str, model: str, key: str, scale: float = 1.0):
+    """The least and greatest of a filter's figure (`by_case`) over the true depths of ``scenario``."""
+    def span(d: dict) -> tuple[float, float]:
+        v = [scale * m[model][key] for m in d["by_case"][scenario].values()]
+        return min(v), max(v)
+    return span
+
+
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
+    ("depth-diagnosis.json", (model_span("shelf-slope-nps", "0.0015", "coverage_90", 100.0),),
+     "the truth in {0[0]:.0f}-{0[1]:.0f} % of cycles and"),
+    ("depth-diagnosis.json", (filter_span("shelf-slope-nps", "bearings_only", "coverage_90", 100.0),),
+     "the bearings-only filter in {0[0]:.0f}-{0[1]:.0f} % (the table before)"),
+    ("depth-diagnosis.json", (model_span("shelf-slope-nps", "0.0003", "abs_z_median"),),
+     "sd of {0[0]:.2f}-{0[1]:.2f} at 3e-4"),
+    ("depth-diagnosis.json", (model_span(None, "0.0003", "log_evidence_vs_paper_median"),),
+     "at 3e-4, {0[0]:+.1f} to {0[1]:+.1f})"),
     ("depth/depth.json", ("n_particles",), "the class's P0, {:d} particles"),
     ("depth/depth.json", ("prior_interval_m", 0), "its own 90 % interval over 2-300 m is {:.1f}-"),
     ("depth/depth.json", ("prior_interval_m", 1), "-{:.0f} m. What is left"),

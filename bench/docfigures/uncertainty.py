@@ -15,6 +15,7 @@ from bench.docfigures.common import (
     markdown_table,
     range_cell,
 )
+from bench.docfigures.depth import filter_span, model_span
 
 PAGE = "docs/uncertainty.md"
 
@@ -25,6 +26,10 @@ QUOTES = (
     ("ab-ml36.json", ("workloads", "rpf_one_filter_bearings_msteps_per_s", "after_over_before"),
      "throughput on bearings is {:.2f} times"),
     ("level-errors.json", ("figures", "rpf_level_errors_cost_ratio", "value"), "{:.2f}x\nthe white likelihood's time"),
+    ("depth-diagnosis.json", (model_span("shelf-slope-nps", "0.0015", "coverage_90", 100.0),),
+     "in {0[0]:.0f}-{0[1]:.0f} % of the slope run's cycles"),
+    ("depth-diagnosis.json", (filter_span("shelf-slope-nps", "bearings_only", "coverage_90", 100.0),),
+     "the bearings-only filter holds {0[0]:.0f}-{0[1]:.0f} %"),
 )
 
 SHELF = (("ml_bearing", "ML analysis, bearing-dependent grid"),
