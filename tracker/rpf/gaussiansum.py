@@ -9,7 +9,7 @@ and speed (the first bearing the measured one, its spread the filter's sigma_the
 weighted by the prior's density there; each Gaussian is carried through the cycles by an
 extended Kalman filter with the model's process noise, which integrates the accelerations out
 exactly for a linear measurement. A bearing is linear in the cross-range position to the
-component's relative width (about 2 % of the range here), so the sum's posterior is the model's
+component's relative width (a few per cent of the range), so the sum's posterior is the model's
 to that order, and every component's evidence (the probability of the bearings it was given)
 weighs it (Alspach and Sorenson's Gaussian sum filter).
 
