@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tracker.rpf.config import RpfConfig
+from tracker.rpf.weights import normalise_exp
 
 #: Nodes over first range, course and speed, each spanning the prior's mean +- `SPAN_SD` sds.
 GRID = (41, 37, 25)
@@ -140,9 +141,7 @@ def bearings_posterior(t_s: np.ndarray, obs_state: np.ndarray, bearing_rad: np.n
                 m = m + gain * nu[:, None]
                 p = p - gain[:, :, None] * ph[:, None, :]
                 log_ev += -0.5 * (np.log(s / sd[k] ** 2) + nu * nu / s)
-        lw = log_w + log_ev
-        w = np.exp(lw - lw.max())
-        w /= w.sum()
+        w = normalise_exp(log_w + log_ev)[1]
         rng = np.hypot(m[:, 0], m[:, 1])
         u = m[:, :2] / rng[:, None]
         var = np.einsum("ni,nij,nj->n", u, p[:, :2, :2], u)
