@@ -259,6 +259,7 @@ def main(argv=None) -> int:
     provider = BellhopTruth(load_area(AREA), cache_dir=cache / "grids" / "truth-runs", workers=args.workers)
     by_case: dict = {}
     pooled: dict = {m: [] for m in MODELS}
+    model_posteriors: dict = {}
     for scenario in SCENARIOS:
         for z in TRUE_DEPTHS_M:
             sim, ic, seed = simulate(tables, provider, scenario, z, args.runs)
@@ -270,10 +271,7 @@ def main(argv=None) -> int:
                 pooled[model].append(got.pop("_rows"))
                 by_case.setdefault(scenario, {}).setdefault(f"{z:g}", {})[model] = got
                 print(f"{scenario} {z:g} m {model}: {got}", flush=True)
-    model_posteriors: dict = {}
-    for scenario in SCENARIOS:
-        for z in TRUE_DEPTHS_M:
-            sim, ic, _ = simulate(tables, provider, scenario, z, args.runs)
+            # the filter's model's own posterior on the same runs' bearings
             row = {f"{a:g}": model_posterior(tables, sim, ic, min(args.model_runs, args.runs), a)
                    for a in MODEL_SIGMA_A_MPS2}
             paper = row[f"{MODEL_SIGMA_A_MPS2[0]:g}"]["log_evidence"]
