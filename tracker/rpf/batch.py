@@ -187,6 +187,10 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
     sds = np.full((runs, n_cycles, 3), np.nan) if summaries else None
 
     state = initial_particles(bearing_rad_meas[:, 0], obs_state[0, 2:], cfg, runs, rng)
+    # each particle's acceleration sd (RpfConfig.sigma_a_mix_mps2), carried through resampling
+    mix = np.asarray(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float)
+    sigma_a = np.broadcast_to(mix[np.arange(cfg.n_particles) % mix.size], (runs, cfg.n_particles)).copy() \
+        if mix.size > 1 else float(mix[0])
     errors = None if (levels is None or level_errors is None) else ParticleErrors(
         level_errors, levels.shape[2], n_cycles, state.shape[1:], displacement_m)
     log_w = np.full((runs, cfg.n_particles), -math.log(cfg.n_particles))
@@ -196,7 +200,7 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
         if k > 0:
             dt = float(t_s[k] - t_s[k - 1])
             predict(state, dt_s=dt, obs_k=obs_state[k - 1], obs_k1=obs_state[k],
-                    sigma_a_mps2=cfg.sigma_a_mps2, rng=rng, work=work)
+                    sigma_a_mps2=sigma_a, rng=rng, work=work)
             if errors is not None:  # each run's estimated relative move since the last cycle
                 errors.predict(k, dt, dt * np.hypot(last[2], last[3]))
             z = bearing_rad_meas[:, k]
@@ -234,6 +238,8 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
                                                 shrink=cfg.shrink, work=work, indices=True)
             if errors is not None:
                 errors.resample(low, idx)
+            if mix.size > 1:
+                sigma_a[low] = np.take_along_axis(sigma_a[low], idx, axis=-1)
             log_w[low] = -math.log(cfg.n_particles)
             w[low] = 1.0 / cfg.n_particles
             resampled[low, k] = True

@@ -41,6 +41,13 @@ class RpfConfig:
     sigma_a_mps2 : float
         Acceleration process-noise sd, m/s^2 (1.5e-3; docs/idm.md reads the paper's Q = sigma_a I
         with sigma_a a standard deviation).
+    sigma_a_mix_mps2 : tuple of float
+        Not in the paper: () (default) gives every particle ``sigma_a_mps2``; else the
+        acceleration sds the particles take in turn (particle i the (i mod M)-th), each keeping
+        its own through every resampling. The sd is then a static unknown of the track whose
+        posterior the weights carry: where the bearings leave the range open, the paper's sd
+        tilts the model's posterior outward and the bearings' evidence prefers a smaller one
+        (`tracker.rpf.gaussiansum`, docs/depth.md); with the mixture the measurements choose.
     bearing_sigma_deg : float
         sigma_theta of eq. 32, deg (1.5).
     level_sigma_db : float
@@ -76,6 +83,7 @@ class RpfConfig:
 
     n_particles: int = 5000
     sigma_a_mps2: float = 1.5e-3
+    sigma_a_mix_mps2: tuple[float, ...] = ()
     bearing_sigma_deg: float = 1.5
     level_sigma_db: float = 10.0
     neff_fraction: float = 1.0 / 3.0
@@ -101,6 +109,12 @@ class RpfConfig:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise ValueError(f"{name} must be > 0, got {v}")
+        mix = tuple(float(v) for v in self.sigma_a_mix_mps2)
+        if any(not (math.isfinite(v) and v >= 0) for v in mix):
+            raise ValueError(f"sigma_a_mix_mps2 must hold sds >= 0, got {self.sigma_a_mix_mps2}")
+        if len(mix) > self.n_particles:
+            raise ValueError(f"sigma_a_mix_mps2 has {len(mix)} sds for {self.n_particles} particles")
+        object.__setattr__(self, "sigma_a_mix_mps2", mix)
         object.__setattr__(self, "engine", Engine(self.engine))
         if not 0.0 < self.neff_fraction <= 1.0:
             raise ValueError(f"neff_fraction must be in (0, 1], got {self.neff_fraction}")

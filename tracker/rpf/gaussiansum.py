@@ -115,6 +115,11 @@ def bearings_posterior(t_s: np.ndarray, obs_state: np.ndarray, bearing_rad: np.n
     z = np.asarray(bearing_rad, dtype=float)
     sd = np.where(np.isfinite(bearing_sd_rad), bearing_sd_rad, math.radians(cfg.bearing_sigma_deg))
     m, p, log_w = _prior_components(cfg, float(z[0]), obs[0, 2:], grid)
+    # the filter's acceleration sds (RpfConfig.sigma_a_mix_mps2): the components once per sd,
+    # the particles' equal shares as equal prior weights
+    mix = np.asarray(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float)
+    var_a = np.repeat(mix ** 2, log_w.size)[:, None, None]
+    m, p, log_w = np.tile(m, (mix.size, 1)), np.tile(p, (mix.size, 1, 1)), np.tile(log_w, mix.size)
     log_ev = np.zeros(log_w.size)
     mean_out = np.empty(t_s.size)
     sd_out = np.empty(t_s.size)
@@ -124,12 +129,12 @@ def bearings_posterior(t_s: np.ndarray, obs_state: np.ndarray, bearing_rad: np.n
             f = np.eye(4)
             f[0, 2] = f[1, 3] = dt
             c = f @ obs[k - 1] - obs[k]  # the observer's own move, as in eq. 4
-            q = cfg.sigma_a_mps2 ** 2 * np.array([[dt ** 4 / 4, dt ** 3 / 2], [dt ** 3 / 2, dt ** 2]])
+            q = np.array([[dt ** 4 / 4, dt ** 3 / 2], [dt ** 3 / 2, dt ** 2]])
             qq = np.zeros((4, 4))
             qq[np.ix_([0, 2], [0, 2])] = q
             qq[np.ix_([1, 3], [1, 3])] = q
             m = m @ f.T + c
-            p = f @ p @ f.T + qq
+            p = f @ p @ f.T + var_a * qq
             if math.isfinite(z[k]):
                 r2 = m[:, 0] ** 2 + m[:, 1] ** 2
                 h = np.zeros((m.shape[0], 4))

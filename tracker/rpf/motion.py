@@ -14,7 +14,7 @@ from tracker.rpf.scratch import scratch
 
 
 def predict(state: np.ndarray, *, dt_s: float, obs_k: np.ndarray, obs_k1: np.ndarray,
-            sigma_a_mps2: float, rng: np.random.Generator, work: dict | None = None) -> None:
+            sigma_a_mps2: float | np.ndarray, rng: np.random.Generator, work: dict | None = None) -> None:
     """Propagate the relative state one step in place, eq. 4: x' = F (x + x^o_k) - x^o_k1 + G nu.
 
     Parameters
@@ -25,8 +25,8 @@ def predict(state: np.ndarray, *, dt_s: float, obs_k: np.ndarray, obs_k1: np.nda
         Delta T, s.
     obs_k, obs_k1 : array_like, shape (4,)
         Observer state (x, y, vx, vy) at steps k and k+1, m and m/s.
-    sigma_a_mps2 : float
-        Acceleration sd, m/s^2 (nu ~ N(0, sigma_a^2 I), eq. 6 for Gamma).
+    sigma_a_mps2 : float or ndarray, shape state.shape[1:]
+        Acceleration sd, m/s^2 (nu ~ N(0, sigma_a^2 I), eq. 6 for Gamma): one, or each particle's.
     rng : numpy.random.Generator
         Source of nu (two float32 normals per particle, `standard_normal_pairs`).
     work : dict, optional
@@ -38,7 +38,7 @@ def predict(state: np.ndarray, *, dt_s: float, obs_k: np.ndarray, obs_k1: np.nda
     tmp = scratch(work, "tmp", state.shape[1:])
     for pos, vel, cp, cv in ((0, 2, ox + dt_s * ovx - nx, ovx - nvx),
                              (1, 3, oy + dt_s * ovy - ny, ovy - nvy)):
-        if sigma_a_mps2 > 0:
+        if np.any(sigma_a_mps2 > 0):
             if pos == 0:
                 nu = standard_normal_pairs(state.shape[1:], rng, work)
             dv = nu[pos]

@@ -80,7 +80,7 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
     """
     t_s, obs = observer.t_s, observer.state
     bearing, level = measured.bearing_rad, measured.level_db
-    sigma_a, use_level, ross, p0_db = model.sigma_a_mps2, model.use_level, model.ross, model.p0_db
+    use_level, ross, p0_db = model.use_level, model.ross, model.p0_db
     n, d, n_thr, h = settings.n, settings.d, settings.n_thr, settings.bandwidth
     io = 4 if d > 4 else -1  # the source-level offset's component, if any
     n_bands = level.shape[1]
@@ -98,6 +98,15 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
     chol = np.empty((d, d))
     gx = np.zeros(n)
     gy = np.zeros(n)
+    # each particle's acceleration sd, carried through resampling, and dt times it
+    sigma_a = np.empty(n)
+    sigma_a_new = np.empty(n)
+    dv_scale = np.empty(n)
+    n_mix = model.sigma_a_mps2.size
+    noise = False
+    for i in range(n):
+        sigma_a[i] = model.sigma_a_mps2[i % n_mix]
+        noise = noise or sigma_a[i] > 0.0
     var_l = model.sigma_l_db * model.sigma_l_db
     half_l = 0.5 / var_l
     log_n = -math.log(n)
@@ -129,13 +138,14 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
         moving = k > 0
         if moving:
             dt = t_s[k] - t_s[k - 1]
-            dv_scale = dt * sigma_a
+            for i in range(n):
+                dv_scale[i] = dt * sigma_a[i]
             cpx = obs[k - 1, 0] + dt * obs[k - 1, 2] - obs[k, 0]
             cpy = obs[k - 1, 1] + dt * obs[k - 1, 3] - obs[k, 1]
             cvx = obs[k - 1, 2] - obs[k, 2]
             cvy = obs[k - 1, 3] - obs[k, 3]
         else:
-            dt = dv_scale = cpx = cpy = cvx = cvy = 0.0
+            dt = cpx = cpy = cvx = cvy = 0.0
         cz = math.cos(bearing[k]) if has_b else 1.0
         sz = math.sin(bearing[k]) if has_b else 0.0
         sd_b = measured.bearing_sd_rad[k]
@@ -144,7 +154,7 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
 
         # pass 1: process noise (sequential generator), then prediction and bearing
         # likelihood in one loop free of calls (it vectorizes), then the level likelihood
-        if moving and sigma_a > 0.0:
+        if moving and noise:
             fill_normal_pairs(s, gx, gy)
         if moving:
             predict_pass(state[0], state[2], gx, dt, dv_scale, cpx, cvx)
@@ -193,6 +203,10 @@ def run_one(s, observer, measured, profiles, errors, prior, model, settings, out
             fill_epanechnikov(s, eps, gx, gy)  # the process noise arrays as scratch
             regularise_run(state, idx, mean, chol, eps, h, settings.shrink, new)
             state, new = new, state
+            if n_mix > 1:
+                for i in range(n):
+                    sigma_a_new[i] = sigma_a[idx[i]]
+                sigma_a, sigma_a_new = sigma_a_new, sigma_a
             if errors.on:
                 errors_copy(e_mean, idx, e_mean_new)
                 e_mean, e_mean_new = e_mean_new, e_mean

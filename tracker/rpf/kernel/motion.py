@@ -20,7 +20,8 @@ def predict_axis(pos, vel, g, dt_s, dv_scale, cp, cv):
 
 @njit(inline="always")
 def predict_pass(pos, vel, g, dt, dv_scale, cp, cv):
-    """Eq. 4 along one axis over 1-D particle arrays (one loop, two arrays written: few alias
-    checks, so it vectorizes)."""
+    """Eq. 4 along one axis over 1-D particle arrays, ``dv_scale`` each particle's dt sigma_a (its
+    own acceleration sd, `tracker.rpf.config.RpfConfig.sigma_a_mix_mps2`); one loop, two arrays
+    written: few alias checks, so it vectorizes."""
     for i in range(pos.size):
-        pos[i], vel[i] = predict_axis(pos[i], vel[i], g[i], dt, dv_scale, cp, cv)
+        pos[i], vel[i] = predict_axis(pos[i], vel[i], g[i], dt, dv_scale[i], cp, cv)

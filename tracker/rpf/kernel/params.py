@@ -144,8 +144,9 @@ class Model(NamedTuple):
 
     Attributes
     ----------
-    sigma_a_mps2 : float
-        Acceleration process-noise sd, m/s^2 (eq. 6).
+    sigma_a_mps2 : ndarray, shape (M,)
+        Acceleration process-noise sds, m/s^2 (eq. 6): particle i keeps the (i mod M)-th through
+        every resampling (`tracker.rpf.config.RpfConfig.sigma_a_mix_mps2`; M = 1: the paper's one).
     sigma_theta_rad : float
         Bearing sd of eq. 32, rad.
     use_level : bool
@@ -158,7 +159,7 @@ class Model(NamedTuple):
         Level sd of eq. 33, dB.
     """
 
-    sigma_a_mps2: float
+    sigma_a_mps2: np.ndarray
     sigma_theta_rad: float
     use_level: bool
     ross: bool
@@ -269,6 +270,6 @@ def prior_of(cfg) -> Prior:
 
 def model_of(cfg, *, use_level: bool, ross: bool, p0_db: float, sigma_l_db: float) -> Model:
     """The model of ``cfg`` with the level settings `tracker.rpf.batch.run_batch` resolved."""
-    return Model(sigma_a_mps2=float(cfg.sigma_a_mps2),
+    return Model(sigma_a_mps2=np.array(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float),
                  sigma_theta_rad=math.radians(cfg.bearing_sigma_deg), use_level=bool(use_level),
                  ross=bool(ross), p0_db=float(p0_db), sigma_l_db=float(sigma_l_db))

@@ -65,9 +65,11 @@ def exponentials_filled(s, n):
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def predict_arrays(state, gx, gy, dt, dv_scale, cpx, cpy, cvx, cvy):
-    """Eq. 4 for (D, N) particles with noise (gx, gy) (as the fused loop; for tests)."""
-    predict_pass(state[0], state[2], gx, dt, dv_scale, cpx, cvx)
-    predict_pass(state[1], state[3], gy, dt, dv_scale, cpy, cvy)
+    """Eq. 4 for (D, N) particles with noise (gx, gy), every particle's dt sigma_a ``dv_scale``
+    (as the fused loop; for tests)."""
+    scale = np.full(state.shape[1], dv_scale)
+    predict_pass(state[0], state[2], gx, dt, scale, cpx, cvx)
+    predict_pass(state[1], state[3], gy, dt, scale, cpy, cvy)
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
