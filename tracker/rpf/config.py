@@ -19,6 +19,12 @@ KNOT_MPS = 1852.0 / 3600.0
 #: Runs are filtered in blocks of about this many particles (runs x N): a block's arrays then
 #: stay in a core's L2 cache (2 MiB), which is faster than one large array of every run.
 BLOCK_PARTICLES = 20_000
+#: The acceleration sds a bearings-only filter shares out (`RpfConfig.sigma_a_mix_mps2`; the
+#: command's ``rpf-bot`` and the studies'): the paper's 1.5e-3 m/s^2 and a fifth and a fifteenth
+#: of it. On bearings alone the paper's sd tilts the model's own posterior outward where the range
+#: is open (`tracker.rpf.gaussiansum`); with the three the bearings' evidence picks, and a
+#: manoeuvring target keeps the paper's.
+BEARINGS_ONLY_SIGMA_A_MIX_MPS2 = (1e-4, 3e-4, 1.5e-3)
 
 
 class Engine(StrEnum):

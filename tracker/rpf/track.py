@@ -14,7 +14,7 @@ import numpy as np
 
 from tracker.methods import Method
 from tracker.rpf.batch import run_batch
-from tracker.rpf.config import RpfConfig
+from tracker.rpf.config import BEARINGS_ONLY_SIGMA_A_MIX_MPS2, RpfConfig
 from tracker.rpf.likelihood import bearing_rad
 
 log = logging.getLogger(__name__)
@@ -37,7 +37,8 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         blank level uses the bearing alone that cycle, a blank bearing the level alone.
     method : {"rpf", "rpf-bot", "rpf-vp"}
         Bearings and SPL, bearings only, or bearings and SPL with the variance-preserving
-        regularization (``RpfConfig.shrink``).
+        regularization (``RpfConfig.shrink``). Without ``config``, ``rpf-bot``'s particles share
+        out three acceleration sds (`tracker.rpf.config.BEARINGS_ONLY_SIGMA_A_MIX_MPS2`).
     rng : numpy.random.Generator
         Seeded generator: same seed, same track.
     cls_name : str, optional
@@ -101,6 +102,8 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     cfg = config or (RpfConfig(level_sigma_db=MEASUREMENT_SD_DB) if integrate_errors else RpfConfig())
     if method is Method.RPF_VP:
         cfg = replace(cfg, shrink=True)
+    if method is Method.RPF_BOT and config is None:  # the bearings' evidence picks the motion model
+        cfg = replace(cfg, sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2)
     sig = np.asarray(m.bearing_sigma_deg, dtype=float)
     if sig.size and np.any(np.isfinite(sig)):  # the prior's bearing spread; each cycle its own sd
         cfg = replace(cfg, bearing_sigma_deg=float(np.nanmedian(sig)))
