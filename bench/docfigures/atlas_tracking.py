@@ -125,6 +125,9 @@ TABLES = {"follow-rmse": follow_rmse, "follow-kerror": follow_kerror, "follow-ma
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
+    ("atlas-tracking/follow.json", ("mean_rmse_after_10min_m", "bot_origin_bellhop"), "with the same prior ({:.0f} m)"),
+    ("atlas-tracking/follow.json", ("calibration_after_late_min", "bot_origin_bellhop", "range", "coverage_90",
+                                    lambda x: 100.0 * x), "to {:.0f} %\n  of cycles held"),
     ("truth-bellhop.json", ("first", "seconds"), "{:.1f} s on 2 workers"),
     ("truth-bellhop.json", ("cached", "seconds"), "{:.1f} s again from the run"),
 )

@@ -130,6 +130,16 @@ def _percent(x: float) -> float:
     return 100.0 * x
 
 
+def _ml_bins_behind_bearings_only(d: dict) -> str:
+    """In which five-minute bins the ML analysis is further off than the bearings-only filter, as
+    README says it: "every five-minute bin, with the model and with the one number" when in all."""
+    worse = d["worse_than_bearings_only_bins"]
+    n_bins = len(d["rmse_by_time_bin_m"]["bot"])
+    if all(len(worse[k]) == n_bins for k in ("ml_model", "ml_scalar")):
+        return "every five-minute bin, with the model and with the one number"
+    return f"{len(worse['ml_model'])} of {n_bins} bins with the model, {len(worse['ml_scalar'])} with the one number"
+
+
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (
     ("radials.json", ("figures", "western_med_bellhop_cpu_hours", "value"), "about {:,.0f}\nCPU hours of BELLHOP"),
@@ -148,6 +158,7 @@ QUOTES = (
      "({:.0f} % with the one\nnumber)"),
     ("kerror/kerror.json", ("calibration_after_late_min", "ml_model", "range", "coverage_90", _percent),
      "its intervals hold the truth in {:.0f} %"),
+    ("kerror/kerror.json", (_ml_bins_behind_bearings_only,), "further off than the bearings-only\nfilter in {}"),
     *(("gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (
         ("course_rms_deg", "| {:.1f} deg /"), ("speed_rms_mps", "/ {:.2f} m/s /"))),
     *(("atlas.json", ("speed", key), fmt) for key, fmt in (
