@@ -188,7 +188,7 @@ def _run_block(*, t_s, obs_state, bearing_rad_meas, level_db_meas, k_profiles, c
 
     state = initial_particles(bearing_rad_meas[:, 0], obs_state[0, 2:], cfg, runs, rng)
     # each particle's acceleration sd (RpfConfig.sigma_a_mix_mps2), carried through resampling
-    mix = np.asarray(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float)
+    mix = np.asarray(cfg.particle_sigma_a_mps2, dtype=float)
     sigma_a = np.broadcast_to(mix[np.arange(cfg.n_particles) % mix.size], (runs, cfg.n_particles)).copy() \
         if mix.size > 1 else float(mix[0])
     errors = None if (levels is None or level_errors is None) else ParticleErrors(

@@ -131,6 +131,12 @@ class RpfConfig:
         return self.bandwidth_scale * optimal_bandwidth(self.n_particles, self.n_dim)
 
     @property
+    def particle_sigma_a_mps2(self) -> tuple[float, ...]:
+        """The acceleration sds the particles take in turn (``sigma_a_mix_mps2``, else the one
+        ``sigma_a_mps2``), m/s^2."""
+        return self.sigma_a_mix_mps2 or (self.sigma_a_mps2,)
+
+    @property
     def n_dim(self) -> int:
         """State dimension n_x: 4, or 5 with the source-level offset."""
         return 5 if self.sl_offset_sd_db > 0 else 4

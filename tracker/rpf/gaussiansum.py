@@ -117,7 +117,7 @@ def bearings_posterior(t_s: np.ndarray, obs_state: np.ndarray, bearing_rad: np.n
     m, p, log_w = _prior_components(cfg, float(z[0]), obs[0, 2:], grid)
     # the filter's acceleration sds (RpfConfig.sigma_a_mix_mps2): the components once per sd,
     # the particles' equal shares as equal prior weights
-    mix = np.asarray(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float)
+    mix = np.asarray(cfg.particle_sigma_a_mps2, dtype=float)
     var_a = np.repeat(mix ** 2, log_w.size)[:, None, None]
     m, p, log_w = np.tile(m, (mix.size, 1)), np.tile(p, (mix.size, 1, 1)), np.tile(log_w, mix.size)
     log_ev = np.zeros(log_w.size)

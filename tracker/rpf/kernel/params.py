@@ -270,6 +270,6 @@ def prior_of(cfg) -> Prior:
 
 def model_of(cfg, *, use_level: bool, ross: bool, p0_db: float, sigma_l_db: float) -> Model:
     """The model of ``cfg`` with the level settings `tracker.rpf.batch.run_batch` resolved."""
-    return Model(sigma_a_mps2=np.array(cfg.sigma_a_mix_mps2 or (cfg.sigma_a_mps2,), dtype=float),
+    return Model(sigma_a_mps2=np.array(cfg.particle_sigma_a_mps2, dtype=float),
                  sigma_theta_rad=math.radians(cfg.bearing_sigma_deg), use_level=bool(use_level),
                  ross=bool(ross), p0_db=float(p0_db), sigma_l_db=float(sigma_l_db))
