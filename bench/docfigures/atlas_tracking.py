@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.docfigures.common import caption, load_result, markdown_table
+from bench.docfigures.common import caption, load_result, markdown_table, percent
 
 PAGE = "docs/atlas-tracking.md"
 
@@ -127,7 +127,7 @@ TABLES = {"follow-rmse": follow_rmse, "follow-kerror": follow_kerror, "follow-ma
 QUOTES = (
     ("atlas-tracking/follow.json", ("mean_rmse_after_10min_m", "bot_origin_bellhop"), "with the same prior ({:.0f} m)"),
     ("atlas-tracking/follow.json", ("calibration_after_late_min", "bot_origin_bellhop", "range", "coverage_90",
-                                    lambda x: 100.0 * x), "to {:.0f} %\n  of cycles held"),
+                                    percent), "to {:.0f} %\n  of cycles held"),
     ("truth-bellhop.json", ("first", "seconds"), "{:.1f} s on 2 workers"),
     ("truth-bellhop.json", ("cached", "seconds"), "{:.1f} s again from the run"),
 )

@@ -16,6 +16,11 @@ def figure(data: dict, name: str) -> float:
     return figures[name]["value"]
 
 
+def percent(share: float) -> float:
+    """A share (0-1) in per cent: the key step of a quoted figure printed with ``%``."""
+    return 100.0 * share
+
+
 def caption(data: dict, file: str) -> str:
     prov = data["provenance"]
     when = f"commit {prov.get('commit') or '?'}, {str(prov.get('date') or '?')[:10]}"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.docfigures.common import RANGE_CELL_HEAD, caption, load_result, markdown_table, range_cell
+from bench.docfigures.common import RANGE_CELL_HEAD, caption, load_result, markdown_table, percent, range_cell
 
 PAGE = "docs/depth.md"
 
@@ -214,10 +214,6 @@ TABLES = {"depth-errors": depth_errors, "depth-estimates": depth_estimates, "dep
           "depth-weights": depth_weights, "depth-mismatch": depth_mismatch, "depth-check": depth_check,
           "depth-diagnosis": depth_diagnosis, "depth-model-posterior": depth_model_posterior}
 
-def _percent(share: float) -> float:
-    """A share as the page prints it, in per cent."""
-    return 100.0 * share
-
 
 def model_span(scenario: str | None, sigma_a: str, key: str, scale: float = 1.0):
     """The least and greatest of a model-posterior figure over the true depths of ``scenario``
@@ -259,14 +255,14 @@ QUOTES = (
     ("depth.json", ("figures", "track_depth_posterior_cpu_s_whole_water_column", "value"), "it costs {:.1f} s of CPU"),
     ("depth.json", ("figures", "track_depth_posterior_depths", "value"), "({:d} depths: NPS"),
     ("depth.json", ("figures", "rpf_depth_state_throughput_ratio", "value"), "ran at {:.2f} of the fixed-depth"),
-    *(("depth/depth.json", ("depth_estimates", key, "all", "coverage_90", _percent), fmt) for key, fmt in (
+    *(("depth/depth.json", ("depth_estimates", key, "all", "coverage_90", percent), fmt) for key, fmt in (
         ("ml_posterior", "covers the truth in {:.0f} %"),
         ("rpf_bank", "the bank's in {:.0f} %"), ("known_motion_true_track", "(the motion known) in {:.0f} %"))),
-    ("depth/depth.json", ("depth_estimates", "ml_posterior", "by_true_depth", "6", "coverage_90", _percent),
+    ("depth/depth.json", ("depth_estimates", "ml_posterior", "by_true_depth", "6", "coverage_90", percent),
      "in {:.0f} % (ML"),
-    ("depth/depth.json", ("depth_estimates", "rpf_bank", "by_true_depth", "6", "coverage_90", _percent),
+    ("depth/depth.json", ("depth_estimates", "rpf_bank", "by_true_depth", "6", "coverage_90", percent),
      "{:.0f} % (bank)"),
-    ("depth/depth.json", ("depth_estimates", "rpf_bank", "surface_call", "error_rate", _percent),
+    ("depth/depth.json", ("depth_estimates", "rpf_bank", "surface_call", "error_rate", percent),
      "{:.1f} % for the bank"),
     ("depth/depth.json", ("depth_estimates", "ml_posterior", "all", "median_width_m"),
      "the ML analysis's median {:.0f} m over"),
@@ -277,7 +273,7 @@ QUOTES = (
     ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_bank"), "median error, {:.0f} m"),
     ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_class"), "class's depth, {:.0f} m"),
     ("depth/depth.json", ("median_rms_error_pooled_m", "rpf_true"), "the true depth, {:.0f} m"),
-    ("depth/depth.json", ("range_calibration_after_late_min", "rpf_bank", "coverage_90", _percent),
+    ("depth/depth.json", ("range_calibration_after_late_min", "rpf_bank", "coverage_90", percent),
      "the bank's {:.0f} %"),
     *(("depth.json", ("figures", f"reciprocity_error_median_abs_db_at_{z}m", "value"), fmt)
       for z, fmt in (("5", "{:.2f} dB at 5 m"), ("10", "{:.2f} at 10 m"), ("20", "{:.2f} at 20 m"),

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.docfigures.common import caption, figure, load_result, markdown_table
+from bench.docfigures.common import caption, figure, load_result, markdown_table, percent
 
 PAGE = "README.md"
 
@@ -126,10 +126,6 @@ def _km(x: float) -> float:
     return x / 1000.0
 
 
-def _percent(x: float) -> float:
-    return 100.0 * x
-
-
 def _ml_bins_behind_bearings_only(d: dict) -> str:
     """In which five-minute bins the ML analysis is further off than the bearings-only filter, as
     README says it: "every five-minute bin, with the model and with the one number" when in all."""
@@ -152,11 +148,11 @@ QUOTES = (
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_model", _km),
      "closer than the one measured number\ndoes ({:.2f}"),
     ("kerror/kerror.json", ("mean_rmse_after_5min_m", "rpf_scalar", _km), "against {:.2f} km after 5 min"),
-    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_model", "range", "coverage_90", _percent),
+    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_model", "range", "coverage_90", percent),
      "hold the truth in {:.0f} % of cycles"),
-    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_scalar", "range", "coverage_90", _percent),
+    ("kerror/kerror.json", ("calibration_after_late_min", "rpf_scalar", "range", "coverage_90", percent),
      "({:.0f} % with the one\nnumber)"),
-    ("kerror/kerror.json", ("calibration_after_late_min", "ml_model", "range", "coverage_90", _percent),
+    ("kerror/kerror.json", ("calibration_after_late_min", "ml_model", "range", "coverage_90", percent),
      "its intervals hold the truth in {:.0f} %"),
     ("kerror/kerror.json", (_ml_bins_behind_bearings_only,), "further off than the bearings-only\nfilter in {}"),
     *(("gm-tv-30km/summary.json", ("steady_state", "TV", key), fmt) for key, fmt in (

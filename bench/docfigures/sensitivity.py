@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.docfigures.common import caption, figure, load_result, made_at, markdown_table, rmse_rows
+from bench.docfigures.common import caption, figure, load_result, made_at, markdown_table, percent, rmse_rows
 
 PAGE = "docs/sensitivity.md"
 
@@ -128,9 +128,6 @@ TABLES = {"sensitivity-sets": sensitivity_sets, "sensitivity-ranges": sensitivit
           "sensitivity-speed": sensitivity_speed, "reciprocity": reciprocity, "kerror-sd": kerror_sd,
           "kerror-rmse": kerror_rmse, "kerror-bins": kerror_bins}
 
-def _percent(x: float) -> float:
-    return 100.0 * x
-
 
 def _ships_span(d: dict) -> tuple[float, float]:
     """The ships' (SW, TV) constant-offset sd, dB: their least and greatest."""
@@ -151,9 +148,9 @@ QUOTES = (
         (("provenance", "commit"), "commit\n{},"),
         (("figures", "repeats", "value"), "{:d} interleaved repeats"),
         (("figures", "study_1_worker_wall", "value"), "take {:.0f} s on 1 worker"),
-        (("figures", "overhead_1_worker_wall_over_bellhop_sum", "value", _percent), "{:.1f} % over their BELLHOP time"),
+        (("figures", "overhead_1_worker_wall_over_bellhop_sum", "value", percent), "{:.1f} % over their BELLHOP time"),
         (("figures", "study_2_workers_wall", "value"), "{:.0f} s, "),
-        (("figures", "overhead_2_workers_wall_over_half_bellhop_sum", "value", _percent),
+        (("figures", "overhead_2_workers_wall_over_half_bellhop_sum", "value", percent),
          "{:.1f} % over half their BELLHOP time"),
         (("figures", "speedup_2_vs_1_workers", "value"), "is {:.2f}x, not the 1.8x asked"),
         (("figures", "study_1_worker_bellhop_sum", "value"), "rose\nfrom {:.0f} s"),
