@@ -82,13 +82,23 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     float32, dB (``tl_max_db`` where nothing arrives): at each row z the arrivals at z and at -z
     of the mirrored run, each with its Lloyd factor band-averaged with the class's spectrum and
     the volume attenuation across the band (the module's formula)."""
+    lloyd, _ = image_sums(arrivals, image)
+    floor = 10.0 ** (-image.tl_max_db / 10.0)
+    return (-10.0 * np.log10(np.maximum(lloyd, floor))).astype(np.float32)
+
+
+def image_sums(arrivals: Arrivals, image: SurfaceImage, *, plain: bool = False
+               ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The band intensities of `image_tl_db` before the logarithm, ``(class, band, row, range)``:
+    with the Lloyd factor, and with ``plain`` also without it (the same arrivals summed
+    incoherently; None otherwise)."""
     depths = np.asarray(arrivals.receiver_depth_m, dtype=float)
     nr = arrivals.count.shape[1]
     offsets = np.concatenate([[0], np.cumsum(arrivals.count.ravel())]).astype(np.int64)
-    floor = 10.0 ** (-image.tl_max_db / 10.0)
     n_class = len(image.bands[0][0].weights) if image.bands and image.bands[0] else 0
     n_band = len(image.bands[0]) if image.bands else 0
-    out = np.empty((n_class, n_band, len(image.receiver_depth_m), nr), dtype=np.float32)
+    lloyd_sum = np.zeros((n_class, n_band, len(image.receiver_depth_m), nr))
+    plain_sum = np.zeros_like(lloyd_sum) if plain else None
     for iz, (z, c) in enumerate(zip(image.receiver_depth_m, image.speed_mps)):
         at_z = (z, -z) if z > 0.0 else (z,)
         mirror = [int(np.flatnonzero(np.isclose(depths, d, rtol=0.0, atol=1e-6))[0]) for d in at_z]
@@ -100,11 +110,12 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
         at_range = np.concatenate([np.repeat(np.arange(nr), arrivals.count[q]) for q in mirror])
         depth, speed = np.full(angle.size, float(z)), np.full(angle.size, float(c))
         for ib, band in enumerate(image.bands[iz]):
-            _, lloyd = _band_sums(attenuation, depth, speed, angle, band)
+            flat, lloyd = _band_sums(attenuation, depth, speed, angle, band)
             for ic in range(n_class):
-                total = np.bincount(at_range, weights=amplitude2 * lloyd[ic], minlength=nr)
-                out[ic, ib, iz] = -10.0 * np.log10(np.maximum(total, floor))
-    return out
+                lloyd_sum[ic, ib, iz] = np.bincount(at_range, weights=amplitude2 * lloyd[ic], minlength=nr)
+                if plain:
+                    plain_sum[ic, ib, iz] = np.bincount(at_range, weights=amplitude2 * flat[ic], minlength=nr)
+    return lloyd_sum, plain_sum
 
 
 def _band_sums(attenuation, depth, speed, angle_deg, band: ImageBand) -> tuple[np.ndarray, np.ndarray]:
