@@ -285,10 +285,31 @@ def image_mirror(root: Path) -> str:
     return text + "\n" + caption(d, "image-mirror.json")
 
 
+
+def surface_price(root: Path) -> str:
+    d = load_result(root, "surface-price.json")
+    finest = d["finest_beams"]
+    rows = [("surface's arrivals run (shelf-break, 12 radials)", "field and arrivals runs over the field runs",
+             f"against the mirrored run with {finest} beams over 1 km: median / p90 / mean, dB",
+             "ships' K against BELLHOP from the ship: worst median / means, dB"), ("---",) * 4]
+    for label, v in d["variants"].items():
+        c = v.get("against_finest")
+        near = f"{c['km_median_db']:.2f} / {c['km_p90_db']:.2f} / {c['km_mean_db']:+.2f}" if c else "(the finest)"
+        lo, hi = v["truth_mean_range_db"]
+        truth = f"{v['truth_worst_median_db']:.2f} / {lo:+.2f} to {hi:+.2f}"
+        rows.append((label + (" (the default)" if label == f"mirrored, {d['default_beams']}" else ""),
+                     f"{v['pair_over_field']:.2f}x", near, truth))
+    text = markdown_table(rows)
+    text += (f"\nBELLHOP CPU of the processes, medians of the repeats; the field runs took {d['field_cpu_s']:.1f} s. "
+             f"Truth targets as above (every {d['truth_targets']['radial_step']}rd radial, 2 to 30 km).\n")
+    return text + "\n" + caption(d, "surface-price.json")
+
+
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"surface": surface, "surface-cost": surface_cost, "grids-check": grids_check, "models-areas": models_areas,
           "ram-crossover": ram_crossover, "models-bench": models_bench, "build-profile": build_profile,
-          "surface-candidates": surface_candidates, "image-mirror": image_mirror, "engine": engine,
+          "surface-candidates": surface_candidates, "image-mirror": image_mirror, "surface-price": surface_price,
+          "engine": engine,
           "bottom": bottom}
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
