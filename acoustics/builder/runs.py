@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from acoustics.bellhop.runner import run_env
+from acoustics.builder import preload
 from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
 from acoustics.builder.surfaceimage import SurfaceImage, image_tl_db
 
@@ -104,6 +105,7 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
                       workers=threads, scheduler=scheduler,
                       cache=run_cache(cache_dir) if cache_dir is not None else None,
                       progress=progress, desc="BELLHOP runs", unit="run", stats=done)
+    preload.start()  # the dataset's imports, beside the runs
     try:
         with contextlib.closing(tasks):  # stops the pending runs whatever the caller does
             for run, (field, seconds), reused in tasks:
@@ -111,6 +113,7 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
                 if not reused:
                     stats.bellhop_seconds += seconds
                 yield run, field
+        preload.wait()
     finally:
         stats.runs_total, stats.runs_reused = done.total, done.reused
         stats.wall_seconds = done.wall_seconds
