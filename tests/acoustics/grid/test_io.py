@@ -28,6 +28,15 @@ def test_coordinates_carry_no_fill_value(tiny_grid_file):
         assert nc.variables["tl_db"].units == "dB"
 
 
+def test_each_table_is_one_chunk(tiny_grid_file):
+    import netCDF4
+
+    # acoustics.grid.io.slab_chunks: a (class, band) table whole in one chunk
+    with netCDF4.Dataset(tiny_grid_file) as nc:
+        tl = nc.variables["tl_db"]
+        assert tl.chunking() == [1, 1, *tl.shape[2:]]
+
+
 def test_write_leaves_no_temporary_file_and_keeps_old_file_on_failure(tiny_grid, tmp_path):
     path = tmp_path / "g.nc"
     acoustics.write_grid(tiny_grid, path)
@@ -47,13 +56,14 @@ def test_written_file_is_what_xarray_to_netcdf_writes_without_importing_dask_dis
 
     import netCDF4
 
-    from acoustics.grid.io import write_netcdf
+    from acoustics.grid.io import slab_chunks, write_netcdf
 
     ours, theirs = tmp_path / "ours.nc", tmp_path / "theirs.nc"
     write_netcdf(tiny_grid, ours)
     encoding = {n: {"dtype": "S1", "_FillValue": None} if v.dtype.kind in "UO" else {"_FillValue": None}
                 for n, v in tiny_grid.variables.items() if n in tiny_grid.coords or v.dtype.kind in "UO"}
-    encoding |= {n: {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None}
+    encoding |= {n: {"zlib": True, "complevel": 1, "shuffle": True, "_FillValue": None,
+                     "chunksizes": slab_chunks(v.shape)}
                  for n, v in tiny_grid.data_vars.items() if np.issubdtype(v.dtype, np.floating)}
     tiny_grid.to_netcdf(theirs, format="NETCDF4", engine="netcdf4", encoding=encoding)
     with xr.open_dataset(ours) as a, xr.open_dataset(theirs) as b:
