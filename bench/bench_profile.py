@@ -77,6 +77,7 @@ def instrumented(profile: Profile):
     """The builder's functions wrapped to feed ``profile``; put back on leaving."""
     from acoustics.bellhop import runner
     from acoustics.builder import atlas, executor, flat, gridfile, radial, runs
+    from acoustics.grid import dataset
 
     saved = []
 
@@ -131,6 +132,9 @@ def instrumented(profile: Profile):
     timed(flat, "flat_dataset", "dataset or store")
     patch(atlas, "plan_atlas", profile.timed("planning (radials, runs)", atlas.plan_atlas))
     timed(radial, "radial_dataset", "dataset or store")
+    # the builders that import their dataset function where they call it look it up here
+    timed(dataset, "flat_dataset", "dataset or store")
+    timed(dataset, "radial_dataset", "dataset or store")
     patch(gridfile, "write_grid", profile.timed("dataset or store", gridfile.write_grid))
     for name in ("_template", "write_table", "set_done"):
         timed(atlas, name, "dataset or store")

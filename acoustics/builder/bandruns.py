@@ -25,9 +25,9 @@ import numpy as np
 from acoustics.absorption import absorption_db_per_km
 from acoustics.bellhop.runner import default_timeout_s
 from acoustics.builder.runs import Run, RunStats
-from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.kcurve import band_average_tl_db, band_frequencies_hz, band_weights
 from acoustics.surface import band_quadrature, incoherent_error_db, lloyd_factor, surface_reach_m
+from acoustics.version import TMAKIT_VERSION
 from envdata.area import Area, TlMode
 
 #: 2: a table from the observer runs one field run per radial for every band (``shared_run_hz``)

@@ -8,13 +8,15 @@ with RAM's runs where the model asks for them (``ram``, ``auto``).
 from __future__ import annotations
 
 from pathlib import Path
-
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from acoustics.builder.bandruns import BuildStats, Model
 from acoustics.builder.flat import build_flat_grid, build_flat_ram_grid
 from acoustics.builder.radial import build_radial_grid
 from envdata.area import Area
+
+if TYPE_CHECKING:  # xarray is imported beside the runs (acoustics.builder.preload)
+    import xarray as xr
 
 
 def build_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers: int = 1,

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from acoustics.bellhop.envfile import env_text
 from acoustics.bellhop.exe import find_bellhop
@@ -41,13 +41,15 @@ from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import plan_runs, receiver_depths_m, source_speed_mps
 from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
-from acoustics.grid.dataset import flat_dataset
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
 from acoustics.surface import SURFACE_ROW_M, with_surface_rows
 from acoustics.urick import spherical_tl_db, urick_tables
 from envdata.area import Area, TlMode
 from envdata.limits import check_memory
+
+if TYPE_CHECKING:  # xarray is imported beside the runs (acoustics.builder.preload)
+    import xarray as xr
 
 
 def combined_tl_db(parts: list[np.ndarray], mode: TlMode, tl_max_db: float) -> np.ndarray:
@@ -191,6 +193,8 @@ def build_flat_grid(area: Area, model: Model, *, workers: int, scheduler: str | 
             tl_obs[:] = tl  # spherical spreading does not depend on either end's depth
         k[:] = k_urick
 
+    from acoustics.grid.dataset import flat_dataset  # xarray: imported beside the runs
+
     return flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
                         grid_source_hash(area, model, exe.sha256 if exe else None), exe.describe() if exe else None,
                         tl_obs=tl_obs)
@@ -238,6 +242,8 @@ def build_flat_ram_grid(area: Area, model: Model, *, workers: int, scheduler: st
                 on_source, workers=workers, scheduler=scheduler,
                 cache_dir=Path(cache_dir) if cache_dir is not None else None, progress=progress,
                 exe=str(exe.path) if exe else None, stats=stats)
+    from acoustics.grid.dataset import flat_dataset  # xarray: imported beside the runs
+
     ds = flat_dataset(area, model, depth, rng, tl, k, k_urick, beta,
                       grid_source_hash(area, model, exe.sha256 if exe else None), exe.describe() if exe else None)
     return with_ram_attrs(ds, model)

@@ -18,7 +18,6 @@ from acoustics.builder.buildgrid import build_grid
 from acoustics.builder.flat import expected_source_hash
 from acoustics.errors import GridFileError
 from acoustics.grid.io import write_grid
-from acoustics.grid.opentables import open_tables
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -103,6 +102,8 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
     digest = expected_source_hash(area, model)
     notes = incoherent_surface_notes(area) if model.runs_bellhop else []
     if out.exists() and not force:
+        from acoustics.grid.opentables import open_tables  # xarray: a fresh build imports it beside its runs
+
         try:
             existing = open_tables(out)
         except GridFileError:

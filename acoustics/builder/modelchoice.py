@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from acoustics.absorption import absorption_db_per_km
 from acoustics.builder.bandruns import (
@@ -32,6 +32,9 @@ from envdata.area import Area
 from envdata.bands import Band
 from envdata.classes import TargetClass
 from envdata.datafiles import input_file_digests
+
+if TYPE_CHECKING:  # xarray is imported beside the runs (acoustics.builder.preload)
+    import xarray as xr
 
 #: Coherent RAM runs per band (log-spaced across it). Measured (``python -m
 #: bench.crosscheck.ram_band``, docs/results/ram-band.json): a 100-300 Hz band averaged from n

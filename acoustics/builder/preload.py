@@ -1,10 +1,12 @@
 """The modules a build's last step needs, imported on a thread while its BELLHOP runs go.
 
-xarray imports dask.array (and with it scipy.sparse) the first time it makes a variable, to
-know a dask array when it meets one: about 1.4 s of a flat grid's fixed cost on this machine,
-spent after the last run (docs/results/build-profile.json). ``iter_runs`` starts the imports
-beside its first runs, where on one worker the second core is idle, and waits for them after
-its last, so that the dataset's step finds them done and no two threads import them at once.
+The dataset and its netCDF need xarray (with pandas, 0.5 s to import), and xarray imports
+dask.array (and with it scipy.sparse) the first time it makes a variable, to know a dask array
+when it meets one: together most of a flat grid's fixed cost on this machine, paid before the
+first run or after the last (docs/results/build-profile.json). The build command's modules leave
+them out of their imports (``import xarray`` for annotations only, the dataset's module where it
+is called), ``iter_runs`` starts them here beside its first runs, where on one worker the second
+core is idle, and waits for them after its last, so that the dataset's step finds them done.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import threading
 log = logging.getLogger(__name__)
 
 #: What the dataset's step imports first.
-MODULES = ("dask.array",)
+MODULES = ("xarray", "dask.array", "netCDF4", "xarray.backends.netCDF4_")
 
 _lock = threading.Lock()
 _thread: threading.Thread | None = None

@@ -25,9 +25,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.bellhop.radialfiles import radial_files
@@ -54,7 +54,6 @@ from acoustics.builder.modelruns import check_model_memory, run_sources
 from acoustics.builder.plan import run_spec
 from acoustics.builder.ramruns import RamRun
 from acoustics.builder.runs import Run, iter_runs
-from acoustics.grid.dataset import radial_dataset
 from acoustics.kcurve import spectral_term_db
 from acoustics.ram import RamEnvironment
 from acoustics.surface import SURFACE_ROW_M, with_surface_rows
@@ -64,6 +63,9 @@ from envdata.datafiles import input_file_digests
 from envdata.fieldchange import FieldChange
 from envdata.limits import check_memory
 from envdata.radials import Radial, area_radials
+
+if TYPE_CHECKING:  # xarray is imported beside the runs (acoustics.builder.preload)
+    import xarray as xr
 
 #: Ray step when the area does not set ``[propagation] step_m``, m (bench/bench_radials.py:
 #: converged to 0.1 dB median against a 5 m step on the built-in shelf-break area).
@@ -253,6 +255,8 @@ def build_radial_grid(area: Area, *, model: Model | str = Model.BELLHOP, workers
     arrays = radial_tables(area, model=model, workers=workers, scheduler=scheduler, cache_dir=cache_dir,
                            progress=progress, stats=stats, radials=radials, depth_m=depth_m, change=change,
                            exe=exe)
+    from acoustics.grid.dataset import radial_dataset  # xarray: imported beside the runs
+
     ds = radial_dataset(area, model, digest, arrays.exe_info, bearing_deg=arrays.bearing_deg, depth_m=arrays.depth_m,
                         range_m=arrays.range_m, tl_db=arrays.tl_db, k_db=arrays.k_db, k_urick_db=arrays.k_urick_db,
                         bottom_depth_m=arrays.bottom_depth_m, beta_db_per_km=arrays.beta_db_per_km,

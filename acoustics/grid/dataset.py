@@ -16,10 +16,9 @@ import numpy as np
 import xarray as xr
 
 from acoustics.grid.formats import GRID_FORMAT
+from acoustics.version import TMAKIT_VERSION
 from envdata.area import Area
 from envdata.areafile import area_to_json
-
-TMAKIT_VERSION = "0.1.0"
 
 
 def now_iso() -> str:

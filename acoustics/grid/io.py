@@ -4,11 +4,14 @@ unreadable turned into one error; grid files are opened by ``acoustics.open_tabl
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from envdata.files import atomic_path, check_input_file
+
+if TYPE_CHECKING:  # a build imports xarray beside its runs (acoustics.builder.preload)
+    import xarray as xr
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path, *, atomic: bool = True) -> Path:
@@ -72,6 +75,8 @@ def load_netcdf(path: str | Path, error: type[ValueError], what: str) -> xr.Data
         raise error(f"{path}: empty file, not a netCDF {what}")
     if not (magic.startswith(b"\x89HDF") or magic.startswith(b"CDF")):
         raise error(f"{path}: not a netCDF file")
+    import xarray as xr
+
     try:
         with xr.open_dataset(path, engine="netcdf4") as raw:
             return raw.load()

@@ -7,9 +7,11 @@ SCRIPT = """
 import sys
 from acoustics.builder import preload
 from acoustics.builder.runs import iter_runs
-before = "dask.array" in sys.modules
+import acoustics.builder.gridfile, tools.grids_cmd  # what ``tmakit grids build`` imports to plan
+before = "xarray" in sys.modules or "dask.array" in sys.modules
 list(iter_runs([]))  # no runs: it starts the imports and waits for them
-print(before, "dask.array" in sys.modules, preload._thread is not None and not preload._thread.is_alive())
+print(before, "xarray" in sys.modules and "dask.array" in sys.modules,
+      preload._thread is not None and not preload._thread.is_alive())
 """
 
 
