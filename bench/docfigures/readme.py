@@ -20,8 +20,12 @@ def grids(root: Path) -> str:
         (f"`grids build`, 2 workers ({figure(d, 'ocean_deep_runs')} BELLHOP runs)", f"{w2:.1f} s", "< 60 s"),
         ("`grids build`, 1 worker, over the sum of the raw BELLHOP runs on the same .env files",
          f"{figure(d, 'overhead_build_over_raw_bellhop'):.2f} ({w1:.1f} s / {raw:.1f} s)", "<= 1.10"),
-        ("the command's fixed cost (start-up, writing the 12 MB netCDF), the same on any number of workers",
-         f"{figure(d, 'ocean_deep_fixed_cost_w1_minus_raw'):.1f} s", ""),
+        ("the command's fixed cost (start-up, writing the 12 MB netCDF), the same on any number of workers: "
+         "1 worker less the raw sum", f"{figure(d, 'ocean_deep_fixed_cost_w1_minus_raw'):.1f} s", ""),
+        *([("the same from one process: the 1-worker command's wall time less its own BELLHOP runs' "
+            "(free of the load's drift between the command and the raw runs)",
+            f"{figure(d, 'ocean_deep_fixed_cost_w1_own'):.1f} s", "< 1 s")]
+          if "ocean_deep_fixed_cost_w1_own" in d["figures"] else []),
         ("2 workers vs 1", f"{figure(d, 'parallel_speedup_2_vs_1_workers'):.2f}x", ">= 1.7"),
         ("peak memory (largest process)", f"{figure(d, 'ocean_deep_peak_rss'):.0f} MiB", "< 1 GiB"),
         ("the naive loop (classes x bands x 7 frequencies at BELLHOP's automatic beam count), estimated from "
