@@ -97,7 +97,6 @@ def run_build(args) -> Report:
     import acoustics
     import envdata
     from acoustics.builder.gridfile import build_grid_file
-    from acoustics.grid.pdmap import table_reach
 
     area = envdata.load_area(args.area)
     out = args.out if args.out is not None else Path(f"{area.name}-{args.model}.nc")
@@ -114,6 +113,9 @@ def run_build(args) -> Report:
                    f"{info.wall_seconds:.1f} s wall")
     summary += "".join(f"\nnote: {note}" for note in info.notes)
     data = grid_file_data(info)
+    # imported once the runs are started: xarray comes beside them (acoustics.builder.preload)
+    from acoustics.grid.pdmap import table_reach
+
     reach = table_reach(acoustics.open_tables(out))
     summary += "\nwhere P_D falls below 0.1 (the class at its mean level):\n" + "\n".join(reach_lines(reach))
     data["reach"] = reach_data(reach)
