@@ -116,7 +116,7 @@ def run_build(args) -> Report:
     # imported once the runs are started: xarray comes beside them (acoustics.builder.preload)
     from acoustics.grid.pdmap import table_reach
 
-    reach = table_reach(acoustics.open_tables(out))
+    reach = table_reach(acoustics.open_tables(info.dataset if info.dataset is not None else out))
     summary += "\nwhere P_D falls below 0.1 (the class at its mean level):\n" + "\n".join(reach_lines(reach))
     data["reach"] = reach_data(reach)
     return Report(summary, data)
@@ -144,7 +144,8 @@ def run_check(args) -> Report:
 
 def grid_file_data(info) -> dict:
     """A ``GridFileResult`` as the JSON report gives it."""
-    data = dataclasses.asdict(info)
+    data = dataclasses.asdict(dataclasses.replace(info, dataset=None))  # the grid itself is the file
+    del data["dataset"]
     data.update(file=str(info.file), model=str(info.model),
                 bellhop_seconds=round(info.bellhop_seconds, 3), ram_seconds=round(info.ram_seconds, 3),
                 wall_seconds=round(info.wall_seconds, 3))

@@ -11,6 +11,7 @@ import shutil
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import envdata
 from acoustics.builder.bandruns import BuildStats, Model, incoherent_surface_notes
@@ -18,6 +19,9 @@ from acoustics.builder.buildgrid import build_grid
 from acoustics.builder.flat import expected_source_hash
 from acoustics.errors import GridFileError
 from acoustics.grid.io import write_grid
+
+if TYPE_CHECKING:  # xarray is imported beside the runs (acoustics.builder.preload)
+    import xarray as xr
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -41,6 +45,9 @@ class GridFileResult:
     notes : list of str
         What the user should know of the grid's physics: a near-surface class in incoherent
         beams, and how far off its levels are (``bandruns.incoherent_surface_notes``).
+    dataset : xarray.Dataset or None
+        The grid just built and written, in memory (None when the file was reused): what a caller
+        reads next without opening the file again.
     """
 
     file: Path
@@ -55,6 +62,7 @@ class GridFileResult:
     wall_seconds: float = 0.0
     dims: dict[str, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    dataset: xr.Dataset | None = field(default=None, repr=False, compare=False)
 
 
 def resume_dir(out: str | os.PathLike, digest: str) -> Path:
@@ -122,4 +130,4 @@ def build_grid_file(area: envdata.Area | str | os.PathLike, out: str | os.PathLi
                           runs=stats.runs_total, runs_reused=stats.runs_reused,
                           bellhop_seconds=stats.bellhop_seconds, ram_seconds=stats.ram_seconds,
                           wall_seconds=time.perf_counter() - start,
-                          dims={str(k): int(v) for k, v in ds.sizes.items()}, notes=notes)
+                          dims={str(k): int(v) for k, v in ds.sizes.items()}, notes=notes, dataset=ds)
