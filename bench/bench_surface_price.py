@@ -33,9 +33,10 @@ import numpy as np
 
 import envdata
 from acoustics.bellhop.runner import run_env
+from acoustics.bellhop.shdfile import tl_from_pressure
 from acoustics.builder.bandruns import band_tl_from_runs
 from acoustics.builder.radial import bottom_on_grid_m, depth_axis_m, plan_radial_image_runs, plan_radial_runs
-from acoustics.builder.surfaceimage import image_sums
+from acoustics.builder.surfaceimage import image_sums, intensity_tl_db
 from acoustics.surface import SURFACE_ROW_M
 from bench.bench_bottom import against_targets, targets_own_k
 from bench.bench_image_mirror import TRUTH_CACHE, TRUTH_RADIAL_STEP, child_cpu, class_rows, converged
@@ -60,7 +61,7 @@ def field_rows(area, radials, receivers) -> tuple[dict, float]:
     for run in runs:
         j, f = where[run.key]
         p = run_env(run.env, files=dict(run.files), timeout_s=run.timeout_s).field.pressure[0]
-        tl = -20.0 * np.log10(np.maximum(np.abs(p), 1e-30))
+        tl = tl_from_pressure(p, area.propagation.tl_max_db)
         out[j] = np.stack([np.stack([band_tl_from_runs(area, cls, band, {f: tl}) for band in area.bands])
                            for cls in area.classes])
     return out, child_cpu() - before
@@ -110,10 +111,9 @@ def main(argv=None) -> int:
     rows = sums[FINEST][2]
     rows_m = receivers[rows]
     field_tl = np.stack([field[j][:, :, rows] for j in range(len(radials))])
-    floor = 10.0 ** (-cap / 10.0)
 
     def mirrored(b):
-        return np.minimum(-10.0 * np.log10(np.maximum(sums[b][0], floor)), cap)
+        return intensity_tl_db(sums[b][0], cap)
 
     def ratio(b):
         lloyd, plain, _ = sums[b]

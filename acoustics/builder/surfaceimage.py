@@ -83,8 +83,13 @@ def image_tl_db(arrivals: Arrivals, image: SurfaceImage) -> np.ndarray:
     of the mirrored run, each with its Lloyd factor band-averaged with the class's spectrum and
     the volume attenuation across the band (the module's formula)."""
     lloyd, _ = image_sums(arrivals, image)
-    floor = 10.0 ** (-image.tl_max_db / 10.0)
-    return (-10.0 * np.log10(np.maximum(lloyd, floor))).astype(np.float32)
+    return intensity_tl_db(lloyd, image.tl_max_db).astype(np.float32)
+
+
+def intensity_tl_db(intensity, tl_max_db: float) -> np.ndarray:
+    """TL = -10 lg I, dB, of a band intensity (`image_sums`), capped at ``tl_max_db`` where
+    nothing arrives."""
+    return -10.0 * np.log10(np.maximum(intensity, 10.0 ** (-tl_max_db / 10.0)))
 
 
 def image_sums(arrivals: Arrivals, image: SurfaceImage, *, plain: bool = False

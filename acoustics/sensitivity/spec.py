@@ -9,9 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustics.builder.plan import RECIPROCITY_MIN_DEPTH_M
-from acoustics.grid.dataset import TMAKIT_VERSION
 from acoustics.sensitivity.perturb import check_perturbations
 from acoustics.sensitivity.perturbspec import Perturbation
+from acoustics.version import TMAKIT_VERSION
 from envdata.area import Area
 from envdata.datafiles import input_file_digests
 from envdata.errors import InputError

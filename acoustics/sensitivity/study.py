@@ -24,11 +24,12 @@ import xarray as xr
 from acoustics.bellhop.exe import find_bellhop
 from acoustics.builder.executor import ResultCache, TaskStats, run_tasks
 from acoustics.builder.radial import depth_axis_m
-from acoustics.grid.dataset import TMAKIT_VERSION, now_iso
+from acoustics.grid.dataset import now_iso
 from acoustics.grid.formats import STUDY_FORMAT
 from acoustics.sensitivity.members import MemberResult, compute_member, member_key, member_radials
 from acoustics.sensitivity.perturbspec import Perturbation
 from acoustics.sensitivity.spec import RECIPROCITY_MIN_DEPTH_M, StudySpec
+from acoustics.version import TMAKIT_VERSION
 from envdata.area import Area
 from envdata.radials import area_radials
 

@@ -285,7 +285,6 @@ def image_mirror(root: Path) -> str:
     return text + "\n" + caption(d, "image-mirror.json")
 
 
-
 def surface_price(root: Path) -> str:
     d = load_result(root, "surface-price.json")
     finest = d["finest_beams"]
