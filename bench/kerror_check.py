@@ -5,7 +5,7 @@ tables' residual, its correlation length and the two growths from.
     python -m bench.kerror_check [--cache DIR] [--workers 2]
 
 On the built-in shelf-break grid, for the surface ship class (TV, 8 m: the sea surface acts at
-its end), observers at the grid's origin and 3 and 6 km from it toward the four quarters (where
+its end), observers at the grid's origin and 0.5, 1, 1.5, 3 and 6 km from it toward the four quarters (where
 the water is deep enough for the observer: on the shelf to the north it is not), each
 with targets on three bearings from the observer (60, 180 and 300 deg: none of the studies' own
 geometries) every 250 m from 3 to 15 km; K from BELLHOP along each
@@ -16,6 +16,9 @@ the residual about it; fitted over the lines: the residual's sd at the origin an
 sd^2 = sd0^2 + (g d)^2 with the observer's distance d, the offset's growth (the lines' means
 away from the origin less the origin's on the same bearing, their RMS against d through zero),
 and the residual's correlation length along range (the pooled autocorrelation falls to 1/e).
+Both growths are also fitted as a jump and a slope, J^2 (1 - exp(-d / L)) + (g d)^2 (`fit_jump`),
+from the observers 0.5, 1 and 1.5 km away beside those 3 and 6 km away: what a linear growth
+through zero misses close to where the tables were computed.
 Writes docs/results/kerror-check.json.
 """
 
@@ -29,7 +32,7 @@ import numpy as np
 from bench.harness import REPO, Session
 
 CLASSES = ("TV",)
-DISTANCES_M = (0.0, 3000.0, 6000.0)
+DISTANCES_M = (0.0, 500.0, 1000.0, 1500.0, 3000.0, 6000.0)
 QUARTERS_DEG = (0.0, 90.0, 180.0, 270.0)
 BEARINGS_DEG = (60.0, 180.0, 300.0)
 RANGES_M = tuple(np.arange(3000.0, 15000.0 + 1.0, 250.0))
@@ -114,6 +117,8 @@ def _fit(found: list[dict], step_m: float) -> dict:
               for r in rows if r["distance_m"] > 0.0 and r["bearing_deg"] in origin]
     sd2 = np.array([d * d for d, _ in shifts])
     offset_growth = math.sqrt(max(float(np.sum(sd2 * np.array([s * s for _, s in shifts])) / np.sum(sd2 * sd2)), 0.0))
+    jump = {"residual": fit_jump(np.array([d for d, _ in away]), excess),
+            "offset": fit_jump(np.array([d for d, _ in shifts]), np.array([s * s for _, s in shifts]))}
     series = np.concatenate([np.moveaxis(r["resid"], 1, 0) for r in rows])             # (lines x M, R)
     from acoustics.sensitivity.errormodel import _e_folding_m
 
@@ -122,7 +127,38 @@ def _fit(found: list[dict], step_m: float) -> dict:
         r.pop("resid")
     return {"residual_sd_db_at_origin": round(base, 3), "residual_growth_db_per_km": round(residual_growth, 3),
             "offset_growth_db_per_km": round(offset_growth, 3), "residual_length_m": round(length, 1),
-            "lines": rows}
+            "jump": jump, "lines": rows}
+
+
+#: The lengths over which the jump may rise (`fit_jump`), km.
+JUMP_LENGTHS_KM = tuple(np.round(np.arange(0.1, 5.01, 0.05), 2))
+
+
+def fit_jump(d_km: np.ndarray, excess_db2: np.ndarray) -> dict:
+    """The growth of a variance with the observer's distance d as a jump and a slope,
+    excess(d) = J^2 (1 - exp(-d / L)) + (g d)^2: tables read a little away from where they were
+    computed meet their interference pattern shifted (two readings of one pattern a distance
+    apart differ by a variance that rises to twice the pattern's over its correlation length),
+    and the acoustic regime changes further on (the slope). J^2 and g^2 by non-negative least
+    squares at each L of `JUMP_LENGTHS_KM`, the L of least squares kept; and the linear growth
+    alone (J = 0) for comparison, its root mean square misfit beside."""
+    from scipy.optimize import nnls
+
+    best = None
+    for length in JUMP_LENGTHS_KM:
+        a = np.column_stack([1.0 - np.exp(-d_km / length), d_km ** 2])
+        coef, misfit = nnls(a, excess_db2)
+        if best is None or misfit < best[2]:
+            best = (length, coef, misfit)
+    length, (j2, g2), misfit = best
+    g2_only = max(float(np.sum(d_km ** 2 * excess_db2) / np.sum(d_km ** 4)), 0.0)
+    linear_misfit = float(np.sqrt(np.mean((excess_db2 - g2_only * d_km ** 2) ** 2)))
+    return {"jump_db": round(math.sqrt(j2), 3), "jump_length_m": round(1000.0 * float(length), 1),
+            "growth_db_per_km": round(math.sqrt(g2), 3),
+            "rms_misfit_db2": round(float(misfit) / math.sqrt(d_km.size), 2),
+            "linear_only_rms_misfit_db2": round(linear_misfit, 2),
+            "mean_excess_db2_by_distance_km": {f"{d:g}": round(float(np.mean(excess_db2[d_km == d])), 2)
+                                               for d in sorted(set(d_km.tolist()))}}
 
 
 def main(argv=None) -> int:
@@ -151,6 +187,9 @@ def main(argv=None) -> int:
                         "residual_length_m"):
                 unit = "dB" if "sd_db" in key else ("dB/km" if "growth" in key else "m")
                 session.say(f"{name}_{part}_{key}", result[part][key], unit)
+            for which, jump in result[part]["jump"].items():
+                for key, unit in (("jump_db", "dB"), ("jump_length_m", "m"), ("growth_db_per_km", "dB/km")):
+                    session.say(f"{name}_{part}_{which}_{key}", jump[key], unit)
     session.write(classes=by_class, distances_m=list(DISTANCES_M), quarters_deg=list(QUARTERS_DEG),
                   bearings_deg=list(BEARINGS_DEG), ranges_m=[RANGES_M[0], RANGES_M[-1], RANGES_M[1] - RANGES_M[0]],
                   truth_runs=provider.stats.runs, truth_runs_cached=provider.stats.cached)
