@@ -149,8 +149,7 @@ class LevelErrors:
         left out): the sd of the part common to the bands and of each band's own (the root of the
         mean of the bands' variances), dB, each shaped like ``displacement_m``."""
         a = self.arrays(n_bands)
-        d_km = np.asarray(displacement_m, dtype=float)[..., None] / 1000.0
-        var = a["sd_db"] ** 2 + (a["growth_db_per_km"] * d_km) ** 2                    # (..., S)
+        var = prior_variance(a, displacement_m)                                        # (..., S)
         common = a["h"].all(axis=0)
         own = (a["h"][:, ~common] ** 2).sum(axis=0) / n_bands                           # each band's share
         return np.sqrt((var * common).sum(axis=-1)), np.sqrt((var[..., ~common] * own).sum(axis=-1))
@@ -176,8 +175,16 @@ class LevelErrors:
         """Covariance between the bands of one cycle's level errors (every component at its
         prior variance, the measurement's own left out), (M, M), dB^2."""
         a = self.arrays(n_bands)
-        var = a["sd_db"] ** 2 + (a["growth_db_per_km"] * displacement_m / 1000.0) ** 2
+        var = prior_variance(a, displacement_m)
         return (a["h"] * var[None, :]) @ a["h"].T
+
+
+def prior_variance(arrays: dict, displacement_m=0.0) -> np.ndarray:
+    """Each component's variance with the observer ``displacement_m`` (any shape, m) from where
+    the tables were computed, sd^2 + (growth d)^2 (`Component`), dB^2, shaped (..., S); ``arrays``
+    as `LevelErrors.arrays` gives them. The one place the growth is written, for every tracker."""
+    d_km = np.asarray(displacement_m, dtype=float)[..., None] / 1000.0
+    return arrays["sd_db"] ** 2 + (arrays["growth_db_per_km"] * d_km) ** 2
 
 
 def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=None,
@@ -215,9 +222,8 @@ def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=Non
     a = errors.arrays(m_n)
     h, s = a["h"], a["h"].shape[1]
     use = np.isfinite(e) & np.isfinite(v) & (v > 0)
-    d_km = np.zeros(t_n) if displacement_m is None else np.broadcast_to(
-        np.asarray(displacement_m, dtype=float) / 1000.0, (t_n,))
-    prior = a["sd_db"][None, :] ** 2 + (a["growth_db_per_km"][None, :] * d_km[:, None]) ** 2   # (T, S)
+    prior = prior_variance(a, np.zeros(t_n) if displacement_m is None else np.broadcast_to(
+        np.asarray(displacement_m, dtype=float), (t_n,)))                             # (T, S)
     if a["inv_time_s"].any() and t_s is None:
         raise ValueError("a component with a correlation time needs the cycle times t_s")
     if a["inv_length_m"].any() and step_m is None:

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from tracker.levels import prior_variance
+
 
 class ParticleErrors:
     """The components' means (S, runs, N) of a block's particles and each run's covariance
@@ -26,9 +28,8 @@ class ParticleErrors:
     def __init__(self, level_errors, n_bands: int, n_cycles: int, shape, displacement_m=None):
         a = level_errors.arrays(n_bands)
         self.h = a["h"]                                                   # (B, S)
-        d_km = np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
-            np.asarray(displacement_m, dtype=float) / 1000.0, (n_cycles,))
-        self.var = a["sd_db"][None, :] ** 2 + (a["growth_db_per_km"][None, :] * d_km[:, None]) ** 2
+        self.var = prior_variance(a, np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
+            np.asarray(displacement_m, dtype=float), (n_cycles,)))         # (K, S)
         self.inv_time, self.inv_length = a["inv_time_s"], a["inv_length_m"]
         s = self.h.shape[1]
         self.mean = np.zeros((s,) + tuple(shape))

@@ -14,6 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from tracker.levels import prior_variance
+
 
 class Observer(NamedTuple):
     """The observer's track, the same for every run.
@@ -105,9 +107,8 @@ def errors_of(level_errors, n_bands: int, n_cycles: int, displacement_m=None) ->
     if level_errors is None:
         return Errors(False, np.zeros((n_bands, 1)), np.zeros((n_cycles, 1)), np.zeros(1), np.zeros(1))
     a = level_errors.arrays(n_bands)
-    d_km = np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
-        np.asarray(displacement_m, dtype=float) / 1000.0, (n_cycles,))
-    var = a["sd_db"][None, :] ** 2 + (a["growth_db_per_km"][None, :] * d_km[:, None]) ** 2
+    var = prior_variance(a, np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
+        np.asarray(displacement_m, dtype=float), (n_cycles,)))
     c = np.ascontiguousarray
     return Errors(True, c(a["h"], dtype=float), c(var, dtype=float), c(a["inv_time_s"], dtype=float),
                   c(a["inv_length_m"], dtype=float))
