@@ -189,7 +189,7 @@ def main(argv=None) -> int:
                 session.say(f"{name}_{part}_{key}", result[part][key], unit)
             for which, jump in result[part]["jump"].items():
                 for key, unit in (("jump_db", "dB"), ("jump_length_m", "m"), ("growth_db_per_km", "dB/km")):
-                    session.say(f"{name}_{part}_{which}_{key}", jump[key], unit)
+                    session.say(f"{name}_{part}_jump_fit_{which}_{key}", jump[key], unit)
     session.write(classes=by_class, distances_m=list(DISTANCES_M), quarters_deg=list(QUARTERS_DEG),
                   bearings_deg=list(BEARINGS_DEG), ranges_m=[RANGES_M[0], RANGES_M[-1], RANGES_M[1] - RANGES_M[0]],
                   truth_runs=provider.stats.runs, truth_runs_cached=provider.stats.cached)

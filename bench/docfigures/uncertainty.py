@@ -108,12 +108,18 @@ def calibration_depth(root: Path) -> str:
 def kerror_check(root: Path) -> str:
     d = load_result(root, "kerror-check.json")
     rows = [("fit, surface ship (TV, 8 m)", "residual at the origin", "its growth", "the offset's growth",
-             "the residual's correlation length"), ("---",) * 5]
+             "the residual's correlation length", "as a jump and a slope: the residual's, the offset's"),
+            ("---",) * 6]
+
+    def jump(j: dict) -> str:
+        return f"{j['jump_db']:.1f} dB over {j['jump_length_m']:.0f} m, then {j['growth_db_per_km']:.2f} dB/km"
+
     for part, label in (("all", "every line (the model's)"),
                         ("same_regime", "without an observer moved onto the shelf")):
         f = d["classes"]["TV"][part]
         rows.append((label, f"{f['residual_sd_db_at_origin']:.2f} dB", f"{f['residual_growth_db_per_km']:.2f} dB/km",
-                     f"{f['offset_growth_db_per_km']:.2f} dB/km", f"{f['residual_length_m']:.0f} m"))
+                     f"{f['offset_growth_db_per_km']:.2f} dB/km", f"{f['residual_length_m']:.0f} m",
+                     f"{jump(f['jump']['residual'])}; {jump(f['jump']['offset'])}"))
     return markdown_table(rows) + "\n" + caption(d, "kerror-check.json")
 
 
