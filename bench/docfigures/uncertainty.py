@@ -30,6 +30,12 @@ QUOTES = (
      "in {0[0]:.0f}-{0[1]:.0f} % of the slope run's cycles"),
     ("depth-diagnosis.json", (filter_span("shelf-slope-nps", "bearings_only", "coverage_90", 100.0),),
      "the bearings-only filter holds {0[0]:.0f}-{0[1]:.0f} %"),
+    ("kerror-check.json", ("classes", "TV", "all", "jump", "residual", "rms_misfit_db2"),
+     "residual's RMS misfit {:.1f} against"),
+    ("kerror-check.json", ("classes", "TV", "same_regime", "jump", "residual", "jump_db"),
+     "a jump of {:.1f} dB over"),
+    ("kerror-check.json", ("classes", "TV", "same_regime", "jump", "residual", "jump_length_m"),
+     "dB over\n{:.0f} m fits"),
 )
 
 SHELF = (("ml_bearing", "ML analysis, bearing-dependent grid"),
@@ -112,6 +118,8 @@ def kerror_check(root: Path) -> str:
             ("---",) * 6]
 
     def jump(j: dict) -> str:
+        if j["jump_db"] < 0.05:
+            return f"no jump, {j['growth_db_per_km']:.2f} dB/km"
         return f"{j['jump_db']:.1f} dB over {j['jump_length_m']:.0f} m, then {j['growth_db_per_km']:.2f} dB/km"
 
     for part, label in (("all", "every line (the model's)"),
