@@ -6,7 +6,8 @@ models side by side, and its model's posterior at the truth against its best pat
 
 For each scenario and true depth of the depth study (the same runs: its seeds, its BELLHOP truth,
 its grid, read from ``--cache``, the study's output folder, built there if missing) the filter
-given the true depth (`tools.studies.depth`'s settings) runs
+given the true depth (`tools.studies.depth`'s settings, with the paper's acceleration sd alone:
+the diagnosis is of that sd, the studies' filters now share out three) runs
 
 - ``levels``: as in the study (every band's level, the errors that last integrated out);
 - ``levels_k_smoothed``: K averaged over a range uncertainty r' ~ N(r, max(`SMOOTH_FLOOR_M`,
@@ -40,6 +41,7 @@ only the measurement's own 1.1 dB separates them). Writes docs/results/depth-dia
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -109,7 +111,7 @@ def track(tables, sim, ic: int, view, model: str, rng, n_particles: int) -> np.n
                         bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         bearing_sd_rad=np.radians(np.maximum(sim.bearing_sigma_deg[run], floor))[None],
                         level_db_meas=np.full(levels.shape, np.nan) if model.startswith("bearings_only") else levels,
-                        cfg=rpf_config(tables, sim, ic, n_particles, sigma), rng=rng,
+                        cfg=replace(rpf_config(tables, sim, ic, n_particles, sigma), sigma_a_mix_mps2=()), rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, summaries=True,
                         level_errors=errors, displacement_m=away)
         pos[run, :, :4] = res.mean[0][:, :4] + obs
@@ -201,14 +203,12 @@ def model_posterior(tables, sim, ic: int, runs: int, sigma_a_mps2: float) -> dic
     (`tracker.rpf.gaussiansum.bearings_posterior`, the filter's prior and sigma_theta): the share
     of cycles after `LATE_MIN` whose 90 % interval holds the truth, the median |error| / sd, and
     each run's log evidence of its bearings."""
-    from dataclasses import replace
-
     from tools.studies.depth import _observer
     from tools.studies.depth_setup import LATE_MIN
     from tools.studies.trackerrors import rpf_config
     from tracker.rpf.gaussiansum import bearings_posterior
 
-    cfg = replace(rpf_config(tables, sim, ic, 2), sigma_a_mps2=sigma_a_mps2)
+    cfg = replace(rpf_config(tables, sim, ic, 2), sigma_a_mps2=sigma_a_mps2, sigma_a_mix_mps2=())
     obs = _observer(sim)
     late = (sim.t_s - sim.t_s[0]) / 60.0 >= LATE_MIN
     z, evidence = [], []

@@ -19,11 +19,16 @@ from tracker.rpf.track import cycle_profiles
 
 #: eq. 11's level error at the detection threshold, dB (Grinenkov & Mashoshin: "about 1.1 dB").
 LEVEL_SD_DB = 1.1
-#: The particle filters' particles in the studies: the command's own (the paper's 5000). With 2000
+#: The particle filters' particles in the studies (the command's, the paper's, are 5000). With 2000
 #: the cloud is a little narrow where the levels carry an offset the filter learns: on runs whose
 #: levels follow the model the 90 % range interval held the truth in 82 % of cycles with 2000
-#: particles, 89 % with 10 000 (the shelf-tv transport, 30 runs).
-FILTER_PARTICLES = 5000
+#: particles, 89 % with 10 000 (the shelf-tv transport, 30 runs). With levels from tables of a
+#: sloping bottom the filter is short of particles at 5000 (`FILTER_SIGMA_A_MPS2` says by how
+#: much): by hand on the result files' grids, truth and seeds, 20 000 with the three acceleration
+#: sds held or lowered every study's error (follow, 5 km atlas, 712 -> 566 m; kerror with the
+#: study's model 1256 -> 1069 m; shelf 1456 -> 1470 m) where 20 000 alone did less (follow 614 m).
+#: The depth study keeps its own 2000 (`tools.studies.depth`): four times its 13 minutes.
+FILTER_PARTICLES = 20000
 #: The regularization kernel's bandwidth in the studies, times eqs. 27-28's (`RpfConfig.bandwidth_scale`).
 #: The paper's h (1) is MISE-optimal for a Gaussian cloud; where the levels come from tables of a
 #: sloping bottom their likelihood has narrow peaks in range, and each resampling's jitter, about
@@ -66,7 +71,10 @@ FILTER_BANDWIDTH_SCALE = 0.5
 #: with 5000: 1456 m); the mixture splits the cloud three ways and its small sds spread it less
 #: over the levels' narrow peaks. The bearings-only filter
 #: gained on every study (follow 82 -> 99 % and 830 -> 602 m, kerror 1981 -> 1778 m, shelf 1929
-#: -> 1771 m at 99 %), so it takes the mixture (`rpf_config`'s ``bearings_only``).
+#: -> 1771 m at 99 %). With `FILTER_PARTICLES` at 20 000 the filters with levels gained or held
+#: with the mixture on every study too (the shelf's 1470 m at 97 % against the paper's sd's 1456 m
+#: at 5000), so every filter of the studies takes it (`rpf_config`); this sd is the mixture's
+#: largest, and the studies' filters' where no mixture is given.
 FILTER_SIGMA_A_MPS2 = 1.5e-3
 
 
@@ -125,13 +133,14 @@ def ml_track(tables: Tables, sim, cls_index: int, params: MLParams | None = None
     return Tracked(**est, tacks=batch.tack.copy())
 
 
-def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigma_db: float | None = None,
-               *, bearings_only: bool = False) -> RpfConfig:
+def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigma_db: float | None = None
+               ) -> RpfConfig:
     """The studies' filter settings: the class's speed statistics; a range prior around the first
     range with 25 % sd, the same whichever tables are tracked with; sigma_l ``level_sigma_db``, by
     default eq. 11's 1.1 dB and the class's K error; the variance-keeping regularization with
-    `FILTER_BANDWIDTH_SCALE` times the paper's bandwidth. ``bearings_only``: the acceleration sds
-    the command's ``rpf-bot`` shares out (`tracker.rpf.config.BEARINGS_ONLY_SIGMA_A_MIX_MPS2`)."""
+    `FILTER_BANDWIDTH_SCALE` times the paper's bandwidth; the acceleration sds the command's
+    ``rpf-bot`` shares out (`tracker.rpf.config.BEARINGS_ONLY_SIGMA_A_MIX_MPS2`, `FILTER_SIGMA_A_MPS2`
+    says why every filter of the studies takes them)."""
     target = tables.classes[cls_index]
     sigma = float(np.hypot(LEVEL_SD_DB, target.k_error_sd_db)) if level_sigma_db is None else level_sigma_db
     r0 = float(np.mean(sim.range_m[:, 0]))
@@ -139,7 +148,7 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
                      level_sigma_db=sigma, range_mean_m=r0, range_sd_m=0.25 * r0,
                      speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True,
                      bandwidth_scale=FILTER_BANDWIDTH_SCALE, sigma_a_mps2=FILTER_SIGMA_A_MPS2,
-                     sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2 if bearings_only else ())
+                     sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2)
 
 
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
@@ -155,7 +164,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
     obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
                     np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
     target = tables.classes[cls_index]
-    cfg = config or rpf_config(tables, sim, cls_index, n_particles, level_sigma_db, bearings_only=bearings_only)
+    cfg = config or rpf_config(tables, sim, cls_index, n_particles, level_sigma_db)
     where = (sim.obs_x_m, sim.obs_y_m) if at_observer else ()
     away = tables.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m) if at_observer else None
     keys = ("x_m", "y_m", "range_m", "course_deg", "speed_mps", "range_sd_m", "course_sd_deg", "speed_sd_mps")
