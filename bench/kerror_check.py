@@ -109,16 +109,16 @@ def _fit(found: list[dict], step_m: float) -> dict:
     origin = {r["bearing_deg"]: np.asarray(r["offset_db"]) for r in rows if r["distance_m"] == 0.0}
     base = float(np.sqrt(np.mean([r["residual_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
     away = [(r["distance_m"] / 1000.0, r["residual_sd_db"]) for r in rows if r["distance_m"] > 0.0]
-    d2 = np.array([d * d for d, _ in away])
+    away_km = np.array([d for d, _ in away])
     excess = np.array([sd * sd - base * base for _, sd in away])
-    residual_growth = math.sqrt(max(float(np.sum(d2 * excess) / np.sum(d2 * d2)), 0.0))
     shifts = [(r["distance_m"] / 1000.0, float(np.sqrt(np.mean((np.asarray(r["offset_db"])
                                                                 - origin[r["bearing_deg"]]) ** 2))))
               for r in rows if r["distance_m"] > 0.0 and r["bearing_deg"] in origin]
-    sd2 = np.array([d * d for d, _ in shifts])
-    offset_growth = math.sqrt(max(float(np.sum(sd2 * np.array([s * s for _, s in shifts])) / np.sum(sd2 * sd2)), 0.0))
-    jump = {"residual": fit_jump(np.array([d for d, _ in away]), excess),
-            "offset": fit_jump(np.array([d for d, _ in shifts]), np.array([s * s for _, s in shifts]))}
+    shifts_km = np.array([d for d, _ in shifts])
+    shift2 = np.array([s * s for _, s in shifts])
+    residual_growth = math.sqrt(growth_through_zero(away_km, excess))
+    offset_growth = math.sqrt(growth_through_zero(shifts_km, shift2))
+    jump = {"residual": fit_jump(away_km, excess), "offset": fit_jump(shifts_km, shift2)}
     series = np.concatenate([np.moveaxis(r["resid"], 1, 0) for r in rows])             # (lines x M, R)
     from acoustics.sensitivity.errormodel import _e_folding_m
 
@@ -128,6 +128,12 @@ def _fit(found: list[dict], step_m: float) -> dict:
     return {"residual_sd_db_at_origin": round(base, 3), "residual_growth_db_per_km": round(residual_growth, 3),
             "offset_growth_db_per_km": round(offset_growth, 3), "residual_length_m": round(length, 1),
             "jump": jump, "lines": rows}
+
+
+def growth_through_zero(d_km: np.ndarray, excess_db2: np.ndarray) -> float:
+    """g^2 of excess(d) = (g d)^2 by least squares (0 where the excess falls with d), dB^2/km^2."""
+    d2 = d_km ** 2
+    return max(float(np.sum(d2 * excess_db2) / np.sum(d2 * d2)), 0.0)
 
 
 #: The lengths over which the jump may rise (`fit_jump`), km.
@@ -151,7 +157,7 @@ def fit_jump(d_km: np.ndarray, excess_db2: np.ndarray) -> dict:
         if best is None or misfit < best[2]:
             best = (length, coef, misfit)
     length, (j2, g2), misfit = best
-    g2_only = max(float(np.sum(d_km ** 2 * excess_db2) / np.sum(d_km ** 4)), 0.0)
+    g2_only = growth_through_zero(d_km, excess_db2)
     linear_misfit = float(np.sqrt(np.mean((excess_db2 - g2_only * d_km ** 2) ** 2)))
     return {"jump_db": round(math.sqrt(j2), 3), "jump_length_m": round(1000.0 * float(length), 1),
             "growth_db_per_km": round(math.sqrt(g2), 3),
