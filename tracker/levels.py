@@ -187,6 +187,14 @@ def prior_variance(arrays: dict, displacement_m=0.0) -> np.ndarray:
     return arrays["sd_db"] ** 2 + (arrays["growth_db_per_km"] * d_km) ** 2
 
 
+def cycle_prior_variance(arrays: dict, n_cycles: int, displacement_m=None) -> np.ndarray:
+    """`prior_variance` at each of ``n_cycles`` cycles, (T, S): ``displacement_m`` one per cycle
+    or one for all (None: 0, the growth does not act)."""
+    d = np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
+        np.asarray(displacement_m, dtype=float), (n_cycles,))
+    return prior_variance(arrays, d)
+
+
 def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=None,
                  displacement_m=None) -> np.ndarray:
     """ln of the levels' density with every component of ``errors`` integrated out, after each
@@ -222,8 +230,7 @@ def log_marginal(resid_db, var_db2, errors: LevelErrors, *, t_s=None, step_m=Non
     a = errors.arrays(m_n)
     h, s = a["h"], a["h"].shape[1]
     use = np.isfinite(e) & np.isfinite(v) & (v > 0)
-    prior = prior_variance(a, np.zeros(t_n) if displacement_m is None else np.broadcast_to(
-        np.asarray(displacement_m, dtype=float), (t_n,)))                             # (T, S)
+    prior = cycle_prior_variance(a, t_n, displacement_m)                              # (T, S)
     if a["inv_time_s"].any() and t_s is None:
         raise ValueError("a component with a correlation time needs the cycle times t_s")
     if a["inv_length_m"].any() and step_m is None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from tracker.levels import prior_variance
+from tracker.levels import cycle_prior_variance
 
 
 class ParticleErrors:
@@ -28,8 +28,7 @@ class ParticleErrors:
     def __init__(self, level_errors, n_bands: int, n_cycles: int, shape, displacement_m=None):
         a = level_errors.arrays(n_bands)
         self.h = a["h"]                                                   # (B, S)
-        self.var = prior_variance(a, np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
-            np.asarray(displacement_m, dtype=float), (n_cycles,)))         # (K, S)
+        self.var = cycle_prior_variance(a, n_cycles, displacement_m)     # (K, S)
         self.inv_time, self.inv_length = a["inv_time_s"], a["inv_length_m"]
         s = self.h.shape[1]
         self.mean = np.zeros((s,) + tuple(shape))

@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tracker.levels import prior_variance
+from tracker.levels import cycle_prior_variance
 
 
 class Observer(NamedTuple):
@@ -107,8 +107,7 @@ def errors_of(level_errors, n_bands: int, n_cycles: int, displacement_m=None) ->
     if level_errors is None:
         return Errors(False, np.zeros((n_bands, 1)), np.zeros((n_cycles, 1)), np.zeros(1), np.zeros(1))
     a = level_errors.arrays(n_bands)
-    var = prior_variance(a, np.zeros(n_cycles) if displacement_m is None else np.broadcast_to(
-        np.asarray(displacement_m, dtype=float), (n_cycles,)))
+    var = cycle_prior_variance(a, n_cycles, displacement_m)
     c = np.ascontiguousarray
     return Errors(True, c(a["h"], dtype=float), c(var, dtype=float), c(a["inv_time_s"], dtype=float),
                   c(a["inv_length_m"], dtype=float))
