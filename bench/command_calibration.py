@@ -1,16 +1,18 @@
 """Whether the sds that ``tmakit track --method rpf|rpf-vp|rpf-bot`` writes hold the truth: the
-command's particle filters, with the settings the command gives them, on runs whose levels
-BELLHOP made along each true path.
+command's particle filters, with the settings the command gives them
+(`tracker.rpf.track.command_config`), on runs whose levels BELLHOP made along each true path.
 
     python -m bench.command_calibration [--shelf docs/results/shelf] [--depth docs/results/depth]
 
-Two sets of runs, each a study's own (its seeds, grid and BELLHOP truth, read from the study's
-output folder, built there if missing):
+Sets of runs, each a study's own (its seeds, grid and BELLHOP truth, read from the study's output
+folder, built there if missing). The command's settings were chosen on the first three ("tuned":
+true in the file); the others were not looked at while choosing them ("tuned": false):
 
 - the shelf study's transport (``shelf-tv``: a TV class target 20 km off, its speed, P0 and dK
-  drawn from the class), the first ``--shelf-runs`` runs;
+  drawn from the class), runs 1-``--shelf-runs`` (tuned) and the rest of its 100 (held out);
 - the depth study's submarine at its tables' depth (``shelf-nps`` and ``shelf-slope-nps`` at
-  200 m, 12 runs each: `bench.depth_diagnosis.simulate`).
+  200 m, 12 runs each: `bench.depth_diagnosis.simulate`; tuned), and at 60 m with the tables at
+  60 m, as ``--target-depth 60`` gives them (held out).
 
 Each run's measurements go through `tracker.rpf.track.track_measurements` as the command sends
 them (the true class's hypothesis, the first band's levels, seed = the run's index). Reported per
@@ -55,14 +57,15 @@ def shelf_runs(folder: Path, runs: int, workers: int):
     return tables, sim, sc.target_class
 
 
-def score(tables, sim, cls_name: str, method: str, use: int) -> dict:
-    """The command's filter on the first ``use`` runs: coverage, median |z|, median RMSE."""
+def score(tables, sim, cls_name: str, method: str, runs) -> dict:
+    """The command's filter on the runs ``runs`` (indices): coverage, median |z|, median RMSE."""
     from tracker.rpf.track import track_measurements
     from tracker.simulate import measurements_of
 
     minutes = (sim.t_s - sim.t_s[0]) / 60.0
     inside, z_all, rms = [], [], []
-    for run in range(use):
+    runs = list(runs)
+    for run in runs:
         df = track_measurements(tables, measurements_of(sim, run), method=method,
                                 rng=np.random.default_rng(run), cls_name=cls_name)
         rows = np.searchsorted(sim.t_s, df["t_s"].to_numpy())
@@ -76,7 +79,7 @@ def score(tables, sim, cls_name: str, method: str, use: int) -> dict:
         rms.append(float(np.sqrt(np.nanmean(err[t_min >= LATE_MIN] ** 2))))
     return {"coverage_90": float(np.mean(np.concatenate(inside))),
             "abs_z_median": float(np.median(np.concatenate(z_all))),
-            "rms_error_median_m": float(np.median(rms)), "runs": use}
+            "rms_error_median_m": float(np.median(rms)), "runs": len(runs)}
 
 
 def main(argv=None) -> int:
@@ -97,31 +100,36 @@ def main(argv=None) -> int:
     from tools.studies.depth_setup import AREA as DEPTH_AREA
 
     session = Session("command-calibration")
-    sets = {}
+    sets = {}  # name: (tables, runs, class, run indices, tuned)
     tables, sim, cls = shelf_runs(Path(args.shelf), 100, args.workers)
-    sets["shelf-tv"] = (tables, sim, cls, args.shelf_runs)
+    sets["shelf-tv"] = (tables, sim, cls, range(args.shelf_runs), True)
+    sets[f"shelf-tv, runs {args.shelf_runs + 1}-100"] = (tables, sim, cls, range(args.shelf_runs, 100), False)
     depth = Path(args.depth)
     area = load_area(DEPTH_AREA)
     grid = build_grid_file(area, depth / "grids" / f"{DEPTH_AREA}-bellhop.nc", workers=args.workers).file
     d_tables = open_tables(grid)
     provider = BellhopTruth(area, cache_dir=depth / "grids" / "truth-runs", workers=args.workers)
-    for scenario in ("shelf-nps", "shelf-slope-nps"):
-        d_sim, ic, _ = simulate(d_tables, provider, scenario, 200.0, 12)
-        sets[f"{scenario} at 200 m"] = (d_tables, d_sim, d_tables.classes[ic].name, 12)
+    for true_depth, tuned in ((200.0, True), (60.0, False)):
+        for scenario in ("shelf-nps", "shelf-slope-nps"):
+            d_sim, ic, _ = simulate(d_tables, provider, scenario, true_depth, 12)
+            # the tables at the true depth, as --target-depth METRES gives them
+            view = d_tables if true_depth == d_tables.classes[ic].depth_m else d_tables.at_target_depth(true_depth)
+            sets[f"{scenario} at {true_depth:g} m"] = (view, d_sim, d_tables.classes[ic].name, range(12), tuned)
     results = {}
-    for name, (tab, s, cls_name, use) in sets.items():
-        results[name] = {"true_first_range_m": float(np.median(s.range_m[:use, 0])),
-                         "true_speed_mps": float(np.median(s.speed_mps[:use, 0]))}
+    for name, (tab, s, cls_name, runs, tuned) in sets.items():
+        first = list(runs)
+        results[name] = {"tuned": tuned, "true_first_range_m": float(np.median(s.range_m[first, 0])),
+                         "true_speed_mps": float(np.median(s.speed_mps[first, 0]))}
         for method in METHODS:
-            got = score(tab, s, cls_name, method, use)
+            got = score(tab, s, cls_name, method, runs)
             results[name][method] = got
             session.say(f"{name} {method} coverage_90", got["coverage_90"])
-    from tracker.rpf import RpfConfig
+    from tracker.rpf.track import COMMAND_BANDWIDTH_SCALE, COMMAND_PARTICLES, NEAR_RANGE_M
 
-    cfg = RpfConfig()
-    # the command's range prior is the config's; its speed prior each class hypothesis's own
     session.write(methods=list(METHODS), sets=results,
-                  prior={"range_mean_m": cfg.range_mean_m, "range_sd_m": cfg.range_sd_m, "speed": "class"})
+                  settings={"range_prior": "log-uniform", "near_range_m": NEAR_RANGE_M, "far_range": "the grid's last",
+                            "particles": COMMAND_PARTICLES, "bandwidth_scale": COMMAND_BANDWIDTH_SCALE,
+                            "speed": "class"})
     return 0
 
 

@@ -34,9 +34,21 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
     p.add_argument("--target-depth", default="class", metavar="unknown|class|METRES",
                    help="the target's depth: its class's (default, where the tables are "
                         "computed), a depth in metres, or unknown (estimated with the motion)")
+    p.add_argument("--range-prior", metavar="NEAR,FAR", type=_range_prior,
+                   help="the particle filters' prior range, km: every factor of range between the two "
+                        "equally likely (default 1 km to the grid's last range)")
     p.add_argument("--force", action="store_true",
                    help="replace --out (and --plot) even if it is not a track CSV (a PNG)")
     p.set_defaults(func=run_track)
+
+
+def _range_prior(text: str) -> tuple[float, float]:
+    """``NEAR,FAR`` in km -> (near, far) in m; what is wrong with it otherwise."""
+    try:
+        near, far = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give two ranges in km, NEAR,FAR (e.g. 2,25)") from None
+    return 1000.0 * near, 1000.0 * far
 
 
 def run_track(args) -> Report:
@@ -57,7 +69,8 @@ def run_track(args) -> Report:
     m = read_measurements(args.measurements, list(tables.band_names), origin=tables.area.origin)
     truth = read_truth(args.truth) if args.truth is not None else None
     df = track(tables, m, method=args.method, rng=np.random.default_rng(args.seed),
-               cls_name=args.cls_name, band=args.band, target_depth=args.target_depth)
+               cls_name=args.cls_name, band=args.band, target_depth=args.target_depth,
+               range_prior_m=args.range_prior)
     if args.plot is None:
         write_track(args.out, df)
     else:  # the track and its picture: both or neither

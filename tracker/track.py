@@ -33,7 +33,8 @@ class TargetDepth(StrEnum):
 def track(tables: Tables, measurements: Measurements, *, method: Method | str = "ml",
           rng: np.random.Generator | None = None, cls_name: str | None = None,
           band: str | None = None, ml_params=None, rpf_config=None,
-          target_depth: TargetDepth | str | float = TargetDepth.CLASS) -> pd.DataFrame:
+          target_depth: TargetDepth | str | float = TargetDepth.CLASS,
+          range_prior_m: tuple[float, float] | None = None) -> pd.DataFrame:
     """Track one target; one row per cycle per class hypothesis (docs/formats.md "Track CSV").
 
     Parameters
@@ -61,6 +62,10 @@ def track(tables: Tables, measurements: Measurements, *, method: Method | str = 
         levels along the tracks, its final summary per class in ``DataFrame.attrs["depth"]``).
         The rows' ``depth_m`` is the depth used or estimated, ``depth_sd_m`` its sd (blank where
         assumed).
+    range_prior_m : (float, float), optional
+        The particle filters' prior range, log-uniform between these two ranges, m (default 1 km
+        to the tables' last range; `tracker.rpf.track.default_range_span_m`). The ML analysis
+        has no prior: an error there.
 
     Raises
     ------
@@ -92,6 +97,8 @@ def track(tables: Tables, measurements: Measurements, *, method: Method | str = 
     if not np.isfinite(m.bearing_deg).any():
         raise MeasurementFileError(f"{m.source}: column bearing_deg: no bearing in any row")
     depth = _target_depth(target_depth)
+    if range_prior_m is not None:
+        _check_range_prior(tables, method, range_prior_m)
     if depth is TargetDepth.UNKNOWN and tables.follows_observer:
         raise InputError(f"{tables.source}: target depth unknown: not estimated yet with tables that "
                          f"follow the observer (an atlas); give the class's depth or a depth in metres")
@@ -116,8 +123,23 @@ def track(tables: Tables, measurements: Measurements, *, method: Method | str = 
     if rng is None:
         raise InputError(f"method {method}: the particle filters need a random generator (rng)")
     df = rpf.track_measurements(tables, m, method=method.value, rng=rng, cls_name=cls_name,
-                                band=band, config=rpf_config, depth_unknown=unknown)
+                                band=band, config=rpf_config, depth_unknown=unknown, range_span_m=range_prior_m)
     return df if unknown else _assumed_depth(df, tables, depth)
+
+
+def _check_range_prior(tables: Tables, method: Method, span) -> None:
+    """A range prior for a particle filter: two ranges, near before far, within the tables."""
+    if not method.is_particle_filter:
+        raise InputError(f"method {method}: a range prior is for the particle filters (rpf, rpf-bot, "
+                         f"rpf-vp); the ML analysis searches every range")
+    near, far = (float(v) for v in span)
+    reach = float(tables.range_m[-1])
+    if not (math.isfinite(near) and math.isfinite(far) and 0 < near < far):
+        raise InputError(f"range prior {near / 1000:g}-{far / 1000:g} km: give two ranges, the near "
+                         f"one first, both > 0")
+    if far > reach:
+        raise InputError(f"range prior {near / 1000:g}-{far / 1000:g} km: the tables reach "
+                         f"{reach / 1000:g} km ({tables.source})")
 
 
 def _check_observers(tables: Tables, m: Measurements) -> None:

@@ -134,18 +134,19 @@ def kerror_check(root: Path) -> str:
 def command_calibration(root: Path) -> str:
     d = load_result(root, "command-calibration.json")
     methods = d["methods"]
-    rows = [("runs (BELLHOP's levels)", "true first range, median",
-             *(f"`{m}`: {RANGE_CELL_HEAD}" for m in methods)), ("---",) * (2 + len(methods))]
+    rows = [("runs (BELLHOP's levels)", "settings chosen on them", "true first range, median",
+             *(f"`{m}`: {RANGE_CELL_HEAD}" for m in methods)), ("---",) * (3 + len(methods))]
     for name, v in d["sets"].items():
-        rows.append((f"`{name}`, {v[methods[0]]['runs']} runs", f"{v['true_first_range_m'] / 1000:.1f} km",
+        rows.append((f"`{name}`, {v[methods[0]]['runs']} runs", "yes" if v["tuned"] else "no (held out)",
+                     f"{v['true_first_range_m'] / 1000:.1f} km",
                      *(range_cell(v[m]["coverage_90"], v[m]["abs_z_median"], v[m]["rms_error_median_m"])
                        for m in methods)))
-    p = d["prior"]
-    speed = ("the class's mean and sd" if p.get("speed") == "class"
-             else f"{p['speed_mean_mps']:.2f} +- {p['speed_sd_mps']:.2f} m/s")
-    return (markdown_table(rows) + f"\nThe command's prior: range {p['range_mean_m'] / 1000:g} +- "
-            f"{p['range_sd_m'] / 1000:g} km, speed {speed}; RMSE: "
-            "the median over runs of the RMS position error after 5 min.\n\n" + caption(d, "command-calibration.json"))
+    p = d["settings"]
+    return (markdown_table(rows) + f"\nThe command's settings: range prior log-uniform from "
+            f"{p['near_range_m'] / 1000:g} km to the grid's last range, {p['particles']:,} particles sharing out "
+            f"three acceleration sds, {p['bandwidth_scale']:g} of the paper's bandwidth, speed the class's mean "
+            "and sd; RMSE: the median over runs of the RMS position error after 5 min.\n\n"
+            + caption(d, "command-calibration.json"))
 
 
 TABLES = {"kerror-check": kerror_check, "calibration-shelf": calibration_shelf,

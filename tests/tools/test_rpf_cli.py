@@ -178,3 +178,44 @@ def test_cli_experiment_bad_level_sigma_is_one_line_and_writes_nothing(argv, mes
     assert main(argv + ["--out", str(out)]) == 2
     assert capsys.readouterr().err.strip() == message
     assert not out.exists()
+
+
+def test_cli_range_prior_holds_the_first_cycles_inside_it(munk_path, static_csv, tmp_path):
+    """--range-prior NEAR,FAR: the filter's particles start log-uniform between the two, so on
+    bearings alone its first estimates stay between them; the default starts at 1 km and
+    reaches the grid's last range, much wider."""
+    from tools.cli import main
+    from tracker.rpf.track import default_range_span_m
+
+    narrow, wide = tmp_path / "narrow.csv", tmp_path / "wide.csv"
+    for out, extra in ((narrow, ["--range-prior", "3,5"]), (wide, [])):
+        assert main(["track", "--grid", str(munk_path), "--measurements", str(static_csv),
+                     "--out", str(out), "--method", "rpf-bot", "--seed", "2", *extra]) == 0
+    a, b = pd.read_csv(narrow), pd.read_csv(wide)
+    assert ((a["range_m"].iloc[:3] > 3000.0) & (a["range_m"].iloc[:3] < 5000.0)).all()
+    # log-uniform over 3-5 km: sd about 0.57 km; over 1 km to the grid's end several km
+    assert a["range_sd_m"].iloc[0] < 700.0
+    near, far = default_range_span_m(acoustics.open_tables(munk_path))
+    assert near == 1000.0 and b["range_sd_m"].iloc[0] > 3.0 * a["range_sd_m"].iloc[0], (far, b["range_sd_m"].iloc[0])
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--range-prior", "5"], "give two ranges in km, NEAR,FAR"),
+    (["--range-prior", "8,3"], "range prior 8-3 km: give two ranges, the near one first"),
+    (["--range-prior", "2,5000"], "range prior 2-5000 km: the tables reach"),
+    (["--range-prior", "2,8", "--method", "ml"], "a range prior is for the particle filters"),
+])
+def test_cli_bad_range_prior_is_one_line_and_writes_nothing(argv, message, munk_path, static_csv, tmp_path, capsys):
+    from tools.cli import main
+
+    out = tmp_path / "track.csv"
+    base = ["track", "--grid", str(munk_path), "--measurements", str(static_csv), "--out", str(out)]
+    if "--method" not in argv:
+        base += ["--method", "rpf"]
+    try:
+        code = main(base + argv)
+    except SystemExit as exc:  # argparse's own: usage and the reason on stderr, exit 2
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and message in err, err
+    assert "Traceback" not in err and not out.exists()

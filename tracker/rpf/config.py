@@ -62,6 +62,13 @@ class RpfConfig:
         N_thr / N (1/3).
     range_mean_m, range_sd_m : float
         Prior range, m (10 km, 2 km).
+    range_span_m : tuple of float
+        Not in the paper: () (default) draws the prior range from N(``range_mean_m``,
+        ``range_sd_m``); two ranges (near, far), m, draw it log-uniform between them instead
+        (each factor of range as likely), the prior of a target whose range nobody knows. The
+        paper's 10 +- 2 km is its scenario's: a target 20 km off starts five sds out, and the
+        command's filter then stated 90 % intervals that held the truth in 17 % of the cycles
+        (docs/uncertainty.md, "The command's range prior").
     speed_mean_mps, speed_sd_mps : float
         Prior target speed, m/s (3 kn, 2 kn).
     course_sd_deg : float
@@ -95,6 +102,7 @@ class RpfConfig:
     neff_fraction: float = 1.0 / 3.0
     range_mean_m: float = 10_000.0
     range_sd_m: float = 2_000.0
+    range_span_m: tuple[float, ...] = ()
     speed_mean_mps: float = 3.0 * KNOT_MPS
     speed_sd_mps: float = 2.0 * KNOT_MPS
     course_sd_deg: float = math.degrees(math.pi / math.sqrt(12.0))
@@ -121,6 +129,10 @@ class RpfConfig:
         if len(mix) > self.n_particles:
             raise ValueError(f"sigma_a_mix_mps2 has {len(mix)} sds for {self.n_particles} particles")
         object.__setattr__(self, "sigma_a_mix_mps2", mix)
+        span = tuple(float(v) for v in self.range_span_m)
+        if span and not (len(span) == 2 and all(math.isfinite(v) for v in span) and 0 < span[0] < span[1]):
+            raise ValueError(f"range_span_m must be () or (near, far) with 0 < near < far, got {self.range_span_m}")
+        object.__setattr__(self, "range_span_m", span)
         object.__setattr__(self, "engine", Engine(self.engine))
         if not 0.0 < self.neff_fraction <= 1.0:
             raise ValueError(f"neff_fraction must be in (0, 1], got {self.neff_fraction}")

@@ -66,6 +66,8 @@ def _nodes(mean: float, sd: float, n: int) -> tuple[np.ndarray, float]:
 
 def _prior_components(cfg: RpfConfig, z0: float, obs_vel: np.ndarray, grid) -> tuple:
     """Means (N, 4), covariances (N, 4, 4) and log weights (N,) of the prior's Gaussian sum."""
+    if cfg.range_span_m:
+        raise ValueError("the Gaussian sum takes the normal range prior; range_span_m is set")
     r, dr = _nodes(cfg.range_mean_m, cfg.range_sd_m, grid[0])
     c, dc = _nodes(z0 + math.pi, math.radians(cfg.course_sd_deg), grid[1])
     s, ds = _nodes(cfg.speed_mean_mps, cfg.speed_sd_mps, grid[2])

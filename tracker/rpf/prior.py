@@ -12,14 +12,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.special import ndtr
 
 from tracker.rpf.config import RpfConfig
 
 
 def initial_particles(bearing0_rad, obs_vel_mps, cfg: RpfConfig, runs: int,
                       rng: np.random.Generator) -> np.ndarray:
-    """Particles from the first bearing: range N(r, sd), bearing N(z0, sigma_theta),
-    speed N(s, sd), course N(z0 + pi, pi/sqrt 12).
+    """Particles from the first bearing: range N(r, sd) (or log-uniform over
+    ``cfg.range_span_m``), bearing N(z0, sigma_theta), speed N(s, sd), course N(z0 + pi, pi/sqrt 12).
 
     Parameters
     ----------
@@ -41,7 +42,11 @@ def initial_particles(bearing0_rad, obs_vel_mps, cfg: RpfConfig, runs: int,
     z0 = np.broadcast_to(np.asarray(bearing0_rad, dtype=float), (runs,))[:, None]
     g = rng.standard_normal((cfg.n_dim, runs, n))
     state = np.empty((cfg.n_dim, runs, n))
-    rng_m = cfg.range_mean_m + cfg.range_sd_m * g[0]
+    if cfg.range_span_m:  # the same normal draw through its CDF: log-uniform over the span
+        near, far = np.log(cfg.range_span_m)
+        rng_m = np.exp(near + (far - near) * ndtr(g[0]))
+    else:
+        rng_m = cfg.range_mean_m + cfg.range_sd_m * g[0]
     theta = z0 + math.radians(cfg.bearing_sigma_deg) * g[1]
     speed = cfg.speed_mean_mps + cfg.speed_sd_mps * g[2]
     course = z0 + math.pi + math.radians(cfg.course_sd_deg) * g[3]

@@ -12,6 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from tracker.levels import MEASUREMENT_SD_DB
 from tracker.methods import Method
 from tracker.rpf.batch import run_batch
 from tracker.rpf.config import BEARINGS_ONLY_SIGMA_A_MIX_MPS2, RpfConfig
@@ -23,7 +24,7 @@ log = logging.getLogger(__name__)
 def track_measurements(tables, measurements, *, method: str, rng: np.random.Generator,
                        cls_name: str | None = None, band: str | None = None,
                        config: RpfConfig | None = None, depth_unknown: bool = False,
-                       integrate_errors: bool = True):
+                       integrate_errors: bool = True, range_span_m: tuple[float, float] | None = None):
     """Track one target from a measurement CSV with the RPF; one row per cycle per class.
 
     The measurements are checked against the grid by ``tracker.track.track``, the way in.
@@ -37,8 +38,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         blank level uses the bearing alone that cycle, a blank bearing the level alone.
     method : {"rpf", "rpf-bot", "rpf-vp"}
         Bearings and SPL, bearings only, or bearings and SPL with the variance-preserving
-        regularization (``RpfConfig.shrink``). Without ``config``, ``rpf-bot``'s particles share
-        out three acceleration sds (`tracker.rpf.config.BEARINGS_ONLY_SIGMA_A_MIX_MPS2`).
+        regularization (``RpfConfig.shrink``).
     rng : numpy.random.Generator
         Seeded generator: same seed, same track.
     cls_name : str, optional
@@ -46,13 +46,13 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     band : str, optional
         Band whose level is the SPL; default the first grid band with a level column.
     config : RpfConfig, optional
-        Filter settings: the paper's, but sigma_l the level's own error (eq. 11 at the
-        detection threshold, `tracker.levels.MEASUREMENT_SD_DB`) where the errors that last are
-        integrated out. With levels (``rpf``, ``rpf-vp``) each class hypothesis's filter takes
-        that class's speed mean and sd as its speed prior (the paper's 3 +- 2 kn are its
-        scenario's; docs/uncertainty.md, "The command's particle filters"). A
-        ``bearing_sigma_deg`` column gives each cycle's bearing its own sd (sigma_theta where
-        blank: its median).
+        Filter settings; default `command_config` (the range prior log-uniform over
+        ``range_span_m``, 20 000 particles, three acceleration sds, a quarter of the paper's
+        bandwidth, sigma_l the level's own error). Each class hypothesis's filter takes that
+        class's speed mean and sd as its speed prior (the paper's 3 +- 2 kn are its scenario's;
+        docs/uncertainty.md, "The command's particle filters"); ``rpf-bot`` without a class the
+        grid's classes pooled. A ``bearing_sigma_deg`` column gives each cycle's bearing its own
+        sd (sigma_theta where blank: its median).
     depth_unknown : bool
         The target's depth unknown: a bank of filters, one per depth hypothesis of the class's
         ``depth_range_m`` (else the water the tables hold; `tracker.depth.bank.depth_hypotheses_m`),
@@ -71,6 +71,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
         The level likelihood with the source level's and K's errors that last along the track
         integrated out (`tracker.levels.LevelErrors.of_tables`, each particle its own Kalman
         filter over them; the default); False: the paper's white likelihood with sigma_l.
+    range_span_m : (float, float), optional
+        Without ``config``: the prior range log-uniform between these two ranges, m; default
+        `default_range_span_m` (1 km to the tables' reach). The paper's N(10 km, 2 km) is its
+        scenario's prior, not a target's whose range nobody knows (docs/uncertainty.md).
 
     Returns
     -------
@@ -91,7 +95,7 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     from envdata.classes import SourceLevelModel
     from tracker.depth.bank import depth_hypotheses_m, weigh_tracks
     from tracker.errors import MeasurementFileError
-    from tracker.levels import MEASUREMENT_SD_DB, LevelErrors, track_bearing_deg
+    from tracker.levels import LevelErrors, track_bearing_deg
 
     m = measurements
     chosen = method
@@ -99,11 +103,11 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     if method is None or not method.is_particle_filter:
         raise MeasurementFileError(f"method {chosen!r} is not an RPF method (rpf, rpf-bot, rpf-vp)")
     spl = method is not Method.RPF_BOT
-    cfg = config or (RpfConfig(level_sigma_db=MEASUREMENT_SD_DB) if integrate_errors else RpfConfig())
+    if config is not None and range_span_m is not None:
+        raise ValueError("give the range prior in config or as range_span_m, not both")
+    cfg = config or command_config(tables, range_span_m, integrate_errors=integrate_errors)
     if method is Method.RPF_VP:
         cfg = replace(cfg, shrink=True)
-    if method is Method.RPF_BOT and config is None:  # the bearings' evidence picks the motion model
-        cfg = replace(cfg, sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2)
     sig = np.asarray(m.bearing_sigma_deg, dtype=float)
     if sig.size and np.any(np.isfinite(sig)):  # the prior's bearing spread; each cycle its own sd
         cfg = replace(cfg, bearing_sigma_deg=float(np.nanmedian(sig)))
@@ -164,8 +168,13 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
             if not depth_unknown:
                 profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
         label = name if spl or cls_name else "any"
-        # the class hypothesis's own speed statistics as the speed prior
-        cfg_class = replace(cfg, speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps) if spl else cfg
+        # the class hypothesis's own speed statistics as the speed prior; bearings alone without a
+        # class, every class's speeds pooled (command_config)
+        if spl or cls_name is not None:
+            target = tables.classes[tables.class_index(name)]
+            cfg_class = replace(cfg, speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps)
+        else:
+            cfg_class = cfg
 
         def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label, errors=errors, cfg=cfg_class):
             res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
@@ -193,6 +202,45 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     if depth_unknown:
         out.attrs["depth"] = choices
     return out
+
+
+#: The near end of the command's range prior, m: a contact closer is not a motion analysis's.
+NEAR_RANGE_M = 1000.0
+#: The command's particles: with the range prior wide, 5000 leave the likelier paths too few.
+COMMAND_PARTICLES = 20_000
+#: The command's regularization kernel, a fraction of eqs. 27-28's bandwidth: on a wide cloud the
+#: paper's h jitters every particle by a third of the cloud's spread at each resampling, which
+#: carried the cloud away from paths whose levels fit far better (docs/uncertainty.md, "The
+#: command's particle filters").
+COMMAND_BANDWIDTH_SCALE = 0.25
+
+
+def command_config(tables, range_span_m=None, *, integrate_errors: bool = True) -> RpfConfig:
+    """The settings ``tmakit track --method rpf|rpf-bot|rpf-vp`` gives its filters: the range prior
+    log-uniform over ``range_span_m`` (default `default_range_span_m`), `COMMAND_PARTICLES`
+    particles sharing out three acceleration sds (`BEARINGS_ONLY_SIGMA_A_MIX_MPS2`: the
+    measurements pick the motion model), `COMMAND_BANDWIDTH_SCALE` of the paper's bandwidth,
+    sigma_l the level's own error where the errors that last are integrated out (else the
+    paper's 10 dB), and the speed prior of every class of the grid pooled (mean and sd of their
+    mixture; a class hypothesis takes its own). Measured on runs with BELLHOP's levels, tuned and
+    held out: `bench.command_calibration`."""
+    classes = tables.classes
+    means = np.array([c.speed_mean_mps for c in classes], dtype=float)
+    sds = np.array([c.speed_sd_mps for c in classes], dtype=float)
+    pooled_mean = float(means.mean())
+    pooled_sd = float(np.sqrt(np.mean(sds ** 2 + (means - pooled_mean) ** 2)))
+    span = default_range_span_m(tables) if range_span_m is None else tuple(range_span_m)
+    return RpfConfig(n_particles=COMMAND_PARTICLES, sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2,
+                     bandwidth_scale=COMMAND_BANDWIDTH_SCALE, range_span_m=span,
+                     speed_mean_mps=pooled_mean, speed_sd_mps=pooled_sd,
+                     **({"level_sigma_db": MEASUREMENT_SD_DB} if integrate_errors else {}))
+
+
+def default_range_span_m(tables) -> tuple[float, float]:
+    """The command's range prior: log-uniform from `NEAR_RANGE_M` to the tables' last range
+    (what they can say a level means), m."""
+    far = float(tables.range_m[-1])
+    return (min(NEAR_RANGE_M, 0.5 * far), far)
 
 
 def _frame(res, t, obs, label: str, method: str):

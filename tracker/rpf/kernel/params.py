@@ -119,7 +119,9 @@ class Prior(NamedTuple):
     Attributes
     ----------
     range_mean_m, range_sd_m : float
-        Range, m.
+        Range, m (normal).
+    range_log_near, range_log_span : float
+        ln of the log-uniform prior's near range (m) and ln(far / near); span 0: the normal.
     bearing_sd_rad : float
         Bearing sd about the first bearing, rad.
     speed_mean_mps, speed_sd_mps : float
@@ -132,6 +134,8 @@ class Prior(NamedTuple):
 
     range_mean_m: float
     range_sd_m: float
+    range_log_near: float
+    range_log_span: float
     bearing_sd_rad: float
     speed_mean_mps: float
     speed_sd_mps: float
@@ -261,7 +265,9 @@ def profile_arrays(k_profiles, n_cycles: int, n_bands: int = 1) -> Profiles:
 
 def prior_of(cfg) -> Prior:
     """The prior of `tracker.rpf.config.RpfConfig` ``cfg``, angles in radians."""
+    near, far = np.log(cfg.range_span_m) if cfg.range_span_m else (0.0, 0.0)
     return Prior(range_mean_m=float(cfg.range_mean_m), range_sd_m=float(cfg.range_sd_m),
+                 range_log_near=float(near), range_log_span=float(far - near),
                  bearing_sd_rad=math.radians(cfg.bearing_sigma_deg),
                  speed_mean_mps=float(cfg.speed_mean_mps), speed_sd_mps=float(cfg.speed_sd_mps),
                  course_sd_rad=math.radians(cfg.course_sd_deg),

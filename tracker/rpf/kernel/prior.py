@@ -17,7 +17,10 @@ def init_particle(g0, g1, g2, g3, z0, ovx, ovy, prior):
     ``z0`` is the first bearing, rad; ``ovx``, ``ovy`` the observer velocity, m/s (the state
     is relative); ``prior`` a `tracker.rpf.kernel.params.Prior`.
     """
-    rng_m = prior.range_mean_m + prior.range_sd_m * g0
+    if prior.range_log_span > 0.0:  # log-uniform: the normal draw through its CDF
+        rng_m = math.exp(prior.range_log_near + prior.range_log_span * 0.5 * math.erfc(-g0 / math.sqrt(2.0)))
+    else:
+        rng_m = prior.range_mean_m + prior.range_sd_m * g0
     theta = z0 + prior.bearing_sd_rad * g1
     speed = prior.speed_mean_mps + prior.speed_sd_mps * g2
     course = z0 + math.pi + prior.course_sd_rad * g3
