@@ -59,6 +59,21 @@ def follow_level_range(root: Path) -> str:
             + caption(d, "atlas-tracking/follow.json"))
 
 
+def follow_over_origin(root: Path) -> str:
+    d = load_result(root, "atlas-tracking/follow.json")
+    r = d["after_10min_over_origin_bellhop"]
+    rows = [("tables", "ML analysis over the origin table (90 % interval)",
+             "particle filter over the origin table (90 % interval)"), ("---",) * 3]
+    for name in ("atlas-10km", "atlas-5km"):
+        rows.append((name.replace("atlas-", "atlas ").replace("km", " km"),
+                     *(f"{r[f'{m} {name}']['ratio']:.2f} ({r[f'{m} {name}']['p05']:.2f}-{r[f'{m} {name}']['p95']:.2f})"
+                       for m in ("ml", "rpf"))))
+    return (markdown_table(rows)
+            + f"\nRMS over {d['late_min']:g}-40 min of the position RMSE over the {d['runs']} runs (BELLHOP's "
+            "levels), over the origin table's on the same runs; the interval from the runs resampled alike for "
+            "both tables.\n\n" + caption(d, "atlas-tracking/follow.json"))
+
+
 def follow_blend_ratio(root: Path) -> str:
     d = load_result(root, "atlas-tracking/blend.json")
     r = d["after_10min_over_origin"]
@@ -121,7 +136,8 @@ def follow_manoeuvres(root: Path) -> str:
 #: The blocks of the page (and of any page that shows them): name -> the function that makes it.
 TABLES = {"follow-rmse": follow_rmse, "follow-kerror": follow_kerror, "follow-manoeuvres": follow_manoeuvres,
           "follow-blend": follow_blend, "follow-level-range": follow_level_range,
-          "follow-blend-ratio": follow_blend_ratio, "atlas-trackers-speed": atlas_trackers_speed}
+          "follow-blend-ratio": follow_blend_ratio,
+          "follow-over-origin": follow_over_origin, "atlas-trackers-speed": atlas_trackers_speed}
 
 #: Figures the page quotes in prose: (result file, the figure's keys in it, how the page prints it).
 QUOTES = (

@@ -154,7 +154,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
     sims["tables"] = simulate_batch(sc, tables["atlas-5km"], np.random.default_rng([seed, 0]), **draws)
     minutes = (sims["bellhop"].t_s - sims["bellhop"].t_s[0]) / 60.0
     frame = pd.DataFrame({"t_min": minutes})
-    rmse, tacks, level_ranges, calibration = {}, {}, {}, {}
+    rmse, tacks, level_ranges, calibration, late_errors = {}, {}, {}, {}, {}
     late = minutes >= LATE_MIN
     for truth_name, sim in sims.items():
         for name, tab in tables.items():
@@ -163,6 +163,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
                 record = {} if (label, truth_name) == ("ml", "bellhop") else None
                 tr = ml_track(tab, sim, ic, params, record=record)
                 err, tk = tr.position_error_m(sim), tr.tacks
+                late_errors[(label, name, truth_name)] = err[:, late]
                 if record is not None:
                     level_ranges[name] = level_range_by_time(record, sim.range_m, minutes)
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
@@ -174,10 +175,16 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
                               ("bot", {"bearings_only": True})):
                 tr = rpf_track(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles, **kw)
                 err = tr.position_error_m(sim)
+                late_errors[(label, name, truth_name)] = err[:, late]
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
                 calibration[f"{label}_{name}_{truth_name}"] = tr.calibration(sim, late)
     for col in frame.columns[1:]:
         rmse[col.removesuffix("_rmse_m")] = {f"{m:g}": float(np.interp(m, minutes, frame[col])) for m in REPORT_MIN}
+    # each atlas's error after 10 min over the origin table's on the same runs, with its interval
+    over_origin = {f"{label} {name}": ratio_to_reference(late_errors[(label, name, "bellhop")],
+                                                         late_errors[(label, "origin", "bellhop")],
+                                                         np.random.default_rng([seed, 9]))
+                   for label in ("ml", "rpf") for name in tables if name != "origin"}
     diff = sims["bellhop"].level_true_db[0, :, band] - sims["tables"].level_true_db[0, :, band]
     k_error = k_error_by_time(sims["bellhop"], sc, ic, truth, tables)
     k_slope = k_slope_by_time(sims["bellhop"], sc, ic, tables)
@@ -195,6 +202,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
                "rmse_m": rmse, "mean_rmse_after_10min_m": {
                    col.removesuffix("_rmse_m"): _rms(frame[col].to_numpy()[minutes >= LATE_MIN])
                    for col in frame.columns[1:]},
+               "after_10min_over_origin_bellhop": over_origin,
                "ml_manoeuvres_declared": tacks, "late_min": LATE_MIN,
                "calibration_after_late_min": calibration, "seconds": round(time.perf_counter() - start, 1)}
     files = [out / "follow_rmse.csv", out / "follow.json", out / "follow_rmse.png"]
