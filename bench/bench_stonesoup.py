@@ -20,7 +20,9 @@ each seed, each run tracked by
   measurement file, from priors of the same law, at each multiple ``M`` of ``N`` particles.
 
 Reported: the final position error of each (median over the runs of each seed and of all), the
-ratio to tmakit's, the time per run. Stone Soup needs more particles for the same error; the
+ratio to tmakit's, the time per run, and the runs in which Stone Soup's cloud collapsed (fewer
+distinct particles than state dimensions: its regulariser's covariance is singular and it raises;
+such a run counts as its largest error). Stone Soup needs more particles for the same error; the
 ratio at each multiple, seed by seed, is what the Stone Soup test's particle multiple rests on
 (tests/tracker/stonesoup/test_stonesoup.py).
 
@@ -74,7 +76,8 @@ def measurements_of(sc, tables, rng):
 
 
 def stonesoup_track(m, tables, prior_xy_v, *, sigma_a_mps2: float, bearing_sd_deg: float, rng):
-    """Stone Soup's SIR particle filter with tmakit's model over the cycles of ``m``; the states."""
+    """Stone Soup's SIR particle filter with tmakit's model over the cycles of ``m``: the states, and
+    the cycle at which its cloud collapsed (None: it did not; the states then end before it)."""
     from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
     from stonesoup.plugins.tmakit import detections_from_measurements
     from stonesoup.predictor.particle import ParticlePredictor
@@ -102,14 +105,19 @@ def stonesoup_track(m, tables, prior_xy_v, *, sigma_a_mps2: float, bearing_sd_de
     state = ParticleState(StateVectors(prior_xy_v), log_weight=np.full(n, -math.log(n)), timestamp=cycles[0][0])
     np.random.seed(int(rng.integers(2 ** 31)))  # Stone Soup draws from numpy's global generator
     out = []
-    for when, detections in cycles:
+    for k, (when, detections) in enumerate(cycles):
         prediction = predictor.predict(state, timestamp=when)  # (dt 0 at the first: its parent is the prior)
         if detections:
-            state = updater.update(SingleHypothesis(prediction, next(iter(detections))))
+            try:
+                state = updater.update(SingleHypothesis(prediction, next(iter(detections))))
+            except np.linalg.LinAlgError:
+                # the cloud collapsed onto fewer distinct particles than the state has dimensions:
+                # the regulariser's kernel covariance is singular and Stone Soup stops
+                return out, k
         else:
             state = prediction
         out.append(state)
-    return out
+    return out, None
 
 
 def run(*, particles: int, stonesoup_particles: tuple[int, ...], runs: int, seed: int,
@@ -152,9 +160,13 @@ def run(*, particles: int, stonesoup_particles: tuple[int, ...], runs: int, seed
                                     rpf.RpfConfig(n_particles=n, level_sigma_db=LEVEL_SIGMA_DB), 1, rng_ss)[:, 0]
             prior = np.vstack([rel[0] + obs0[0], rel[2] + obs0[2], rel[1] + obs0[1], rel[3] + obs0[3]])
             start = time.perf_counter()
-            states = stonesoup_track(m, tables, prior, sigma_a_mps2=cfg.sigma_a_mps2,
-                                     bearing_sd_deg=cfg.bearing_sigma_deg, rng=rng_ss)
+            states, collapsed = stonesoup_track(m, tables, prior, sigma_a_mps2=cfg.sigma_a_mps2,
+                                                bearing_sd_deg=cfg.bearing_sigma_deg, rng=rng_ss)
             seconds = time.perf_counter() - start
+            if collapsed is not None:  # a run lost: no final error (the summary counts it as the worst)
+                row["stonesoup"][n] = {"final_error_m": None, "collapsed_at_cycle": collapsed,
+                                       "seconds": round(seconds, 3)}
+                continue
             ss = track_frame(states, m, CLASS)
             row["stonesoup"][n] = {"final_error_m": float(math.hypot(ss["x_m"].iloc[-1] - last[0],
                                                                       ss["y_m"].iloc[-1] - last[1])),
@@ -169,15 +181,19 @@ def run(*, particles: int, stonesoup_particles: tuple[int, ...], runs: int, seed
 
 def summary(out: dict) -> dict:
     """Medians over the runs: tmakit's final error and time, and Stone Soup's at each particle count
-    with its ratio to tmakit's."""
+    with its ratio to tmakit's and the runs whose cloud collapsed (counted as its largest errors)."""
     rows = out["runs"]
     rpf_err = median([r["rpf_final_error_m"] for r in rows])
     res = {"rpf": {"particles": out["particles"], "final_error_median_m": rpf_err,
                    "seconds_median": median([r["rpf_seconds"] for r in rows])}, "stonesoup": []}
     for n in out["stonesoup_particles"]:
-        err = median([r["stonesoup"][n]["final_error_m"] for r in rows])
+        # a run whose cloud collapsed counts as the worst: the median is None if half of them did
+        errs = [r["stonesoup"][n]["final_error_m"] for r in rows]
+        err = median([math.inf if e is None else e for e in errs])
+        err = err if math.isfinite(err) else None
         res["stonesoup"].append({"particles": n, "multiple": n / out["particles"], "final_error_median_m": err,
-                                 "over_rpf": err / rpf_err,
+                                 "over_rpf": None if err is None else err / rpf_err,
+                                 "collapsed_runs": sum(e is None for e in errs),
                                  "seconds_median": median([r["stonesoup"][n]["seconds"] for r in rows])})
     return res
 
@@ -237,11 +253,14 @@ def accuracy(session: Session, *, particles: int, multiples: tuple[int, ...], ru
     session.say(f"{at}rpf_seconds_median", pooled["rpf"]["seconds_median"], "s")
     for s in pooled["stonesoup"]:
         n = s["particles"]
-        session.say(f"{at}stonesoup_{n}_final_error_median", s["final_error_median_m"], "m")
-        session.say(f"{at}stonesoup_{n}_over_rpf", s["over_rpf"], "x")
+        session.say(f"{at}stonesoup_{n}_collapsed_runs", s["collapsed_runs"])
+        if s["final_error_median_m"] is not None:
+            session.say(f"{at}stonesoup_{n}_final_error_median", s["final_error_median_m"], "m")
+            session.say(f"{at}stonesoup_{n}_over_rpf", s["over_rpf"], "x")
         for seed, summ in by_seed.items():
             ratio = next(x["over_rpf"] for x in summ["stonesoup"] if x["particles"] == n)
-            session.say(f"{at}stonesoup_{n}_over_rpf_seed_{seed}", ratio, "x")
+            if ratio is not None:
+                session.say(f"{at}stonesoup_{n}_over_rpf_seed_{seed}", ratio, "x")
         session.say(f"{at}stonesoup_{n}_seconds_median", s["seconds_median"], "s")
     entry = {"particles": particles, "multiples": list(multiples), "seeds": list(seeds), "runs_per_seed": runs,
              "pooled": pooled, "by_seed": by_seed,

@@ -23,12 +23,21 @@ def stonesoup(root: Path) -> str:
         rows.append(("**tmakit track --method rpf**", f"{rpf['particles']}",
                      f"{rpf['final_error_median_m']:.0f} m", "1", f"{rpf['seconds_median']:.3f} s"))
         for s in a["pooled"]["stonesoup"]:
-            per = ", ".join(f"{x['over_rpf']:.2f}x" for sd in seeds for x in a["by_seed"][sd]["stonesoup"]
+            per = ", ".join(_ratio(x["over_rpf"]) for sd in seeds for x in a["by_seed"][sd]["stonesoup"]
                             if x["particles"] == s["particles"])
+            lost = s.get("collapsed_runs", 0)
+            error = ("more than half collapsed" if s["final_error_median_m"] is None
+                     else f"{s['final_error_median_m']:.0f} m")
             rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']} "
-                         f"({s['multiple']:g}x)", f"{s['final_error_median_m']:.0f} m",
-                         f"{s['over_rpf']:.2f}x ({per})", f"{s['seconds_median']:.2f} s"))
-    return markdown_table(rows) + "\n" + caption(d, "stonesoup.json")
+                         f"({s['multiple']:g}x)", error + (f" ({lost} runs collapsed)" if lost else ""),
+                         f"{_ratio(s['over_rpf'])} ({per})", f"{s['seconds_median']:.2f} s"))
+    return (markdown_table(rows) + "\nA run whose Stone Soup cloud collapsed (fewer distinct particles than the state "
+            "has dimensions: its regulariser's kernel covariance is singular and it stops) counts as its largest "
+            "error.\n\n" + caption(d, "stonesoup.json"))
+
+
+def _ratio(value) -> str:
+    return "-" if value is None else f"{value:.2f}x"
 
 
 def stonesoup_speed(root: Path) -> str:

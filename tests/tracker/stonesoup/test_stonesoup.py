@@ -210,8 +210,23 @@ RESULT = Path(__file__).resolve().parents[3] / "docs" / "results" / "stonesoup.j
 
 def _ratios_at(accuracy: dict, multiple: int) -> list[float]:
     """Each seed's Stone Soup over tmakit median final error at ``multiple`` x tmakit's particles."""
-    return [x["over_rpf"] for summ in accuracy["by_seed"].values() for x in summ["stonesoup"]
-            if x["multiple"] == multiple]
+    return [math.inf if x["over_rpf"] is None else x["over_rpf"]  # None: half its runs collapsed
+            for summ in accuracy["by_seed"].values() for x in summ["stonesoup"] if x["multiple"] == multiple]
+
+
+def test_a_collapsed_stone_soup_run_counts_as_its_worst():
+    # the summary's medians: a run whose cloud collapsed (no final error) ranks above every error,
+    # and once half the runs collapsed there is no median to state
+    from bench.bench_stonesoup import summary
+
+    def rows(errors):
+        return [{"rpf_final_error_m": 100.0, "rpf_seconds": 1.0,
+                 "stonesoup": {10: {"final_error_m": e, "seconds": 2.0}}} for e in errors]
+
+    one = summary({"particles": 5, "stonesoup_particles": [10], "runs": rows([50.0, 300.0, None])})["stonesoup"][0]
+    assert one["final_error_median_m"] == 300.0 and one["collapsed_runs"] == 1 and one["over_rpf"] == 3.0
+    two = summary({"particles": 5, "stonesoup_particles": [10], "runs": rows([50.0, None, None])})["stonesoup"][0]
+    assert two["final_error_median_m"] is None and two["over_rpf"] is None and two["collapsed_runs"] == 2
 
 
 def test_the_particle_multiple_rests_on_the_result_file():
