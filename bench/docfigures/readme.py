@@ -183,7 +183,7 @@ QUOTES = (
         ("speedup_one_filter_vs_stonesoup", "side by side in one run: {:.0f}x for one filter"),
         ("speedup_batched_vs_stonesoup", "{:.0f}x batched on one thread"),
         ("speedup_batched_2_threads_vs_stonesoup", "and {:.0f}x on two"))),
-    *_load_span("stonesoup.json", "at load average {:.1f}-", "-{:.1f} the second thread"),
+    *_load_span("stonesoup.json", "at load average {:.1f}-", "-{:.1f}; Stone Soup's own rate"),
     *(("gm.json", ("figures", key, "value"), fmt) for key, fmt in (
         ("ml_cycle_latency_3_classes_240_bearings", "3 class hypotheses and 240 bearings {:.1f} ms"),
         ("gm_experiment_1331_runs_2_workers", "the 1331-run G&M experiment {:.0f} s"))),

@@ -28,8 +28,10 @@ def stonesoup(root: Path) -> str:
             lost = s.get("collapsed_runs", 0)
             error = ("more than half collapsed" if s["final_error_median_m"] is None
                      else f"{s['final_error_median_m']:.0f} m")
+            if lost:
+                error += f" ({lost} run{'s' if lost > 1 else ''} collapsed)"
             rows.append(("Stone Soup SIR + MCMC regulariser, tmakit's model", f"{s['particles']} "
-                         f"({s['multiple']:g}x)", error + (f" ({lost} runs collapsed)" if lost else ""),
+                         f"({s['multiple']:g}x)", error,
                          f"{_ratio(s['over_rpf'])} ({per})", f"{s['seconds_median']:.2f} s"))
     return (markdown_table(rows) + "\nA run whose Stone Soup cloud collapsed (fewer distinct particles than the state "
             "has dimensions: its regulariser's kernel covariance is singular and it stops) counts as its largest "
