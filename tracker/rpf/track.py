@@ -153,9 +153,10 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
     for name in hypotheses:
         profiles = [None] * t.size
         model, p0, p0_sd, errors = SourceLevelModel.ROSS, math.nan, 0.0, None
+        ic = tables.class_index(name)
+        target = tables.classes[ic]
         if spl:
-            ic, ib = tables.class_index(name), tables.band_index(band)
-            target = tables.classes[ic]
+            ib = tables.band_index(band)
             model = target.source_level_model
             if target.source_level_model is SourceLevelModel.P0:
                 if target.noise_mean_db is None:
@@ -167,14 +168,12 @@ def track_measurements(tables, measurements, *, method: str, rng: np.random.Gene
                                                bearing_deg=track_bearing_deg(np.degrees(bearings[rows])))
             if not depth_unknown:
                 profiles = cycle_profiles(tables, ic, ib, depth, np.degrees(bearings[rows]), obs[:, 0], obs[:, 1])
-        label = name if spl or cls_name else "any"
         # the class hypothesis's own speed statistics as the speed prior; bearings alone without a
         # class, every class's speeds pooled (command_config)
-        if spl or cls_name is not None:
-            target = tables.classes[tables.class_index(name)]
-            cfg_class = replace(cfg, speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps)
-        else:
-            cfg_class = cfg
+        own_class = spl or cls_name is not None
+        label = name if own_class else "any"
+        cfg_class = replace(cfg, speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps) \
+            if own_class else cfg
 
         def run(k_profiles, model=model, p0=p0, p0_sd=p0_sd, label=label, errors=errors, cfg=cfg_class):
             res = run_batch(t_s=t, obs_state=obs, bearing_rad_meas=bearings[rows][None],
