@@ -12,9 +12,12 @@ geometries) every 250 m from 3 to 15 km; K from BELLHOP along each
 target-to-observer geodesic with the area's own relief and water (`acoustics.builder.truthk`,
 as ``tmakit simulate --truth bellhop``) less K from the origin's tables read from the observer,
 as a moving observer reads them. Per line of targets: the mean (the offset that line keeps) and
-the residual about it; fitted over the lines: the residual's sd at the origin and its growth g in
-sd^2 = sd0^2 + (g d)^2 with the observer's distance d, the offset's growth (the lines' means
-away from the origin less the origin's on the same bearing, their RMS against d through zero),
+the residual about it, and the part of the residual that is each band's own (the bands' interference
+patterns are off each its own way: what the trackers may not read as range from the differences
+between bands); fitted over the lines: the residual's sd at the origin and its growth g in
+sd^2 = sd0^2 + (g d)^2 with the observer's distance d, the same for the bands' own part, the
+offset's growth (the lines' means away from the origin less the origin's on the same bearing,
+their RMS against d through zero),
 and the residual's correlation length along range (the pooled autocorrelation falls to 1/e).
 Both growths are also fitted as a jump and a slope, J^2 (1 - exp(-d / L)) + (g d)^2 (`fit_jump`),
 from the observers 0.5, 1 and 1.5 km away beside those 3 and 6 km away: what a linear growth
@@ -105,6 +108,7 @@ def _fit(found: list[dict], step_m: float) -> dict:
         rows.append({**{k: line[k] for k in ("distance_m", "quarter_deg", "bearing_deg")},
                      "offset_db": [round(float(v), 2) for v in mean],
                      "residual_sd_db": round(float(np.sqrt(np.nanmean(resid[ok] ** 2))), 2),
+                     "band_own_sd_db": round(band_own_sd_db(resid[ok]), 2),
                      "resid": np.where(ok[:, None], resid, np.nan)})
     origin = {r["bearing_deg"]: np.asarray(r["offset_db"]) for r in rows if r["distance_m"] == 0.0}
     base = float(np.sqrt(np.mean([r["residual_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
@@ -117,6 +121,9 @@ def _fit(found: list[dict], step_m: float) -> dict:
     shifts_km = np.array([d for d, _ in shifts])
     shift2 = np.array([s * s for _, s in shifts])
     residual_growth = math.sqrt(growth_through_zero(away_km, excess))
+    base_own = float(np.sqrt(np.mean([r["band_own_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
+    own_excess = np.array([r["band_own_sd_db"] ** 2 - base_own ** 2 for r in rows if r["distance_m"] > 0.0])
+    own_growth = math.sqrt(growth_through_zero(away_km, own_excess))
     offset_growth = math.sqrt(growth_through_zero(shifts_km, shift2))
     jump = {"residual": fit_jump(away_km, excess), "offset": fit_jump(shifts_km, shift2)}
     series = np.concatenate([np.moveaxis(r["resid"], 1, 0) for r in rows])             # (lines x M, R)
@@ -127,7 +134,20 @@ def _fit(found: list[dict], step_m: float) -> dict:
         r.pop("resid")
     return {"residual_sd_db_at_origin": round(base, 3), "residual_growth_db_per_km": round(residual_growth, 3),
             "offset_growth_db_per_km": round(offset_growth, 3), "residual_length_m": round(length, 1),
+            "band_own_sd_db_at_origin": round(base_own, 3), "band_own_growth_db_per_km": round(own_growth, 3),
+            "residual_band_correlation_at_origin": round(1.0 - (base_own / base) ** 2, 3),
             "jump": jump, "lines": rows}
+
+
+def band_own_sd_db(resid: np.ndarray) -> float:
+    """sd of each band's own part of a line's residual (R, M), dB: with resid_m = c + b_m, the
+    deviation from the mean over the M bands is b_m less the bands' mean of b, whose variance is
+    (1 - 1/M) that of b_m."""
+    m = resid.shape[1]
+    if m < 2:
+        return 0.0
+    dev = resid - resid.mean(axis=1, keepdims=True)
+    return float(np.sqrt(np.mean(dev ** 2) * m / (m - 1)))
 
 
 def growth_through_zero(d_km: np.ndarray, excess_db2: np.ndarray) -> float:
@@ -190,8 +210,10 @@ def main(argv=None) -> int:
         by_class[name] = result
         for part in ("all", "same_regime"):
             for key in ("residual_sd_db_at_origin", "residual_growth_db_per_km", "offset_growth_db_per_km",
-                        "residual_length_m"):
-                unit = "dB" if "sd_db" in key else ("dB/km" if "growth" in key else "m")
+                        "residual_length_m", "band_own_sd_db_at_origin", "band_own_growth_db_per_km",
+                        "residual_band_correlation_at_origin"):
+                unit = ("dB" if "sd_db" in key else "dB/km" if "growth" in key else "" if "correlation" in key
+                        else "m")
                 session.say(f"{name}_{part}_{key}", result[part][key], unit)
             for which, jump in result[part]["jump"].items():
                 for key, unit in (("jump_db", "dB"), ("jump_length_m", "m"), ("growth_db_per_km", "dB/km")):

@@ -99,25 +99,27 @@ class LevelErrors:
     def tracking(cls, *, offset_sd_db: float, band_offset_sd_db: float = 0.0, residual_sd_db: float = 0.0,
                  band_residual_sd_db: float = 0.0, residual_length_m: float | None = None,
                  residual_time_s: float | None = None, offset_growth_db_per_km: float = 0.0,
-                 residual_growth_db_per_km: float = 0.0, n_bands: int = 1) -> LevelErrors:
+                 residual_growth_db_per_km: float = 0.0, band_residual_growth_db_per_km: float = 0.0,
+                 n_bands: int = 1) -> LevelErrors:
         """An offset common to the bands, one per band, a residual common to the bands and one per
-        band (its correlation scales ``residual_length_m``, ``residual_time_s``); each part left
-        out where its sd is 0 and it does not grow."""
-        if (residual_sd_db > 0.0 or band_residual_sd_db > 0.0 or residual_growth_db_per_km > 0.0) \
-                and residual_length_m is None and residual_time_s is None:
+        band (its correlation scales ``residual_length_m``, ``residual_time_s``; each growing by
+        its own rate); each part left out where its sd is 0 and it does not grow."""
+        if (residual_sd_db > 0.0 or band_residual_sd_db > 0.0 or residual_growth_db_per_km > 0.0
+                or band_residual_growth_db_per_km > 0.0) and residual_length_m is None and residual_time_s is None:
             raise ValueError("a residual needs its correlation length or time")
         parts = [Component(sd_db=offset_sd_db, growth_db_per_km=offset_growth_db_per_km)]
         parts += [Component(sd_db=band_offset_sd_db, band=m) for m in range(n_bands)] if n_bands > 1 else []
         parts += [Component(sd_db=residual_sd_db, growth_db_per_km=residual_growth_db_per_km,
                             length_m=residual_length_m, time_s=residual_time_s)]
-        parts += ([Component(sd_db=band_residual_sd_db, band=m, length_m=residual_length_m, time_s=residual_time_s)
+        parts += ([Component(sd_db=band_residual_sd_db, band=m, growth_db_per_km=band_residual_growth_db_per_km,
+                             length_m=residual_length_m, time_s=residual_time_s)
                    for m in range(n_bands)] if n_bands > 1 else [])
         if n_bands == 1:  # one band: its own parts are the common ones
             parts[0] = Component(sd_db=math.hypot(offset_sd_db, band_offset_sd_db),
                                  growth_db_per_km=offset_growth_db_per_km)
             parts[1] = Component(sd_db=math.hypot(residual_sd_db, band_residual_sd_db),
-                                 growth_db_per_km=residual_growth_db_per_km, length_m=residual_length_m,
-                                 time_s=residual_time_s)
+                                 growth_db_per_km=math.hypot(residual_growth_db_per_km, band_residual_growth_db_per_km),
+                                 length_m=residual_length_m, time_s=residual_time_s)
         return cls(components=tuple(c for c in parts if c.sd_db > 0.0 or c.growth_db_per_km > 0.0))
 
     @classmethod
@@ -128,21 +130,28 @@ class LevelErrors:
         ``source_sd_db`` (P0's: the class's ``noise_sd_db`` for its constant level), persistent
         and common to the bands. ``bands``: the band indices whose levels are given, in their
         order (default every band); ``bearing_deg``: where a study's model is by bearing, the
-        bearing the track is on (default its median over the radials). The offset and the residual
-        are split between a part common to the bands and each band's own by the model's correlation
-        between bands; the sds are the median over the bands."""
+        bearing the track is on (default its median over the radials). The offset is split between
+        a part common to the bands and each band's own by the model's correlation between bands; so
+        is the residual, but for its part that is each band's own whatever that correlation
+        (``band_own_sd_db``, the tables' own: their interference patterns are off each its own
+        way), which stays each band's own with its growth. The sds are the median over the bands."""
         model = tables.k_error_model(ic, bearing_deg)
         idx = list(range(len(model.offset_sd_db))) if bands is None else [int(b) for b in bands]
         rho = model.offset_band_correlation
         read = idx or list(range(len(model.offset_sd_db)))  # no band given: no level to use it on
         off = float(np.median([model.offset_sd_db[b] for b in read]))
         res = float(np.median([model.residual_sd_db[b] for b in read]))
+        own, own_growth = model.band_own_sd_db, model.band_own_growth_db_per_km
+        shared = math.sqrt(max(res * res - own * own, 0.0))  # the residual less its bands' own part
         return cls.tracking(offset_sd_db=math.hypot(source_sd_db, math.sqrt(rho) * off),
                             band_offset_sd_db=math.sqrt(1.0 - rho) * off,
-                            residual_sd_db=math.sqrt(rho) * res, band_residual_sd_db=math.sqrt(1.0 - rho) * res,
+                            residual_sd_db=math.sqrt(rho) * shared,
+                            band_residual_sd_db=math.hypot(math.sqrt(1.0 - rho) * shared, own),
                             residual_length_m=model.residual_length_m,
                             offset_growth_db_per_km=model.offset_growth_db_per_km,
-                            residual_growth_db_per_km=model.residual_growth_db_per_km, n_bands=len(idx))
+                            residual_growth_db_per_km=math.sqrt(max(model.residual_growth_db_per_km ** 2
+                                                                    - own_growth ** 2, 0.0)),
+                            band_residual_growth_db_per_km=own_growth, n_bands=len(idx))
 
     def cycle_sd_db(self, n_bands: int, displacement_m=0.0) -> tuple[np.ndarray, np.ndarray]:
         """One cycle's level errors (every component at its prior variance; the measurement's own

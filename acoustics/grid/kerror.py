@@ -12,7 +12,8 @@ next. Its parts, per class and band:
 - the residual, the part that changes along the track, sd ``residual_sd_db``, correlated over
   ``residual_length_m`` of the target's path relative to the observer: the sea's error field
   over range and bearing, and the tables' own fine error (their interference pattern a little
-  off where the sea puts it);
+  off where the sea puts it), of which a part is each band's own (each band's pattern is off
+  its own way: ``band_own_sd_db``), the rest split between bands as the offset is;
 - for tables computed at one position (a bearing-dependent grid) read by an observer who moved
   d km from it, both grow: sd hypot(sd, growth x d); an atlas's blend reads each of its
   positions' tables away from that position, d the weighted mean of their distances.
@@ -54,6 +55,17 @@ TABLE_RESIDUAL_GROWTH_DB_PER_KM = 2.48
 #: How the offset grows with that distance, dB/km (``all.offset_growth_db_per_km``: each line's
 #: mean error less the origin's on the same bearing; 0.43 dB/km without the shelf's lines).
 TABLE_OFFSET_GROWTH_DB_PER_KM = 3.10
+#: The part of the tables' own residual that is each band's own, dB, within `TABLE_RESIDUAL_SD_DB`:
+#: the same file's ``all.band_own_sd_db_at_origin`` (0.68 dB of 1.88: the residual's correlation
+#: between bands 0.87). The bands' interference patterns are each off its own way, so the
+#: differences between bands are not known exactly; a model whose residual is the same in every
+#: band reads them as range, confidently and wrongly where the levels come from BELLHOP run from
+#: the target (docs/uncertainty.md, "Each band's own error").
+TABLE_BAND_OWN_SD_DB = 0.68
+#: How that part grows with the observer's distance from where the tables were computed, dB/km,
+#: within `TABLE_RESIDUAL_GROWTH_DB_PER_KM`: ``all.band_own_growth_db_per_km`` (0.26 dB/km without
+#: the shelf's lines).
+TABLE_BAND_OWN_GROWTH_DB_PER_KM = 0.67
 #: A grid's measured model (``tmakit sensitivity --into``, `acoustics.sensitivity.errormodel`;
 #: docs/formats.md): each variable's dimensions without and with bearings.
 MODEL_VARS = {"k_offset_sd_db": (("class", "band"), ("class", "band", "bearing")),
@@ -80,6 +92,10 @@ class KErrorModel:
         Growth of the sds with the observer's distance from where the tables were computed
         (0 for tables that hold everywhere: a flat area's; an atlas's grow with its blended
         positions' distance from the observer).
+    band_own_sd_db, band_own_growth_db_per_km : float
+        The part of the residual (of its sd, of its growth) that is each band's own, the same for
+        every band, within ``residual_sd_db`` and ``residual_growth_db_per_km``: the tables' own
+        (`TABLE_BAND_OWN_SD_DB`). The rest of the residual is split between bands as the offset is.
     source : str
         Where the numbers come from, for reports.
     """
@@ -90,6 +106,8 @@ class KErrorModel:
     residual_length_m: float = TABLE_RESIDUAL_LENGTH_M
     offset_growth_db_per_km: float = 0.0
     residual_growth_db_per_km: float = 0.0
+    band_own_sd_db: float = 0.0
+    band_own_growth_db_per_km: float = 0.0
     source: str = ""
 
     def __post_init__(self) -> None:
@@ -108,6 +126,12 @@ class KErrorModel:
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0.0):
                 raise ValueError(f"K error model: {name} must be >= 0 dB/km, got {v}")
+        for name, whole in (("band_own_sd_db", min(self.residual_sd_db, default=0.0)),
+                            ("band_own_growth_db_per_km", self.residual_growth_db_per_km)):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and 0.0 <= v <= whole):
+                raise ValueError(f"K error model: {name} must be in [0, {whole:g}] (a part of the residual's), "
+                                 f"got {v}")
 
     @classmethod
     def of_class(cls, k_error_sd_db: float, n_bands: int, *, one_position: bool,
@@ -118,7 +142,7 @@ class KErrorModel:
                    residual_sd_db=(TABLE_RESIDUAL_SD_DB,) * n_bands, residual_length_m=TABLE_RESIDUAL_LENGTH_M,
                    offset_growth_db_per_km=TABLE_OFFSET_GROWTH_DB_PER_KM if one_position else 0.0,
                    residual_growth_db_per_km=TABLE_RESIDUAL_GROWTH_DB_PER_KM if one_position else 0.0,
-                   source=source)
+                   **_tables_band_own(one_position), source=source)
 
     @classmethod
     def measured(cls, measured: MeasuredKError, ic: int, *, one_position: bool, bearing_deg=None) -> KErrorModel:
@@ -134,13 +158,20 @@ class KErrorModel:
                    residual_length_m=length if math.isfinite(length) and length > 0 else TABLE_RESIDUAL_LENGTH_M,
                    offset_growth_db_per_km=TABLE_OFFSET_GROWTH_DB_PER_KM if one_position else 0.0,
                    residual_growth_db_per_km=TABLE_RESIDUAL_GROWTH_DB_PER_KM if one_position else 0.0,
-                   source=measured.source)
+                   **_tables_band_own(one_position), source=measured.source)
 
     def total_sd_db(self, displacement_m: float = 0.0) -> tuple[float, ...]:
         """sd of the whole K error of each band at one cycle (offset and residual), dB."""
         d = displacement_m / 1000.0
         return tuple(math.hypot(o, r, self.offset_growth_db_per_km * d, self.residual_growth_db_per_km * d)
                      for o, r in zip(self.offset_sd_db, self.residual_sd_db))
+
+
+def _tables_band_own(one_position: bool) -> dict:
+    """The tables' own residual's part that is each band's own, and its growth away from the
+    origin of tables computed at one position."""
+    return {"band_own_sd_db": TABLE_BAND_OWN_SD_DB,
+            "band_own_growth_db_per_km": TABLE_BAND_OWN_GROWTH_DB_PER_KM if one_position else 0.0}
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -183,5 +214,6 @@ class MeasuredKError:
         return off, res
 
 
-__all__ = ["KErrorModel", "MODEL_VARS", "MeasuredKError", "TABLE_OFFSET_GROWTH_DB_PER_KM",
-           "TABLE_RESIDUAL_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_LENGTH_M", "TABLE_RESIDUAL_SD_DB"]
+__all__ = ["KErrorModel", "MODEL_VARS", "MeasuredKError", "TABLE_BAND_OWN_GROWTH_DB_PER_KM", "TABLE_BAND_OWN_SD_DB",
+           "TABLE_OFFSET_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_GROWTH_DB_PER_KM", "TABLE_RESIDUAL_LENGTH_M",
+           "TABLE_RESIDUAL_SD_DB"]

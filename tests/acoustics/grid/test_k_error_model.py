@@ -14,7 +14,14 @@ from numpy.testing import assert_allclose
 import acoustics
 from acoustics.errors import GridFileError
 from acoustics.grid.dataset import with_k_error_model, with_k_error_sd
-from acoustics.grid.kerror import MODEL_VARS, TABLE_RESIDUAL_LENGTH_M, TABLE_RESIDUAL_SD_DB
+from acoustics.grid.kerror import (
+    MODEL_VARS,
+    TABLE_BAND_OWN_GROWTH_DB_PER_KM,
+    TABLE_BAND_OWN_SD_DB,
+    TABLE_RESIDUAL_LENGTH_M,
+    TABLE_RESIDUAL_SD_DB,
+    KErrorModel,
+)
 from acoustics.sensitivity.errormodel import measure
 
 
@@ -118,3 +125,51 @@ def test_tables_read_everywhere_do_not_grow_their_error(tiny_radial_tables):
     assert anywhere.k_error_model(0).offset_growth_db_per_km == 0.0
     assert tiny_radial_tables.distance_from_origin_m([3000.0], [4000.0])[0] == 5000.0
     np.testing.assert_array_equal(anywhere.k_grid_db, tiny_radial_tables.k_grid_db)
+
+
+def test_part_of_the_tables_residual_is_each_bands_own(tiny_radial_tables):
+    # the tables' interference patterns are off each its own way (bench.kerror_check): the trackers
+    # take that part as each band's own, the rest of the residual as common, the total unchanged
+    from tracker.levels import LevelErrors
+
+    model = tiny_radial_tables.k_error_model(0)
+    assert model.band_own_sd_db == TABLE_BAND_OWN_SD_DB and model.band_own_growth_db_per_km == TABLE_BAND_OWN_GROWTH_DB_PER_KM
+    n = len(tiny_radial_tables.bands)
+    errors = LevelErrors.of_tables(tiny_radial_tables, 0)
+    own = [c for c in errors.components if c.band >= 0 and c.length_m is not None]
+    common = [c for c in errors.components if c.band < 0 and c.length_m is not None]
+    assert [c.band for c in own] == list(range(n)) and len(common) == 1
+    assert_allclose([c.sd_db for c in own], TABLE_BAND_OWN_SD_DB)
+    assert_allclose(math.hypot(common[0].sd_db, own[0].sd_db), TABLE_RESIDUAL_SD_DB)
+    assert_allclose(math.hypot(common[0].growth_db_per_km, own[0].growth_db_per_km), model.residual_growth_db_per_km)
+    # one band: its own part and the common one are one residual, as before
+    one = [c for c in LevelErrors.of_tables(tiny_radial_tables, 0, [0]).components if c.length_m is not None]
+    assert len(one) == 1 and one[0].band < 0
+    assert_allclose(one[0].sd_db, TABLE_RESIDUAL_SD_DB)
+    # a flat grid's tables hold everywhere: nothing grows
+    assert tiny_radial_tables.as_everywhere().k_error_model(0).band_own_growth_db_per_km == 0.0
+
+
+def test_a_bands_own_part_larger_than_the_residual_is_refused():
+    with pytest.raises(ValueError, match="band_own_sd_db"):
+        KErrorModel(offset_sd_db=(3.0, 3.0), residual_sd_db=(1.0, 2.0), band_own_sd_db=1.5)
+    with pytest.raises(ValueError, match="band_own_growth_db_per_km"):
+        KErrorModel(offset_sd_db=(3.0,), residual_sd_db=(2.0,), residual_growth_db_per_km=0.5,
+                    band_own_growth_db_per_km=0.6)
+
+
+def test_the_check_measures_each_bands_own_part():
+    # lines of a common residual (sd 2 dB, 800 m correlation) and each band's own (sd 0.7 dB,
+    # independent by band): the check's estimate finds the own part, not the common one
+    from bench.kerror_check import band_own_sd_db
+
+    rng = np.random.default_rng(3)
+    r, m = 4000, 3
+    common = np.zeros(r)
+    rho = math.exp(-250.0 / 800.0)
+    for k in range(1, r):
+        common[k] = rho * common[k - 1] + math.sqrt(1 - rho * rho) * rng.normal(0.0, 2.0)
+    resid = common[:, None] + rng.normal(0.0, 0.7, (r, m))
+    # tolerance: 4000 x 3 draws of the own part (its sd's relative error about 1 %)
+    assert abs(band_own_sd_db(resid) - 0.7) < 0.03
+    assert band_own_sd_db(resid[:, :1]) == 0.0  # one band has no own part to tell
