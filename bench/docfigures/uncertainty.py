@@ -114,8 +114,9 @@ def calibration_depth(root: Path) -> str:
 def kerror_check(root: Path) -> str:
     d = load_result(root, "kerror-check.json")
     rows = [("fit, surface ship (TV, 8 m)", "residual at the origin", "its growth", "the offset's growth",
-             "the residual's correlation length", "as a jump and a slope: the residual's, the offset's"),
-            ("---",) * 6]
+             "the residual's correlation length", "as a jump and a slope: the residual's, the offset's",
+             "each band's own: at the origin, its growth"),
+            ("---",) * 7]
 
     def jump(j: dict) -> str:
         if j["jump_db"] < 0.05:
@@ -127,7 +128,9 @@ def kerror_check(root: Path) -> str:
         f = d["classes"]["TV"][part]
         rows.append((label, f"{f['residual_sd_db_at_origin']:.2f} dB", f"{f['residual_growth_db_per_km']:.2f} dB/km",
                      f"{f['offset_growth_db_per_km']:.2f} dB/km", f"{f['residual_length_m']:.0f} m",
-                     f"{jump(f['jump']['residual'])}; {jump(f['jump']['offset'])}"))
+                     f"{jump(f['jump']['residual'])}; {jump(f['jump']['offset'])}",
+                     f"{f['band_own_sd_db_at_origin']:.2f} dB (correlation between bands "
+                     f"{f['residual_band_correlation_at_origin']:.2f}), {f['band_own_growth_db_per_km']:.2f} dB/km"))
     return markdown_table(rows) + "\n" + caption(d, "kerror-check.json")
 
 
