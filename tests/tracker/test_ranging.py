@@ -38,3 +38,21 @@ def test_eq20_exact_on_monotone_k_and_eq21_spread():
     r_none, _ = level_range(w[None], np.zeros((1, 2), bool), np.ones((1, 2)),
                             np.array([100.0]), k, r)
     assert np.isnan(r_none[0])
+
+
+def test_a_k_error_sd_the_same_at_every_range_is_the_levels_sd_grown_by_it():
+    # the ML analysis folds each band's own K error (no range dependence) into eq. 20's sd: the
+    # fast path then answers what the weights over every range answer
+    rng = np.random.default_rng(5)
+    r = np.linspace(500.0, 30000.0, 300)
+    k = np.stack([-20.0 * np.log10(r) - a * r / 1000.0 + rng.normal(0.0, 1.5, r.size) for a in (0.02, 0.05, 0.1)])
+    level = 150.0 + k[:, [120, 40, 250]].T.diagonal()[None, :].repeat(4, axis=0) + rng.normal(0.0, 2.0, (4, 3))
+    sd = np.full((4, 3), 1.1)
+    own = np.array([0.5, 1.0, 2.0, 3.0])
+    offsets, weights = offset_nodes(4.0, 3.0)
+    detected = np.ones((4, 3), dtype=bool)
+    p0 = np.full(4, 150.0)
+    slow = level_range(level, detected, sd, p0, k, r, offsets_db=offsets, weights=weights,
+                       k_sd_db=np.broadcast_to(own[:, None, None], (4, 3, r.size)))
+    fast = level_range(level, detected, np.hypot(sd, own[:, None]), p0, k, r, offsets_db=offsets, weights=weights)
+    assert_allclose(fast, slow)

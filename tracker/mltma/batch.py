@@ -157,9 +157,9 @@ class MLBatch:
 
     def _k_error_sds(self, away_m: float, brg):
         """Each row's K error at this cycle: eq. 21's nodes over P0 and the part common to the bands
-        (None where it is the class's at the origin), and each band's own sd along the range axis
-        for eq. 20's weights (None where no row has one), (B, M, R), dB. Where the tables carry a
-        study's model by bearing, each row's at its bearing ``brg`` (B,), linear between radials."""
+        (None where it is the class's at the origin), and each band's own sd for eq. 20's weights
+        (B,), dB (None where no row has one). Where the tables carry a study's model by bearing,
+        each row's at its bearing ``brg`` (B,), linear between radials."""
         if self.k_errors_by_bearing is not None:
             radials, per_class = self.k_errors_by_bearing
             key = round(away_m, 0)
@@ -176,9 +176,7 @@ class MLBatch:
             nodes = offset_nodes_per_row(self.noise_sd_db, common, self.params.offsets_n)
         else:
             band, nodes = self.k_band_sd_db, None
-        k_sd = None if not band.any() else np.broadcast_to(
-            band[:, None, None], (self.n_rows, self.n_bands, self.range_axis_m.size))
-        return nodes, k_sd
+        return nodes, (band if band.any() else None)
 
     def update(self, t_s: float, obs_x_m: float, obs_y_m: float, obs_vx_mps: float,
                obs_vy_mps: float, bearing_deg, bearing_sd, level_db, snr_db,
@@ -224,10 +222,11 @@ class MLBatch:
             self.k_top_db[n % len(self.k_top_db)] = self._k_rows(k_db, np.maximum(top, 0))
 
         # step 7: level range (eqs. 20-21); the range term of eq. 25
-        nodes, k_sd = self._k_error_sds(self._away_m(obs_x_m, obs_y_m), brg)
+        # each band's own K error is the same at every range: it joins sigma_dW in eq. 20's weights
+        nodes, band_sd = self._k_error_sds(self._away_m(obs_x_m, obs_y_m), brg)
         r_level, r_level_sd = level_ranges_m(
-            level, detected, sd_w, self.p0_db, self.class_index, k_db,
-            self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db, k_sd_db=k_sd,
+            level, detected, sd_w if band_sd is None else np.hypot(sd_w, band_sd[:, None]), self.p0_db,
+            self.class_index, k_db, self.range_axis_m, self.level_offsets, self.sonar.receiver_gain_db,
             row_offsets=nodes)
 
         # step 1: maneuver detection; a confirmed one starts a new tack
