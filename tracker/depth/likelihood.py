@@ -27,13 +27,12 @@ from tracker.mltma import measurement_sd
 #: The range uncertainty K is averaged over along an estimated track.
 K_SMOOTHING = RangeSmoothing(fraction=0.07, floor_m=100.0)
 #: sd of ln(range scale) the likelihood is integrated over by default: the tracks a depth
-#: posterior reads are off in range by a scale (the final estimate carried back), RMS 0.18-0.25
+#: posterior reads are off in range by a scale (the final estimate carried back), RMS 0.24-0.31
 #: in ln over the depth study's ML hypotheses and bank (docs/results/depth/depth.json,
-#: ``track_range_scale_ln_rms``, ``ml_unknown*`` and ``rpf_bank*``; 0.24-0.31, and 0.2 here,
-#: before each band's own K error was in the trackers' model and the bank's tracks came closer);
-#: this is below all of them, and the table's K read at a scaled range also takes up part of the
-#: tables' error along range away from their origin.
-RANGE_SCALE_SD = 0.17
+#: ``track_range_scale_ln_rms``, ``ml_unknown*`` and ``rpf_bank*``); this is below all of them,
+#: and the table's K read at a scaled range also takes up part of the tables' error along range
+#: away from their origin.
+RANGE_SCALE_SD = 0.2
 #: Nodes of the integral over the range scale (Gauss-Hermite: exact for a likelihood
 #: polynomial in ln s up to degree 2n - 1).
 RANGE_SCALE_NODES = 5
