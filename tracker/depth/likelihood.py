@@ -29,9 +29,10 @@ K_SMOOTHING = RangeSmoothing(fraction=0.07, floor_m=100.0)
 #: sd of ln(range scale) the likelihood is integrated over by default: the tracks a depth
 #: posterior reads are off in range by a scale (the final estimate carried back), RMS 0.24-0.31
 #: in ln over the depth study's ML hypotheses and bank (docs/results/depth/depth.json,
-#: ``track_range_scale_ln_rms``, ``ml_unknown*`` and ``rpf_bank*``); this is below all of them,
-#: and the table's K read at a scaled range also takes up part of the tables' error along range
-#: away from their origin.
+#: ``track_range_scale_ln_rms``, ``ml_unknown*`` and ``rpf_bank*``) before each band's own K
+#: error was in the trackers' model, 0.18-0.26 since; this is below their median, and the table's
+#: K read at a scaled range also takes up part of the tables' error along range away from their
+#: origin (0.17, under the least of them, cost the depth intervals at 6 m: tests/tools/studies/test_depth.py).
 RANGE_SCALE_SD = 0.2
 #: Nodes of the integral over the range scale (Gauss-Hermite: exact for a likelihood
 #: polynomial in ln s up to degree 2n - 1).
