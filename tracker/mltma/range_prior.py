@@ -11,7 +11,7 @@ from acoustics.levelrange import level_range
 
 
 def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, range_axis_m,
-                   level_offsets, gain_db, row_offsets=None, k_sd_db=None):
+                   level_offsets, gain_db, row_offsets=None):
     """Level-based range (eq. 20) and its sd (eq. 21) of every row, each with its class's K(r).
 
     Parameters
@@ -20,7 +20,7 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
         Band levels W, dB re 1 uPa; NaN where the band is not detected.
     detected : ndarray of bool, shape (B, M)
     level_sd_db : ndarray, shape (B, M)
-        sigma_dW (eq. 11), dB.
+        sigma_dW (eq. 11), with each band's own K error where the model has one, dB.
     p0_db : ndarray, shape (B,)
         Class mean P0 of each row, dB re 1 uPa.
     class_index : ndarray of int, shape (B,)
@@ -35,9 +35,6 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
     row_offsets : (offsets (n, B), weights (n,)), optional
         Each row's own eq. 21 nodes (`tracker.ranging.offset_nodes_per_row`), in place of its
         class's: where the grid carries a K error sd by bearing and range.
-    k_sd_db : ndarray, shape (B, M, R), optional
-        That sd of each row along the range axis at its bearing, dB: eq. 20's weights become
-        1 / (sigma_dW^2 + sd^2(r)) (``acoustics.levelrange.level_range``).
 
     Returns
     -------
@@ -53,8 +50,7 @@ def level_ranges_m(level_db, detected, level_sd_db, p0_db, class_index, k_db, ra
         k_class = k_db[c] if k_db.ndim == 3 else np.moveaxis(k_db[c][:, rows], 1, 0)  # (M, R) or
         r_opt[rows], r_sd[rows] = level_range(                                    # (rows, M, R)
             level_db[rows], detected[rows], level_sd_db[rows], p0_db[rows], k_class, range_axis_m,
-            offsets_db=off, weights=wts, gain_db=gain_db,
-            k_sd_db=None if k_sd_db is None else k_sd_db[rows])
+            offsets_db=off, weights=wts, gain_db=gain_db)
     return r_opt, np.maximum(r_sd, range_axis_m[1] - range_axis_m[0])
 
 
