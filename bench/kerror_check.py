@@ -111,18 +111,14 @@ def _fit(found: list[dict], step_m: float) -> dict:
                      "band_own_sd_db": round(band_own_sd_db(resid[ok]), 2),
                      "resid": np.where(ok[:, None], resid, np.nan)})
     origin = {r["bearing_deg"]: np.asarray(r["offset_db"]) for r in rows if r["distance_m"] == 0.0}
-    base = float(np.sqrt(np.mean([r["residual_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
-    away = [(r["distance_m"] / 1000.0, r["residual_sd_db"]) for r in rows if r["distance_m"] > 0.0]
-    away_km = np.array([d for d, _ in away])
-    excess = np.array([sd * sd - base * base for _, sd in away])
+    base, away_km, excess = _origin_and_excess(rows, "residual_sd_db")
     shifts = [(r["distance_m"] / 1000.0, float(np.sqrt(np.mean((np.asarray(r["offset_db"])
                                                                 - origin[r["bearing_deg"]]) ** 2))))
               for r in rows if r["distance_m"] > 0.0 and r["bearing_deg"] in origin]
     shifts_km = np.array([d for d, _ in shifts])
     shift2 = np.array([s * s for _, s in shifts])
     residual_growth = math.sqrt(growth_through_zero(away_km, excess))
-    base_own = float(np.sqrt(np.mean([r["band_own_sd_db"] ** 2 for r in rows if r["distance_m"] == 0.0])))
-    own_excess = np.array([r["band_own_sd_db"] ** 2 - base_own ** 2 for r in rows if r["distance_m"] > 0.0])
+    base_own, _, own_excess = _origin_and_excess(rows, "band_own_sd_db")
     own_growth = math.sqrt(growth_through_zero(away_km, own_excess))
     offset_growth = math.sqrt(growth_through_zero(shifts_km, shift2))
     jump = {"residual": fit_jump(away_km, excess), "offset": fit_jump(shifts_km, shift2)}
@@ -137,6 +133,15 @@ def _fit(found: list[dict], step_m: float) -> dict:
             "band_own_sd_db_at_origin": round(base_own, 3), "band_own_growth_db_per_km": round(own_growth, 3),
             "residual_band_correlation_at_origin": round(1.0 - (base_own / base) ** 2, 3),
             "jump": jump, "lines": rows}
+
+
+def _origin_and_excess(rows: list[dict], key: str) -> tuple[float, np.ndarray, np.ndarray]:
+    """An sd of the lines (``key``, dB): its RMS over the lines at the origin, and each line away
+    from it, its observer's distance, km, and its variance over the origin's, dB^2."""
+    base = float(np.sqrt(np.mean([r[key] ** 2 for r in rows if r["distance_m"] == 0.0])))
+    away = [r for r in rows if r["distance_m"] > 0.0]
+    return (base, np.array([r["distance_m"] / 1000.0 for r in away]),
+            np.array([r[key] ** 2 - base * base for r in away]))
 
 
 def band_own_sd_db(resid: np.ndarray) -> float:
