@@ -173,7 +173,8 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2,
             for label, kw in (("rpf", {"config": rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
                                        "level_errors": "tables"}),
                               ("bot", {"bearings_only": True})):
-                tr = rpf_track(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles, **kw)
+                tr = rpf_track(tab, sim, ic, band, np.random.default_rng([seed, 1]), n_particles, prior_seed=seed,
+                               **kw)
                 err = tr.position_error_m(sim)
                 late_errors[(label, name, truth_name)] = err[:, late]
                 frame[f"{label}_{name}_{truth_name}_rmse_m"] = np.sqrt(np.nanmean(err ** 2, axis=0))
@@ -257,7 +258,7 @@ def blend_trial(*, runs: int, seeds, ratios, out_dir: str | Path, workers: int =
             errs = {"ml": ml_errors(tab, sim, ic, MLParams())[0],
                     "rpf": rpf_track(tab, sim, ic, 0, np.random.default_rng([seed, 1]), n_particles,
                                      config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                     level_errors="tables").position_error_m(sim)}
+                                     level_errors="tables", prior_seed=seed).position_error_m(sim)}
             for method, err in errs.items():
                 pooled.setdefault(f"{method} {name}", []).append(err[:, late])
                 rmse = np.sqrt(np.nanmean(err ** 2, axis=0))

@@ -157,12 +157,12 @@ def run(*, grid: str | Path, study: str | Path, out_dir: str | Path, runs: int =
                 runs_of = {"ml": ml_track(tab, sim, ic),
                            "rpf": rpf_track(tab, sim, ic, band, gen, n_particles,
                                             config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                            level_errors="tables", at_observer=False)}
+                                            level_errors="tables", at_observer=False, prior_seed=int(member))}
                 for method, tr in runs_of.items():
                     errors[(method, name)].append(tr.position_error_m(sim))
                     tracked_cal.setdefault((method, name), []).append((tr, sim, late))
             bot = rpf_track(tables["model"], sim, ic, band, np.random.default_rng([seed, int(member), 9]), n_particles,
-                            bearings_only=True, at_observer=False)
+                            bearings_only=True, at_observer=False, prior_seed=int(member))
             errors[("bot", "-")].append(bot.position_error_m(sim))
             tracked_cal.setdefault(("bot", "-"), []).append((bot, sim, late))
     errors = {k: np.concatenate(v) for k, v in errors.items()}

@@ -124,9 +124,9 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
         tracked = {"ml": ml_track(tab, sim, ic),
                    "rpf": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name)]), n_particles,
                                     config=rpf_config(tab, sim, ic, n_particles, LEVEL_SD_DB),
-                                    level_errors="tables"),
+                                    level_errors="tables", prior_seed=seed),
                    "bot": rpf_track(tab, sim, ic, band, np.random.default_rng([seed, GRIDS.index(name), 9]),
-                                    n_particles, bearings_only=True)}
+                                    n_particles, bearings_only=True, prior_seed=seed)}
         for method, tr in tracked.items():
             errors[(method, name)] = tr.position_error_m(sim)
             calibration[f"{method}_{name}"] = tr.calibration(sim, late)

@@ -4,6 +4,7 @@ batch, tables to track with)."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -76,6 +77,13 @@ FILTER_BANDWIDTH_SCALE = 0.5
 #: at 5000), so every filter of the studies takes it (`rpf_config`); this sd is the mixture's
 #: largest, and the studies' filters' where no mixture is given.
 FILTER_SIGMA_A_MPS2 = 1.5e-3
+#: The studies' range prior: its sd this fraction of its centre (`rpf_config`, `prior_centres_m`).
+PRIOR_RANGE_SD_FRACTION = 0.25
+#: How far a prior's centre is drawn from a run's true first range, in its own sds, at most: a draw
+#: of 3 sds short puts the centre at 4 times the truth.
+PRIOR_CENTRE_CLIP_SD = 3.0
+#: The prior centres' stream (`prior_centres_m`), apart from the filters' own.
+PRIOR_CENTRE_SEED = 36
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -145,21 +153,41 @@ def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigm
     sigma = float(np.hypot(LEVEL_SD_DB, target.k_error_sd_db)) if level_sigma_db is None else level_sigma_db
     r0 = float(np.mean(sim.range_m[:, 0]))
     return RpfConfig(n_particles=n_particles, bearing_sigma_deg=float(np.median(sim.bearing_sigma_deg)),
-                     level_sigma_db=sigma, range_mean_m=r0, range_sd_m=0.25 * r0,
+                     level_sigma_db=sigma, range_mean_m=r0, range_sd_m=PRIOR_RANGE_SD_FRACTION * r0,
                      speed_mean_mps=target.speed_mean_mps, speed_sd_mps=target.speed_sd_mps, shrink=True,
                      bandwidth_scale=FILTER_BANDWIDTH_SCALE, sigma_a_mps2=FILTER_SIGMA_A_MPS2,
                      sigma_a_mix_mps2=BEARINGS_ONLY_SIGMA_A_MIX_MPS2)
 
 
+def prior_centres_m(first_range_m, seed: int | tuple[int, ...] = 0) -> np.ndarray:
+    """Each run's range prior centre m (E,), m: its true first range R (E,) is a draw from the
+    prior N(m, f m) with f `PRIOR_RANGE_SD_FRACTION`, m = R / (1 + f z), z ~ N(0, 1) (clipped to
+    `PRIOR_CENTRE_CLIP_SD`) drawn from ``seed`` and the run's index alone, so that every tracker
+    and table of a study starts a run from the same prior. A prior centred on the truth itself
+    would make every filter's intervals look better than an operator's guess can make them."""
+    r = np.asarray(first_range_m, dtype=float)
+    z = np.random.default_rng([PRIOR_CENTRE_SEED, *np.atleast_1d(seed)]).standard_normal(r.shape)
+    return r / (1.0 + PRIOR_RANGE_SD_FRACTION * np.clip(z, -PRIOR_CENTRE_CLIP_SD, PRIOR_CENTRE_CLIP_SD))
+
+
+def run_prior(cfg: RpfConfig, centre_m: float) -> RpfConfig:
+    """``cfg`` with its range prior centred on ``centre_m`` (`prior_centres_m`), sd its fraction."""
+    return dataclasses.replace(cfg, range_mean_m=float(centre_m),
+                               range_sd_m=PRIOR_RANGE_SD_FRACTION * float(centre_m))
+
+
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
               *, level_sigma_db: float | None = None, at_observer: bool = True,
-              config: RpfConfig | None = None, level_errors=None, bearings_only: bool = False) -> Tracked:
+              config: RpfConfig | None = None, level_errors=None, bearings_only: bool = False,
+              prior_seed: int | tuple[int, ...] = 0) -> Tracked:
     """The particle filter (bearings and the band's SPL) of every run, settings `rpf_config` (or
-    ``config``). ``at_observer``: the K profiles where the observer is each cycle (else at the
-    origin, as a grid's tables are the same everywhere). ``level_errors``
-    (`tracker.levels.LevelErrors`): integrated out per particle (sigma_l the level's own error),
-    the observer's distance from the tables' origin growing them; None: the white likelihood.
-    ``bearings_only``: the filter on the bearings alone (``rpf-bot``)."""
+    ``config``), each run's range prior centred off its true first range by a draw of
+    `prior_centres_m` (``prior_seed``: the same for every tracker and table a study compares).
+    ``at_observer``: the K profiles where the observer is each cycle (else at the origin, as a
+    grid's tables are the same everywhere). ``level_errors`` (`tracker.levels.LevelErrors`):
+    integrated out per particle (sigma_l the level's own error), the observer's distance from the
+    tables' origin growing them; None: the white likelihood. ``bearings_only``: the filter on the
+    bearings alone (``rpf-bot``)."""
     e, t = sim.bearing_deg.shape
     obs = np.stack([sim.obs_x_m, sim.obs_y_m, np.gradient(sim.obs_x_m, sim.t_s),
                     np.gradient(sim.obs_y_m, sim.t_s)], axis=-1)
@@ -169,6 +197,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
     away = tables.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m) if at_observer else None
     keys = ("x_m", "y_m", "range_m", "course_deg", "speed_mps", "range_sd_m", "course_sd_deg", "speed_sd_mps")
     est = {k: np.empty((e, t)) for k in keys}
+    centres = prior_centres_m(sim.range_m[:, 0], prior_seed)
     for run in range(e):  # each run its own measured bearings, so its own K profiles
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run], *where)
         errors = level_errors
@@ -177,7 +206,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
                                            bearing_deg=track_bearing_deg(sim.bearing_deg[run]))
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         level_db_meas=None if bearings_only else sim.level_db[run, :, band][None],
-                        k_profiles=profiles, cfg=cfg, rng=rng,
+                        k_profiles=profiles, cfg=run_prior(cfg, centres[run]), rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                         p0_sd_db=target.noise_sd_db, summaries=True, level_errors=errors,
                         displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])
