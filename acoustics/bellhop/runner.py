@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import tempfile
 import threading
 import time
+from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -65,7 +67,8 @@ def _kill(proc: subprocess.Popen) -> None:
 
 
 def run_env(env: str, *, exe: str | Path | None = None, keep_dir: str | Path | None = None,
-            timeout_s: float | None = None, files: dict[str, str] | None = None) -> RunResult:
+            timeout_s: float | None = None, files: dict[str, str] | None = None,
+            slot: AbstractContextManager | None = None) -> RunResult:
     """Run BELLHOP on the .env text ``env`` in a temporary directory and read its .shd file
     (or, for an arrivals run, its binary .arr file).
 
@@ -73,22 +76,39 @@ def run_env(env: str, *, exe: str | Path | None = None, keep_dir: str | Path | N
     bathymetry, ``"ssp"`` range-dependent sound speed). With ``keep_dir`` the files are written
     there and kept (to debug); otherwise nothing is left behind. A run that outlives
     ``timeout_s`` seconds is killed. Raises BellhopError quoting BELLHOP's own message from the
-    .prt file, or saying it was killed.
+    .prt file, or saying it was killed. ``slot`` (a semaphore, say) is held while BELLHOP runs and
+    only then: the files are written before it and read after, beside another run's BELLHOP.
     """
     exe_path = Path(exe) if exe is not None else find_bellhop().path
     if keep_dir is not None:
         Path(keep_dir).mkdir(parents=True, exist_ok=True)
-        return _run_in(Path(keep_dir), env, exe_path, timeout_s, files or {})
+        return _run_in(Path(keep_dir), env, exe_path, timeout_s, files or {}, slot)
     with tempfile.TemporaryDirectory(prefix="tmakit-bellhop-") as tmp:
-        return _run_in(Path(tmp), env, exe_path, timeout_s, files or {})
+        return _run_in(Path(tmp), env, exe_path, timeout_s, files or {}, slot)
 
 
 def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None,
-            files: dict[str, str]) -> RunResult:
+            files: dict[str, str], slot: AbstractContextManager | None) -> RunResult:
     (folder / f"{BASE}.env").write_text(env)
     for suffix, text in files.items():
         (folder / f"{BASE}.{suffix}").write_text(text)
     command = (str(exe), BASE)
+    with slot if slot is not None else contextlib.nullcontext():
+        done, seconds = _bellhop(folder, command, exe, timeout_s)
+    prt_path = folder / f"{BASE}.prt"
+    prt = prt_path.read_text(errors="replace") if prt_path.exists() else ""
+    shd_path, arr_path = folder / f"{BASE}.shd", folder / f"{BASE}.arr"
+    if done.returncode != 0 or "FATAL ERROR" in prt or not (shd_path.exists() or arr_path.exists()):
+        raise BellhopError(f"BELLHOP failed (exit {done.returncode}): {bellhop_message(prt, done)}",
+                           prt_text=prt, command=command, returncode=done.returncode)
+    if arr_path.exists():
+        return RunResult(field=None, seconds=seconds, prt_text=prt, arrivals=read_arr(arr_path))
+    return RunResult(field=read_shd(shd_path), seconds=seconds, prt_text=prt)
+
+
+def _bellhop(folder: Path, command: tuple[str, str], exe: Path, timeout_s: float | None
+             ) -> tuple[subprocess.CompletedProcess, float]:
+    """BELLHOP's process in ``folder``, killed after ``timeout_s``; its outcome and wall time."""
     start = time.perf_counter()
     try:
         proc = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -118,16 +138,7 @@ def _run_in(folder: Path, env: str, exe: Path, timeout_s: float | None,
         with _running_lock:
             _running.discard(proc)
     seconds = time.perf_counter() - start
-    done = subprocess.CompletedProcess(command, proc.returncode, stdout, stderr)
-    prt_path = folder / f"{BASE}.prt"
-    prt = prt_path.read_text(errors="replace") if prt_path.exists() else ""
-    shd_path, arr_path = folder / f"{BASE}.shd", folder / f"{BASE}.arr"
-    if proc.returncode != 0 or "FATAL ERROR" in prt or not (shd_path.exists() or arr_path.exists()):
-        raise BellhopError(f"BELLHOP failed (exit {proc.returncode}): {bellhop_message(prt, done)}",
-                           prt_text=prt, command=command, returncode=proc.returncode)
-    if arr_path.exists():
-        return RunResult(field=None, seconds=seconds, prt_text=prt, arrivals=read_arr(arr_path))
-    return RunResult(field=read_shd(shd_path), seconds=seconds, prt_text=prt)
+    return subprocess.CompletedProcess(command, proc.returncode, stdout, stderr), seconds
 
 
 def bellhop_message(prt: str, proc: subprocess.CompletedProcess | None = None) -> str:

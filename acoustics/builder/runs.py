@@ -64,11 +64,10 @@ def execute_run(run: Run, exe: str | None = None, slot: threading.Semaphore | No
     """Run one environment; return its pressure field, complex64, (receiver depth, range) of its
     one source, or (source, receiver depth, range) of an ``all_sources`` run, and BELLHOP's time.
     In incoherent and semicoherent modes |p|^2 is the summed beam intensity. An arrivals run
-    returns its receivers' band TL instead (``image_tl_db``). With ``slot``, BELLHOP runs (and its
-    file is read) while the slot is held, and the arrivals are reduced after it is released: the
-    next run starts beside the reduction."""
-    with slot if slot is not None else contextlib.nullcontext():
-        result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s)
+    returns its receivers' band TL instead (``image_tl_db``). ``slot`` is held only while BELLHOP
+    runs: its files are written before and its output read (and the arrivals reduced) after, while
+    the next run already goes."""
+    result = run_env(run.env, exe=exe, files=dict(run.files), timeout_s=run.timeout_s, slot=slot)
     if run.image is not None:
         return image_tl_db(result.arrivals[0], run.image), result.seconds
     pressure = result.field.pressure
@@ -92,15 +91,15 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
 
     ``workers`` BELLHOP processes run at once (or the Dask cluster at ``scheduler`` runs them), so
     whatever the caller does with a result overlaps the next BELLHOP run. On this machine each
-    worker has two threads and one BELLHOP slot: a run's arrivals are reduced (numba, without the
-    GIL) while the worker's next run already goes. Runs start longest first: BELLHOP's cost grows
+    worker has two threads and one BELLHOP slot: a run's files are written, and its output read
+    and its arrivals reduced (numba, without the GIL), while the worker's next run goes. Runs start longest first: BELLHOP's cost grows
     with the beams, so the half-fan slices that balance the workers come last.
     """
     stats = stats if stats is not None else RunStats()
     longest_first = sorted({run.key: run for run in runs}.values(), key=lambda run: -run.n_beams)
     done = TaskStats()
     slot = threading.BoundedSemaphore(workers) if scheduler is None and workers >= 1 else None
-    threads = 2 * workers if slot is not None and any(run.image is not None for run in longest_first) else workers
+    threads = 2 * workers if slot is not None else workers
     tasks = run_tasks(functools.partial(execute_run, exe=exe, slot=slot), longest_first, key=lambda run: run.key,
                       workers=threads, scheduler=scheduler,
                       cache=run_cache(cache_dir) if cache_dir is not None else None,
