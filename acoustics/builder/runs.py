@@ -92,8 +92,9 @@ def iter_runs(runs: Sequence[Run], *, workers: int = 1, scheduler: str | None = 
     ``workers`` BELLHOP processes run at once (or the Dask cluster at ``scheduler`` runs them), so
     whatever the caller does with a result overlaps the next BELLHOP run. On this machine each
     worker has two threads and one BELLHOP slot: a run's files are written, and its output read
-    and its arrivals reduced (numba, without the GIL), while the worker's next run goes. Runs start longest first: BELLHOP's cost grows
-    with the beams, so the half-fan slices that balance the workers come last.
+    and its arrivals reduced (numba, without the GIL), while the worker's next run goes. Runs
+    start longest first: BELLHOP's cost grows with the beams, so the half-fan slices that balance
+    the workers come last.
     """
     stats = stats if stats is not None else RunStats()
     longest_first = sorted({run.key: run for run in runs}.values(), key=lambda run: -run.n_beams)
