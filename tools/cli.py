@@ -95,8 +95,12 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM (what batch systems send) as an interrupt, so the same clean-up runs."""
 
 
-def _on_sigterm(signum, frame) -> None:
-    raise Terminated()
+def _on_signal(signum, frame) -> None:
+    """SIGTERM, and SIGINT where Python's own handler had it: kill the model runs under way and
+    start no more before anything waits for them (a worker pool waits for its threads), then
+    interrupt."""
+    _kill_running_models(stop=True)
+    raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -115,7 +119,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING - 10 * min(args.verbose, 2), stream=sys.stderr,
                         format="%(levelname)s %(name)s: %(message)s")
-    previous = signal.signal(signal.SIGTERM, _on_sigterm) if _main_thread() else None
+    previous = {}
+    if _main_thread():
+        _allow_model_runs()
+        previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, _on_signal)
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # not an ignored one
+            previous[signal.SIGINT] = signal.signal(signal.SIGINT, _on_signal)
     try:
         gib, source = _max_gib(args)
         with memory_limit(gib, source):
@@ -148,17 +157,25 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
     return 0
 
 
-def _kill_running_models() -> None:
-    """Kill the BELLHOP runs under way; a command that never ran BELLHOP never imported its runner
-    (commands import what they need when they run), and then there is nothing to kill."""
+def _kill_running_models(stop: bool = False) -> None:
+    """Kill the BELLHOP runs under way (with ``stop``, and start no more); a command that never
+    ran BELLHOP never imported its runner (commands import what they need when they run), and
+    then there is nothing to kill."""
     runner = sys.modules.get("acoustics.bellhop.runner")
     if runner is not None:
-        runner.kill_running()
+        runner.kill_running(stop=stop)
+
+
+def _allow_model_runs() -> None:
+    """A new command in this process may start BELLHOP again after an interrupted one."""
+    runner = sys.modules.get("acoustics.bellhop.runner")
+    if runner is not None:
+        runner.allow_runs()
 
 
 def _main_thread() -> bool:

@@ -39,6 +39,7 @@ AUTOMATIC_BEAMS = 100_000
 
 _running: set[subprocess.Popen] = set()
 _running_lock = threading.Lock()
+_stopped = False  # set by an interrupt: no BELLHOP starts after it (`kill_running`)
 
 
 def default_timeout_s(n_beams: int, n_receivers: int) -> float:
@@ -47,16 +48,27 @@ def default_timeout_s(n_beams: int, n_receivers: int) -> float:
     return max(MIN_TIMEOUT_S, TIMEOUT_FACTOR * SECONDS_PER_BEAM_RECEIVER * beams * n_receivers)
 
 
-def kill_running() -> int:
+def kill_running(*, stop: bool = False) -> int:
     """Kill every BELLHOP process this process started that still runs; how many there were.
 
     Called when a command is interrupted, so that worker threads do not wait for their runs.
+    With ``stop`` no BELLHOP starts after it (until `allow_runs`): the worker threads waiting for
+    a slot behind the killed runs fail at once instead of starting theirs.
     """
+    global _stopped
     with _running_lock:
+        _stopped = _stopped or stop
         procs = list(_running)
     for proc in procs:
         _kill(proc)
     return len(procs)
+
+
+def allow_runs() -> None:
+    """Let BELLHOP start again after `kill_running` stopped it (a new command in this process)."""
+    global _stopped
+    with _running_lock:
+        _stopped = False
 
 
 def _kill(proc: subprocess.Popen) -> None:
@@ -110,17 +122,19 @@ def _bellhop(folder: Path, command: tuple[str, str], exe: Path, timeout_s: float
              ) -> tuple[subprocess.CompletedProcess, float]:
     """BELLHOP's process in ``folder``, killed after ``timeout_s``; its outcome and wall time."""
     start = time.perf_counter()
-    try:
-        proc = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                start_new_session=True)
-    except FileNotFoundError:
-        raise BellhopError(f"BELLHOP executable {exe} not found", command=command) from None
-    except PermissionError:
-        raise BellhopError(f"BELLHOP executable {exe} is not executable", command=command) from None
-    except OSError as exc:
-        raise BellhopError(f"BELLHOP executable {exe} cannot run: {exc.strerror}",
-                           command=command) from None
-    with _running_lock:
+    with _running_lock:  # started and registered at once: an interrupt kills it or it never starts
+        if _stopped:
+            raise BellhopError("BELLHOP was not started: the command was interrupted", command=command)
+        try:
+            proc = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    start_new_session=True)
+        except FileNotFoundError:
+            raise BellhopError(f"BELLHOP executable {exe} not found", command=command) from None
+        except PermissionError:
+            raise BellhopError(f"BELLHOP executable {exe} is not executable", command=command) from None
+        except OSError as exc:
+            raise BellhopError(f"BELLHOP executable {exe} cannot run: {exc.strerror}",
+                               command=command) from None
         _running.add(proc)
     try:
         try:

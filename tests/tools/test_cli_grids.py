@@ -151,6 +151,38 @@ def test_interrupted_build_leaves_no_file_and_resumes(tmp_path, tiny_area_path, 
     assert out.exists() and not cache.exists()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+@pytest.mark.parametrize("signum, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_an_interrupt_kills_the_runs_under_way_and_starts_no_more(tmp_path, signum, status, workers):
+    # BELLHOP stands in as a process that never ends: an interrupt must not wait for it, nor for
+    # a run a worker thread starts behind it once its slot is free (each worker's second thread
+    # waits for the slot with the next run's files written)
+    pattern = f"sleep 1000.{os.getpid()}{signum}{workers}"  # this test's own, for pgrep
+    hang = tmp_path / "bellhop.sh"
+    hang.write_text(f"#!/bin/sh\nexec {pattern}\n")
+    hang.chmod(0o755)
+    out = tmp_path / "g.nc"
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "grids", "build", str(DATA / "tiny-munk.toml"),
+                             "--out", str(out), "--workers", str(workers)], cwd=REPO,
+                            env={**os.environ, "BELLHOP_EXE": str(hang)}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint)
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        found = subprocess.run(["pgrep", "-f", pattern], capture_output=True, text=True).stdout.split()
+        if len(found) >= workers:
+            break
+        time.sleep(0.05)
+    assert len(found) >= workers, "the build never started its runs"
+    start = time.perf_counter()
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=60)
+    assert time.perf_counter() - start < 10.0  # the runs take 1000 s: nothing waited for them
+    assert proc.returncode == status, err
+    assert err.strip().splitlines()[-1].startswith("error: interrupted")
+    assert not out.exists()
+    assert subprocess.run(["pgrep", "-f", pattern], capture_output=True).returncode == 1  # none left
+
+
 @pytest.mark.parametrize("argv", [["--json", "areas", "list"], ["areas", "--json", "list"],
                                   ["areas", "list", "--json"]])
 def test_json_option_works_at_any_position(capsys, argv):
