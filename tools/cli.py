@@ -166,16 +166,19 @@ def _kill_running_models(stop: bool = False) -> None:
     """Kill the BELLHOP runs under way (with ``stop``, and start no more); a command that never
     ran BELLHOP never imported its runner (commands import what they need when they run), and
     then there is nothing to kill."""
-    runner = sys.modules.get("acoustics.bellhop.runner")
-    if runner is not None:
+    if (runner := _bellhop_runner()) is not None:
         runner.kill_running(stop=stop)
 
 
 def _allow_model_runs() -> None:
     """A new command in this process may start BELLHOP again after an interrupted one."""
-    runner = sys.modules.get("acoustics.bellhop.runner")
-    if runner is not None:
+    if (runner := _bellhop_runner()) is not None:
         runner.allow_runs()
+
+
+def _bellhop_runner():
+    """``acoustics.bellhop.runner`` if this process imported it, else None."""
+    return sys.modules.get("acoustics.bellhop.runner")
 
 
 def _main_thread() -> bool:

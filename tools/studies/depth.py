@@ -80,7 +80,7 @@ from tools.studies.depth_setup import (  # noqa: F401  (the study's settings, na
 )
 from tools.studies.depth_summary import _mismatch_summary, _summary, _text
 from tools.studies.depthcheck import table_check
-from tools.studies.trackerrors import LEVEL_SD_DB, prior_centres_m, rpf_config, run_prior
+from tools.studies.trackerrors import LEVEL_SD_DB, rpf_config, run_configs
 from tracker.depth.bank import (
     TRACK_RULES,
     bearing_fit,
@@ -123,21 +123,20 @@ def _rpf(tables, sim, ic: int, variant: str, true_depth_m: float, rng, n_particl
     (`tools.studies.trackerrors.prior_centres_m`)."""
     e, t = sim.bearing_deg.shape
     obs = _observer(sim)
-    cfg = _rpf_config(tables, sim, ic, n_particles)
+    configs = run_configs(_rpf_config(tables, sim, ic, n_particles), sim, prior_seed)
     target = tables.classes[ic]
     view = tables.at_target_depth(true_depth_m) if variant == "true" else tables
     n_bands = len(tables.bands)
     errors = LevelErrors.of_tables(view, ic, source_sd_db=target.noise_sd_db)
     away = view.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m)
     pos = np.empty((e, t, 5))
-    centres = prior_centres_m(sim.range_m[:, 0], prior_seed)
     for run in range(e):
         profiles = [cycle_profiles(view, ic, b, np.full(t, sim.obs_depth_m), sim.bearing_deg[run])
                     for b in range(n_bands)]
         res = run_batch(k_profiles=profiles, t_s=sim.t_s, obs_state=obs,
                         bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None],
-                        level_db_meas=sim.level_db[run][None], cfg=run_prior(cfg, centres[run]), rng=rng,
+                        level_db_meas=sim.level_db[run][None], cfg=configs[run], rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db, summaries=True,
                         level_errors=errors, displacement_m=away)
         pos[run, :, :4] = res.mean[0][:, :4] + obs
@@ -198,13 +197,13 @@ def _ml_hypotheses(tables, sim, ic: int, z, hypotheses) -> np.ndarray:
     return hypotheses["ml"]
 
 
-def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int, hypotheses):
+def _rpf_bank(tables, sim, ic: int, like, seed, n_particles: int, hypotheses, prior_seed):
     """The bank of particle filters at the depth hypotheses, each given its depth as the
     variant "true" is, weighed as the ML analysis's hypotheses are (`_weighed`); their positions
     (H, E, T, 4) kept in ``hypotheses["rpf"]``."""
     z = depth_hypotheses_m(DEPTH_SPAN_M, tables.classes[ic].depth_m)
     pos_z = np.array([_rpf(tables, sim, ic, "true", float(h), np.random.default_rng([*seed, h_i]), n_particles,
-                           seed[:3]) for h_i, h in enumerate(z)])
+                           prior_seed) for h_i, h in enumerate(z)])
     hypotheses["rpf"] = pos_z
     return _weighed(sim, pos_z, z, like)
 
@@ -349,7 +348,7 @@ def run(*, runs: int, out_dir: str | Path, seed: int = 0, workers: int = 2, n_pa
                     depth_info = {}
                     if method == "rpf" and variant == "bank":
                         pos, final, w = _rpf_bank(tables, sim, ic, like, (seed, s_i, z_i, v_i), n_particles,
-                                                             hypotheses)
+                                                  hypotheses, (seed, s_i, z_i))
                         depth_info = {"posterior": {**_depth_rows(final), **_weight_rows(w, hyp_z)}}
                     elif method == "rpf":
                         pos = _rpf(tables, sim, ic, variant, z_true, np.random.default_rng([seed, s_i, z_i, v_i]),

@@ -143,8 +143,9 @@ def ml_track(tables: Tables, sim, cls_index: int, params: MLParams | None = None
 
 def rpf_config(tables: Tables, sim, cls_index: int, n_particles: int, level_sigma_db: float | None = None
                ) -> RpfConfig:
-    """The studies' filter settings: the class's speed statistics; a range prior around the first
-    range with 25 % sd, the same whichever tables are tracked with; sigma_l ``level_sigma_db``, by
+    """The studies' filter settings: the class's speed statistics; a range prior with a 25 % sd
+    about the runs' mean first range (each run's moved by `run_configs`), the same whichever
+    tables are tracked with; sigma_l ``level_sigma_db``, by
     default eq. 11's 1.1 dB and the class's K error; the variance-keeping regularization with
     `FILTER_BANDWIDTH_SCALE` times the paper's bandwidth; the acceleration sds the command's
     ``rpf-bot`` shares out (`tracker.rpf.config.BEARINGS_ONLY_SIGMA_A_MIX_MPS2`, `FILTER_SIGMA_A_MPS2`
@@ -176,6 +177,12 @@ def run_prior(cfg: RpfConfig, centre_m: float) -> RpfConfig:
                                range_sd_m=PRIOR_RANGE_SD_FRACTION * float(centre_m))
 
 
+def run_configs(cfg: RpfConfig, sim, seed: int | tuple[int, ...]) -> list[RpfConfig]:
+    """``cfg`` for each run of ``sim``, its range prior drawn about the run's true first range
+    (`prior_centres_m` from ``seed``)."""
+    return [run_prior(cfg, centre) for centre in prior_centres_m(sim.range_m[:, 0], seed)]
+
+
 def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Generator, n_particles: int,
               *, level_sigma_db: float | None = None, at_observer: bool = True,
               config: RpfConfig | None = None, level_errors=None, bearings_only: bool = False,
@@ -197,7 +204,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
     away = tables.distance_from_origin_m(sim.obs_x_m, sim.obs_y_m) if at_observer else None
     keys = ("x_m", "y_m", "range_m", "course_deg", "speed_mps", "range_sd_m", "course_sd_deg", "speed_sd_mps")
     est = {k: np.empty((e, t)) for k in keys}
-    centres = prior_centres_m(sim.range_m[:, 0], prior_seed)
+    configs = run_configs(cfg, sim, prior_seed)
     for run in range(e):  # each run its own measured bearings, so its own K profiles
         profiles = cycle_profiles(tables, cls_index, band, np.full(t, sim.obs_depth_m), sim.bearing_deg[run], *where)
         errors = level_errors
@@ -206,7 +213,7 @@ def rpf_track(tables: Tables, sim, cls_index: int, band: int, rng: np.random.Gen
                                            bearing_deg=track_bearing_deg(sim.bearing_deg[run]))
         res = run_batch(t_s=sim.t_s, obs_state=obs, bearing_rad_meas=np.radians(sim.bearing_deg[run])[None],
                         level_db_meas=None if bearings_only else sim.level_db[run, :, band][None],
-                        k_profiles=profiles, cfg=run_prior(cfg, centres[run]), rng=rng,
+                        k_profiles=profiles, cfg=configs[run], rng=rng,
                         source_level_model=SourceLevelModel.P0, p0_db=target.noise_mean_db,
                         p0_sd_db=target.noise_sd_db, summaries=True, level_errors=errors,
                         displacement_m=away, bearing_sd_rad=np.radians(sim.bearing_sigma_deg[run])[None])
