@@ -241,8 +241,10 @@ def test_a_folder_where_no_file_can_be_made_is_refused_before_any_work(capsys, t
 def test_a_hung_bellhop_ends_the_build_at_its_limit(capsys, tmp_path, monkeypatch):
     import time
 
+    # the stand-in's own command line, for pgrep: a shell comment is on no command line
+    pattern = f"sleep 1000.{os.getpid()}"
     hang = tmp_path / "bellhop.sh"
-    hang.write_text(f"#!/bin/sh\nsleep 1000 # tmakit-hung-{tmp_path.name}\n")
+    hang.write_text(f"#!/bin/sh\nexec {pattern}\n")
     hang.chmod(0o755)
     monkeypatch.setenv("BELLHOP_EXE", str(hang))
     area = tmp_path / "area.toml"
@@ -254,7 +256,7 @@ def test_a_hung_bellhop_ends_the_build_at_its_limit(capsys, tmp_path, monkeypatc
     assert time.perf_counter() - start < 30.0
     assert "BELLHOP did not finish within 1 s and was killed" in line
     assert not (out / "g.nc").exists()
-    leftovers = subprocess.run(["pgrep", "-f", f"tmakit-hung-{tmp_path.name}"], capture_output=True)
+    leftovers = subprocess.run(["pgrep", "-f", pattern], capture_output=True)
     assert leftovers.returncode == 1  # no BELLHOP left running
 
 
